@@ -1,0 +1,44 @@
+// `lacet bench update|accuracy`: benchmark tasks printing their figures as JSON.
+#include <iostream>
+
+#include "app/commands.h"
+#include "bench/tasks.h"
+
+namespace lacet::app {
+
+void addBenchCommand(CLI::App& app) {
+    CLI::App* bench = app.add_subcommand("bench", "Benchmarks printing JSON figures");
+    bench->require_subcommand(1);
+
+    struct UpdateOptions {
+        std::vector<std::size_t> curves{10000, 100000, 600000};
+        std::uint64_t seed = 1;
+        int moves = 60;
+        double altitude = 10.0;
+        bool json = true;
+    };
+    auto u = std::make_shared<UpdateOptions>();
+    CLI::App* update = bench->add_subcommand("update", "UPDATE time of one control-point move against scene size");
+    update->add_option("--curves", u->curves, "Curve counts (same density; the first and last give the ratio)")->delimiter(',');
+    update->add_option("--seed", u->seed, "Random seed");
+    update->add_option("--moves", u->moves, "Control-point moves measured per scene");
+    update->add_option("--altitude", u->altitude, "Viewer height above the moved point (m)");
+    update->add_flag("--json", u->json, "Print JSON (the only format)");
+    update->callback([u] { std::cout << bench::benchUpdate(u->curves, u->seed, u->moves, u->altitude).dump(2) << "\n"; });
+
+    struct AccuracyOptions {
+        std::vector<double> tolerances{0.125, 0.25, 0.5, 1.0, 2.0, 4.0};
+        std::size_t curves = 2000;
+        std::uint64_t seed = 1;
+        bool json = true;
+    };
+    auto a = std::make_shared<AccuracyOptions>();
+    CLI::App* accuracy = bench->add_subcommand("accuracy", "Refinement tolerance: time, vertices, error left");
+    accuracy->add_option("--tolerances", a->tolerances, "Tolerances in texels")->delimiter(',');
+    accuracy->add_option("--curves", a->curves, "Curves of the synthetic scene");
+    accuracy->add_option("--seed", a->seed, "Random seed");
+    accuracy->add_flag("--json", a->json, "Print JSON (the only format)");
+    accuracy->callback([a] { std::cout << bench::benchAccuracy(a->tolerances, a->curves, a->seed).dump(2) << "\n"; });
+}
+
+}  // namespace lacet::app

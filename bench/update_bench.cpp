@@ -1,0 +1,121 @@
+#include <map>
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "bench/bench_util.h"
+#include "bench/tasks.h"
+#include "model/edits.h"
+#include "model/quadtree.h"
+#include "model/random_edits.h"
+#include "model/synthetic_scene.h"
+
+namespace lacet::bench {
+namespace {
+
+struct Target {
+    ElementId curve = kNoElement;
+    std::size_t vertex = 0;
+};
+
+// The road control point nearest the scene centre.
+Target roadControlPointNearCentre(const Scene& s) {
+    const Layer& roads = s.layers[kRoadsLayer];
+    const Vec2 c = s.extent.center();
+    Target best;
+    double bestD = 1e300;
+    for (ElementId id = 0; id < roads.curves.size(); ++id) {
+        const auto& v = roads.curves[id].vertices;
+        for (std::size_t i = 1; i + 1 < v.size(); ++i)
+            if (!v[i].onCurve && glm::length(v[i].p - c) < bestD) {
+                bestD = glm::length(v[i].p - c);
+                best = {id, i};
+            }
+    }
+    return best;
+}
+
+// Times the subdivision of every internal quad of `like` in a fresh tree, per child quad, by the
+// level of the children made.
+std::map<int, std::vector<double>> timeClipAndRefineByLevel(const Scene& s, const Quadtree& like) {
+    Quadtree fresh(s);
+    std::map<int, std::vector<double>> byLevel;
+    auto rec = [&](auto& self, Quad& q, const Quad& l) -> void {
+        if (l.isLeaf()) return;
+        const auto t0 = Clock::now();
+        fresh.subdivide(q);
+        byLevel[q.level + 1].push_back(msSince(t0) / 4.0);
+        for (int k = 0; k < 4; ++k) self(self, *q.children[k], *l.children[k]);
+    };
+    rec(rec, fresh.root(), like.root());
+    return byLevel;
+}
+
+}  // namespace
+
+nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t seed, int moves, double altitude) {
+    nlohmann::json runs = nlohmann::json::array();
+    double firstMedian = 0.0, lastMedian = 0.0, lastRebuild = 0.0;
+    nlohmann::json byDepth;
+    for (std::size_t n : curves) {
+        auto t0 = Clock::now();
+        Scene s = makeSyntheticScene({seed, n});
+        const double synthMs = msSince(t0);
+        const Target target = roadControlPointNearCentre(s);
+        const Vec2 at = s.layers[kRoadsLayer].curves[target.curve].vertices[target.vertex].p;
+        t0 = Clock::now();
+        Quadtree qt(s);
+        qt.refineForViewer({at.x, at.y, altitude}, 2.8, 24);
+        const double buildMs = msSince(t0);
+        std::mt19937_64 rng(seed);
+        std::vector<double> updates;
+        std::vector<double> changed;
+        for (int i = 0; i < moves; ++i) {
+            const Vec2 p = at + Vec2(uniform01(rng) * 40.0 - 20.0, uniform01(rng) * 40.0 - 20.0);
+            const Changeset cs = moveVertex(s, kRoadsLayer, target.curve, target.vertex, p);
+            t0 = Clock::now();
+            const UpdateStats st = qt.update(cs);
+            updates.push_back(msSince(t0));
+            changed.push_back(double(st.changedQuads.size()));
+        }
+        t0 = Clock::now();
+        {
+            Quadtree rebuilt(s);
+            rebuilt.copyStructureOf(qt);
+        }
+        const double rebuildMs = msSince(t0);
+        const double med = median(updates);
+        if (runs.empty()) firstMedian = med;
+        lastMedian = med;
+        lastRebuild = rebuildMs;
+        const SceneCounts c = count(s);
+        runs.push_back({{"curves", c.curves},
+                        {"areas", c.areas},
+                        {"nodes_and_control_points", c.nodes + c.controlPoints},
+                        {"extent_km", s.extent.size().x / 1000.0},
+                        {"quads", qt.quadCount()},
+                        {"depth", qt.depth()},
+                        {"synth_ms", synthMs},
+                        {"build_ms", buildMs},
+                        {"update_median_ms", med},
+                        {"update_p95_ms", quantile(updates, 0.95)},
+                        {"update_max_ms", quantile(updates, 1.0)},
+                        {"quads_changed_median", median(changed)},
+                        {"rebuild_ms", rebuildMs},
+                        {"peak_rss_mib", peakRssMiB()}});
+        if (&n == &curves.back()) {
+            for (const auto& [level, ms] : timeClipAndRefineByLevel(s, qt))
+                byDepth.push_back({{"depth", level}, {"quads", ms.size()}, {"median_ms", median(ms)}, {"max_ms", quantile(ms, 1.0)}});
+        }
+    }
+    return {{"runs", runs},
+            {"moves", moves},
+            {"viewer_altitude_m", altitude},
+            {"K", 2.8},
+            {"ratio", firstMedian > 0.0 ? lastMedian / firstMedian : 0.0},
+            {"rebuild_speedup", lastMedian > 0.0 ? lastRebuild / lastMedian : 0.0},
+            {"clip_and_refine_per_quad_by_depth", byDepth},
+            {"peak_rss_mib", peakRssMiB()}};
+}
+
+}  // namespace lacet::bench

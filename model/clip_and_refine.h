@@ -1,0 +1,76 @@
+#pragma once
+// CLIPANDREFINE (§4.2, Fig. 4): makes the pieces of one element in a quad from its pieces in
+// the parent quad.
+//
+// Clipping is conservative: a Bezier piece is kept when its tight bounds, dilated by the
+// element's margin, meet the quad (curves: wf/2; areas: wf, the width of their outside border
+// strip; nodes: half the largest wf of their curves). Refinement splits pieces with de Casteljau
+// at t = 1/2 until each is flat within the tolerance (every control point within `tolerance` of
+// the chord, so the chord polyline is within `tolerance` of the curve), and also while a piece
+// larger than the quad straddles its border, so that pieces far outside are dropped. Kept pieces
+// stay exact Bezier sub-pieces (control points kept), so a child quad refines them further.
+//
+// A clipped curve is a maximal run of kept pieces. A clipped area keeps its loops, with each run
+// of dropped pieces replaced by a closing path along the dilated quad border that turns around
+// the quad exactly as the dropped run did (SectorWalk); a loop with no kept piece either
+// vanishes (it does not surround the quad) or becomes the quad border. An area that surrounds
+// the quad with no piece near it is flagged `coversQuad`.
+
+#include <cstdint>
+#include <vector>
+
+#include "model/types.h"
+
+namespace lacet {
+
+// The refinement tolerance, an accuracy knob: `toleranceTexels` appearance texels of a quad
+// whose texture is `resolution` texels wide. Default: half a texel of a 256-texel quad.
+struct RefineParams {
+    double toleranceTexels = 0.5;  // texels, > 0
+    int resolution = 256;          // texels per quad side
+    double tolerance(double quadSize) const { return toleranceTexels * quadSize / double(resolution); }  // metres
+};
+
+struct ClippedCurve {
+    std::vector<Vertex> vertices;
+    std::uint32_t parentIndex = 0;  // index of the piece it was made from in the parent bucket
+    bool startsAtNode = false;      // its first vertex is the ancestor's start node
+    bool endsAtNode = false;        // its last vertex is the ancestor's end node
+    friend bool operator==(const ClippedCurve&, const ClippedCurve&) = default;
+};
+
+struct ClippedLoop {
+    std::vector<Vertex> vertices;  // closed: the last vertex repeats the first
+    bool hole = false;
+    friend bool operator==(const ClippedLoop&, const ClippedLoop&) = default;
+};
+
+struct ClippedArea {
+    std::vector<ClippedLoop> loops;
+    std::uint32_t parentIndex = 0;
+    bool coversQuad = false;  // the quad, dilated by the area's margin, lies inside the area
+    friend bool operator==(const ClippedArea&, const ClippedArea&) = default;
+};
+
+// Refinement stops splitting a piece after this many halvings (2^-40 of its parameter range);
+// reached only by pieces far below any texel.
+constexpr int kMaxRefineDepth = 40;
+
+void clipAndRefineCurve(const ClippedCurve& parent, std::uint32_t parentIndex, const Box& quad, double margin,
+                        double tolerance, std::vector<ClippedCurve>& out);
+
+void clipAndRefineArea(const ClippedArea& parent, std::uint32_t parentIndex, const Box& quad, double margin,
+                       double tolerance, std::vector<ClippedArea>& out);
+
+inline bool keepNode(Vec2 p, const Box& quad, double margin) { return quad.dilated(margin).contains(p); }
+
+}  // namespace lacet
+
+namespace lacet {
+
+// Bitwise equality (a -0.0 differs from +0.0): what "incremental equals rebuild" compares.
+bool identical(const std::vector<Vertex>& a, const std::vector<Vertex>& b);
+bool identical(const ClippedCurve& a, const ClippedCurve& b);
+bool identical(const ClippedArea& a, const ClippedArea& b);
+
+}  // namespace lacet

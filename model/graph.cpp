@@ -1,0 +1,72 @@
+#include "model/graph.h"
+
+#include <utility>
+
+namespace lacet {
+
+std::string_view toString(LayerKind kind) {
+    switch (kind) {
+        case LayerKind::Roads: return "roads";
+        case LayerKind::Rivers: return "rivers";
+        case LayerKind::Lakes: return "lakes";
+        case LayerKind::Fields: return "fields";
+        case LayerKind::Forests: return "forests";
+        case LayerKind::Other: break;
+    }
+    return "other";
+}
+
+ElementId Layer::addNode(Vec2 p) {
+    nodes.push_back(Node{p, {}, true});
+    return ElementId(nodes.size() - 1);
+}
+
+ElementId Layer::addCurve(Curve c) {
+    const auto id = ElementId(curves.size());
+    nodes.at(c.start).curves.push_back(id);
+    nodes.at(c.end).curves.push_back(id);
+    curves.push_back(std::move(c));
+    return id;
+}
+
+ElementId Layer::addArea(Area a) {
+    const auto id = ElementId(areas.size());
+    for (const auto& loop : a.loops)
+        for (const auto& e : loop) {
+            auto& list = curves.at(e.curve).areas;
+            if (list.empty() || list.back() != id) list.push_back(id);
+        }
+    areas.push_back(std::move(a));
+    return id;
+}
+
+std::vector<Vertex> loopVertices(const Layer& layer, const std::vector<AreaEdge>& loop) {
+    std::vector<Vertex> out;
+    for (const auto& e : loop) {
+        const auto& v = layer.curves[e.curve].vertices;
+        const std::size_t n = v.size();
+        for (std::size_t k = out.empty() ? 0 : 1; k < n; ++k) {
+            Vertex x = v[e.reversed ? n - 1 - k : k];
+            x.closing = false;
+            out.push_back(x);
+        }
+    }
+    return out;
+}
+
+SceneCounts count(const Scene& scene) {
+    SceneCounts c;
+    for (const auto& layer : scene.layers) {
+        for (const auto& n : layer.nodes) c.nodes += n.alive;
+        for (const auto& cv : layer.curves) {
+            if (!cv.alive) continue;
+            ++c.curves;
+            c.vertices += cv.vertices.size();
+            for (const auto& v : cv.vertices) c.controlPoints += !v.onCurve;
+        }
+        for (const auto& a : layer.areas) c.areas += a.alive;
+    }
+    return c;
+}
+
+}  // namespace lacet

@@ -1,0 +1,110 @@
+#pragma once
+// The spline network (§4.1): a scene is a list of layers; each layer is a graph of nodes,
+// curves and areas. This is the root graph of the quadtree; clipped copies live in quads.
+//
+// Element ids are slot indices in the layer's arrays: stable across edits and save/load, never
+// reused. A deleted element keeps its slot with `alive == false`.
+//
+// Invariants (checked by validate()): a curve's first and last vertices are on-curve and equal
+// to its start and end nodes' positions; between two on-curve vertices lie 0..2 controls;
+// node.curves lists exactly the alive curves that start or end there (a closed curve twice);
+// area loops are closed chains of alive curves; curve.areas lists the areas using the curve.
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "model/bezier.h"
+#include "model/types.h"
+
+namespace lacet {
+
+// What a layer holds; decides the default shading and footprint rules of its elements.
+enum class LayerKind : std::uint8_t { Roads, Rivers, Lakes, Fields, Forests, Other };
+
+std::string_view toString(LayerKind kind);
+
+// Curve flags (parameters kept from the source data).
+enum CurveFlag : std::uint16_t { kBridge = 1u << 0, kTunnel = 1u << 1 };
+
+struct Node {
+    Vec2 p{0.0};
+    std::vector<ElementId> curves;  // adjacent curves
+    bool alive = true;
+};
+
+struct Curve {
+    std::vector<Vertex> vertices;  // Bezier spline, first and last on-curve
+    ElementId start = kNoElement;
+    ElementId end = kNoElement;
+    float w = 0.0f;    // width (m)
+    float wf = 0.0f;   // footprint width (m), >= w
+    std::uint16_t cls = 0;    // class within the layer (e.g. road class)
+    std::uint16_t flags = 0;  // CurveFlag bits
+    std::vector<ElementId> areas;  // areas whose loops use this curve
+    bool alive = true;
+};
+
+struct AreaEdge {
+    ElementId curve = kNoElement;
+    bool reversed = false;  // walk the curve from its end node to its start node
+    friend bool operator==(const AreaEdge&, const AreaEdge&) = default;
+};
+
+struct Area {
+    // loops[0] is the outer ring, the others holes. Each loop is a closed chain of curves.
+    std::vector<std::vector<AreaEdge>> loops;
+    float wf = 0.0f;   // footprint width outside the surface (m)
+    std::uint16_t cls = 0;
+    ElementId axial = kNoElement;  // optional axial curve (elevation profile), same layer
+    bool alive = true;
+};
+
+struct Layer {
+    std::string name;
+    LayerKind kind = LayerKind::Other;
+    std::vector<Node> nodes;
+    std::vector<Curve> curves;
+    std::vector<Area> areas;
+
+    ElementId addNode(Vec2 p);
+    // Adds a curve whose vertices run from node `start` to node `end`; updates adjacency.
+    ElementId addCurve(Curve c);
+    // Adds an area from loops of existing curves; updates curve.areas.
+    ElementId addArea(Area a);
+};
+
+struct Scene {
+    Box extent;  // the root quad (square), in scene CRS metres
+    std::vector<Layer> layers;
+};
+
+// Iterates the Bezier pieces of a vertex chain (on-curve, 0..2 controls, on-curve, ...).
+// `f(const BezierPiece&, size_t firstVertexIndex)`.
+template <class F>
+void forEachPiece(std::span<const Vertex> v, F&& f) {
+    std::size_t i = 0;
+    while (i + 1 < v.size()) {
+        BezierPiece b;
+        std::size_t j = i + 1;
+        b.p[0] = v[i].p;
+        int n = 1;
+        while (j < v.size() && !v[j].onCurve && n < 3) b.p[n++] = v[j++].p;
+        if (j >= v.size()) return;  // malformed tail; validate() reports it
+        b.p[n] = v[j].p;
+        b.degree = n;
+        f(b, i);
+        i = j;
+    }
+}
+
+// The closed vertex chain of an area loop, first vertex repeated at the end.
+std::vector<Vertex> loopVertices(const Layer& layer, const std::vector<AreaEdge>& loop);
+
+// Counts of alive elements (and of vertices, on-curve and control) over all layers.
+struct SceneCounts {
+    std::size_t nodes = 0, curves = 0, areas = 0, vertices = 0, controlPoints = 0;
+};
+SceneCounts count(const Scene& scene);
+
+}  // namespace lacet

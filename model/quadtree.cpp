@@ -1,0 +1,354 @@
+#include "model/quadtree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace lacet {
+
+struct Quadtree::Ancestors {
+    struct Lists {
+        std::vector<ElementId> nodes, curves, areas;
+        bool empty() const { return nodes.empty() && curves.empty() && areas.empty(); }
+    };
+    std::vector<Lists> layers;
+    explicit Ancestors(std::size_t n) : layers(n) {}
+    bool empty() const {
+        return std::all_of(layers.begin(), layers.end(), [](const Lists& l) { return l.empty(); });
+    }
+    void normalize() {
+        for (auto& l : layers)
+            for (auto* v : {&l.nodes, &l.curves, &l.areas}) {
+                std::sort(v->begin(), v->end());
+                v->erase(std::unique(v->begin(), v->end()), v->end());
+            }
+    }
+};
+
+ElementId proceduralId(ElementId root, std::size_t k) {
+    if (k >= 256 || root >= (kProceduralBit >> 8))
+        throw std::length_error("proceduralId: root curve " + std::to_string(root) + " piece " + std::to_string(k) +
+                                " is out of the procedural id range");
+    return kProceduralBit | (root << 8) | ElementId(k);
+}
+
+Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep* procedural)
+    : scene_(scene), params_(params), procedural_(procedural) {
+    if (!(params_.toleranceTexels > 0.0) || params_.resolution <= 0)
+        throw std::invalid_argument("Quadtree: refinement tolerance and resolution must be positive");
+    root_.bounds = scene.extent;
+    expandedFrom_.resize(scene.layers.size());
+    proceduralCurves_.resize(scene.layers.size());
+    if (procedural_)
+        for (LayerId l = 0; l < scene.layers.size(); ++l)
+            for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id)
+                if (scene.layers[l].curves[id].alive) expandRoot(l, id);
+}
+
+void Quadtree::expandRoot(LayerId layer, ElementId id) {
+    if (!procedural_) return;
+    std::vector<Curve> out;
+    if (!procedural_->expand(scene_, layer, id, out)) return;
+    std::vector<ElementId> ids;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        const ElementId pid = proceduralId(id, k);
+        ids.push_back(pid);
+        proceduralCurves_[layer][pid] = std::move(out[k]);
+    }
+    expandedFrom_[layer][id] = std::move(ids);
+}
+
+template <class F>
+void Quadtree::forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) const {
+    const auto it = expandedFrom_[layer].find(id);
+    if (it == expandedFrom_[layer].end()) return f(id);
+    for (ElementId pid : it->second) f(pid);
+}
+
+const Curve& Quadtree::ancestorCurve(LayerId layer, ElementId id) const {
+    if (id & kProceduralBit) return proceduralCurves_[layer].at(id);
+    return scene_.layers[layer].curves[id];
+}
+
+double Quadtree::nodeMargin(LayerId layer, ElementId id) const {
+    const Layer& l = scene_.layers[layer];
+    double m = 0.0;  // an isolated node is kept only inside the quad
+    for (ElementId c : l.nodes[id].curves) m = std::max(m, 0.5 * double(l.curves[c].wf));
+    return m;
+}
+
+Box Quadtree::childBounds(const Quad& q, int k) const {
+    const int level = q.level + 1;
+    const double size = scene_.extent.size().x / std::ldexp(1.0, level);
+    const double tx = double(q.tx * 2 + std::uint32_t(k & 1));
+    const double ty = double(q.ty * 2 + std::uint32_t(k >> 1));
+    const Vec2 min = scene_.extent.min + Vec2(tx * size, ty * size);
+    return {min, min + Vec2(size)};
+}
+
+ClippedCurve Quadtree::rootCurve(LayerId layer, ElementId ancestor) const {
+    const Curve& a = ancestorCurve(layer, ancestor);
+    ClippedCurve c;
+    c.vertices = a.vertices;
+    c.startsAtNode = a.start != kNoElement;
+    c.endsAtNode = a.end != kNoElement;
+    return c;
+}
+
+ClippedArea Quadtree::rootArea(LayerId layer, ElementId id) const {
+    const Layer& l = scene_.layers[layer];
+    ClippedArea a;
+    const auto& loops = l.areas[id].loops;
+    for (std::size_t i = 0; i < loops.size(); ++i) a.loops.push_back({loopVertices(l, loops[i]), i > 0});
+    return a;
+}
+
+void Quadtree::clipCurveInto(LayerId layer, ElementId ancestor, std::span<const ClippedCurve> parent,
+                             const Quad& child, std::vector<ClippedCurve>& out) const {
+    const double margin = curveMargin(layer, ancestor);
+    const double tol = params_.tolerance(child.bounds.size().x);
+    for (std::size_t i = 0; i < parent.size(); ++i)
+        clipAndRefineCurve(parent[i], std::uint32_t(i), child.bounds, margin, tol, out);
+}
+
+void Quadtree::clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
+                            std::vector<ClippedArea>& out) const {
+    const double margin = areaMargin(layer, id);
+    const double tol = params_.tolerance(child.bounds.size().x);
+    for (std::size_t i = 0; i < parent.size(); ++i)
+        clipAndRefineArea(parent[i], std::uint32_t(i), child.bounds, margin, tol, out);
+}
+
+void Quadtree::subdivide(Quad& q) {
+    if (!q.isLeaf()) return;
+    const std::size_t nLayers = scene_.layers.size();
+    std::array<std::unique_ptr<Quad>, 4> kids;
+    for (int k = 0; k < 4; ++k) {
+        kids[k] = std::make_unique<Quad>();
+        Quad& c = *kids[k];
+        c.level = q.level + 1;
+        c.tx = q.tx * 2 + std::uint32_t(k & 1);
+        c.ty = q.ty * 2 + std::uint32_t(k >> 1);
+        c.bounds = childBounds(q, k);
+        c.parent = &q;
+        c.layers.resize(nLayers);
+    }
+    std::vector<ClippedCurve> curves;
+    std::vector<ClippedArea> areas;
+    auto addCurves = [&](LayerId l, ElementId a, std::span<const ClippedCurve> parent) {
+        for (auto& kid : kids) {
+            curves.clear();
+            clipCurveInto(l, a, parent, *kid, curves);
+            if (!curves.empty()) kid->layers[l].curves.emplace(a, std::move(curves));
+        }
+    };
+    auto addAreas = [&](LayerId l, ElementId a, std::span<const ClippedArea> parent) {
+        for (auto& kid : kids) {
+            areas.clear();
+            clipAreaInto(l, a, parent, *kid, areas);
+            if (!areas.empty()) kid->layers[l].areas.emplace(a, std::move(areas));
+        }
+    };
+    auto addNode = [&](LayerId l, ElementId a, Vec2 p) {
+        const double m = nodeMargin(l, a);
+        for (auto& kid : kids)
+            if (keepNode(p, kid->bounds, m)) kid->layers[l].nodes.emplace(a, p);
+    };
+    for (LayerId l = 0; l < nLayers; ++l) {
+        if (!q.parent) {  // the root: its graph is the scene, after the procedural step
+            const Layer& layer = scene_.layers[l];
+            for (ElementId id = 0; id < layer.nodes.size(); ++id)
+                if (layer.nodes[id].alive) addNode(l, id, layer.nodes[id].p);
+            for (ElementId id = 0; id < layer.curves.size(); ++id)
+                if (layer.curves[id].alive)
+                    forEachRootCurveAncestor(l, id, [&](ElementId a) {
+                        const ClippedCurve rc = rootCurve(l, a);
+                        addCurves(l, a, {&rc, 1});
+                    });
+            for (ElementId id = 0; id < layer.areas.size(); ++id)
+                if (layer.areas[id].alive) {
+                    const ClippedArea ra = rootArea(l, id);
+                    addAreas(l, id, {&ra, 1});
+                }
+        } else {
+            const QuadLayer& ql = q.layers[l];
+            for (const auto& [a, p] : ql.nodes) addNode(l, a, p);
+            for (const auto& [a, pieces] : ql.curves) addCurves(l, a, pieces);
+            for (const auto& [a, pieces] : ql.areas) addAreas(l, a, pieces);
+        }
+    }
+    q.children = std::move(kids);
+}
+
+void Quadtree::merge(Quad& q) {
+    for (auto& c : q.children) c.reset();
+}
+
+void Quadtree::refineQuad(Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
+    const Vec2 v(viewer.x, viewer.y);
+    const Vec2 d = glm::max(glm::max(q.bounds.min - v, v - q.bounds.max), Vec2(0.0));
+    const double distance = std::sqrt(d.x * d.x + d.y * d.y + viewer.z * viewer.z);
+    if (q.level < maxLevel && distance < K * q.bounds.size().x) {
+        subdivide(q);
+        for (auto& c : q.children) refineQuad(*c, viewer, K, maxLevel);
+    } else {
+        merge(q);
+    }
+}
+
+void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) { refineQuad(root_, viewer, K, maxLevel); }
+
+void Quadtree::copyQuad(Quad& q, const Quad& like) {
+    if (like.isLeaf()) return merge(q);
+    subdivide(q);
+    for (int k = 0; k < 4; ++k) copyQuad(*q.children[k], *like.children[k]);
+}
+
+void Quadtree::copyStructureOf(const Quadtree& other) { copyQuad(root_, other.root_); }
+
+UpdateStats Quadtree::update(const Changeset& cs) {
+    const std::size_t nLayers = scene_.layers.size();
+    Ancestors removed(nLayers), added(nLayers);
+    for (const ElementRef& r : cs.removed) {
+        auto& lists = removed.layers.at(r.layer);
+        switch (r.kind) {
+            case ElementKind::Node: lists.nodes.push_back(r.id); break;
+            case ElementKind::Area: lists.areas.push_back(r.id); break;
+            case ElementKind::Curve: {
+                auto it = expandedFrom_[r.layer].find(r.id);
+                if (it == expandedFrom_[r.layer].end()) {
+                    lists.curves.push_back(r.id);
+                    break;
+                }
+                for (ElementId pid : it->second) {
+                    lists.curves.push_back(pid);
+                    proceduralCurves_[r.layer].erase(pid);
+                }
+                expandedFrom_[r.layer].erase(it);
+                break;
+            }
+        }
+    }
+    for (const ElementRef& a : cs.added) {
+        const Layer& layer = scene_.layers.at(a.layer);
+        auto& lists = added.layers[a.layer];
+        switch (a.kind) {
+            case ElementKind::Node:
+                if (a.id < layer.nodes.size() && layer.nodes[a.id].alive) lists.nodes.push_back(a.id);
+                break;
+            case ElementKind::Area:
+                if (a.id < layer.areas.size() && layer.areas[a.id].alive) lists.areas.push_back(a.id);
+                break;
+            case ElementKind::Curve:
+                if (a.id < layer.curves.size() && layer.curves[a.id].alive) {
+                    expandRoot(a.layer, a.id);
+                    forEachRootCurveAncestor(a.layer, a.id, [&](ElementId pid) { lists.curves.push_back(pid); });
+                }
+                break;
+        }
+    }
+    removed.normalize();
+    added.normalize();
+    UpdateStats stats;
+    stats.quadsVisited = 1;
+    if (!root_.isLeaf() && !(removed.empty() && added.empty()))
+        for (auto& c : root_.children) updateQuad(*c, removed, added, stats);
+    return stats;
+}
+
+void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats) {
+    ++stats.quadsVisited;
+    const Quad& p = *q.parent;
+    const bool parentIsRoot = p.parent == nullptr;
+    Ancestors removed2(removed.layers.size()), added2(added.layers.size());
+    std::vector<ClippedCurve> curves;
+    std::vector<ClippedArea> areas;
+    for (LayerId l = 0; l < removed.layers.size(); ++l) {
+        QuadLayer& ql = q.layers[l];
+        const auto& r = removed.layers[l];
+        const auto& a = added.layers[l];
+        auto& r2 = removed2.layers[l];
+        auto& a2 = added2.layers[l];
+        // Alg. 6.1: first remove what was made from the removed elements...
+        for (ElementId id : r.nodes)
+            if (ql.nodes.erase(id)) r2.nodes.push_back(id);
+        for (ElementId id : r.curves)
+            if (ql.curves.erase(id)) r2.curves.push_back(id);
+        for (ElementId id : r.areas)
+            if (ql.areas.erase(id)) r2.areas.push_back(id);
+        // ...then SUBDIVIDE the added ones into q.
+        for (ElementId id : a.nodes) {
+            Vec2 pos;
+            if (parentIsRoot) {
+                pos = scene_.layers[l].nodes[id].p;
+            } else {
+                const auto it = p.layers[l].nodes.find(id);
+                if (it == p.layers[l].nodes.end()) continue;
+                pos = it->second;
+            }
+            if (!keepNode(pos, q.bounds, nodeMargin(l, id))) continue;
+            ql.nodes[id] = pos;
+            a2.nodes.push_back(id);
+        }
+        for (ElementId id : a.curves) {
+            curves.clear();
+            if (parentIsRoot) {
+                const ClippedCurve rc = rootCurve(l, id);
+                clipCurveInto(l, id, {&rc, 1}, q, curves);
+            } else {
+                const auto it = p.layers[l].curves.find(id);
+                if (it == p.layers[l].curves.end()) continue;
+                clipCurveInto(l, id, it->second, q, curves);
+            }
+            if (curves.empty()) continue;
+            ql.curves[id] = std::move(curves);
+            a2.curves.push_back(id);
+        }
+        for (ElementId id : a.areas) {
+            areas.clear();
+            if (parentIsRoot) {
+                const ClippedArea ra = rootArea(l, id);
+                clipAreaInto(l, id, {&ra, 1}, q, areas);
+            } else {
+                const auto it = p.layers[l].areas.find(id);
+                if (it == p.layers[l].areas.end()) continue;
+                clipAreaInto(l, id, it->second, q, areas);
+            }
+            if (areas.empty()) continue;
+            ql.areas[id] = std::move(areas);
+            a2.areas.push_back(id);
+        }
+    }
+    if (removed2.empty() && added2.empty()) return;
+    stats.changedQuads.push_back(&q);
+    if (!q.isLeaf())
+        for (auto& c : q.children) updateQuad(*c, removed2, added2, stats);
+}
+
+std::span<const ClippedCurve> Quadtree::createdFrom(const Quad& q, LayerId layer, ElementId ancestor,
+                                                    std::uint32_t parentIndex) {
+    if (layer >= q.layers.size()) return {};
+    const auto it = q.layers[layer].curves.find(ancestor);
+    if (it == q.layers[layer].curves.end()) return {};
+    const auto& v = it->second;
+    const auto lo = std::lower_bound(v.begin(), v.end(), parentIndex,
+                                     [](const ClippedCurve& c, std::uint32_t i) { return c.parentIndex < i; });
+    const auto hi = std::upper_bound(lo, v.end(), parentIndex,
+                                     [](std::uint32_t i, const ClippedCurve& c) { return i < c.parentIndex; });
+    return {lo, hi};
+}
+
+std::size_t Quadtree::quadCount() const {
+    std::size_t n = 0;
+    forEachQuad([&](const Quad&) { ++n; });
+    return n;
+}
+
+int Quadtree::depth() const {
+    int d = 0;
+    forEachQuad([&](const Quad& q) { d = std::max(d, q.level); });
+    return d;
+}
+
+}  // namespace lacet

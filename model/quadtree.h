@@ -1,0 +1,142 @@
+#pragma once
+// The quadtree of clipped graphs (§4.2) with CREATEDFROM and incremental UPDATE (§6).
+//
+// The root quad is the scene's extent and its graph is the Scene itself. Every other quad holds,
+// per layer, the pieces of each element made from its parent's pieces by CLIPANDREFINE, grouped
+// by ancestor: `curves[a]` is the list of clipped curves whose ancestor is `a`, in order, each
+// recording the index of the parent piece it was made from (`parentIndex`). So
+//   CREATEDFROM(q)[parent piece (a, i)] = the pieces of q.curves[a] with parentIndex == i,
+// a contiguous range (createdFrom() below). Since clipping and refinement keep the ancestor, the
+// pieces of ancestor `a` in a quad are made only from the pieces of `a` in its parent.
+//
+// The procedural step (Alg. 4.1) runs when the root is subdivided: it may replace a root curve by
+// procedural curves, which are ancestors in their own right (ids with kProceduralBit).
+//
+// Order of calls: build a Quadtree over a Scene (it keeps a reference); subdivide()/merge() or
+// refineForViewer(); after each edit of the Scene (model/edits.h), update(changeset).
+
+#include <array>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
+#include "model/changeset.h"
+#include "model/clip_and_refine.h"
+#include "model/graph.h"
+
+namespace lacet {
+
+struct QuadLayer {
+    std::unordered_map<ElementId, Vec2> nodes;  // ancestor node -> its (unclipped) position
+    std::unordered_map<ElementId, std::vector<ClippedCurve>> curves;
+    std::unordered_map<ElementId, std::vector<ClippedArea>> areas;
+    bool empty() const { return nodes.empty() && curves.empty() && areas.empty(); }
+};
+
+struct Quad {
+    int level = 0;
+    std::uint32_t tx = 0, ty = 0;  // position in the grid of its level
+    Box bounds;
+    Quad* parent = nullptr;
+    // children[k] covers (tx*2 + (k & 1), ty*2 + (k >> 1)): 0 lower-left, 1 lower-right,
+    // 2 upper-left, 3 upper-right.
+    std::array<std::unique_ptr<Quad>, 4> children;
+    std::vector<QuadLayer> layers;  // one per scene layer; empty for the root
+    bool isLeaf() const { return !children[0]; }
+};
+
+// A graph transformation applied when the root is subdivided (§4.3). It must be a pure function
+// of the scene: the same root curve always expands to the same procedural curves.
+class ProceduralStep {
+public:
+    virtual ~ProceduralStep() = default;
+    // Fills `out` with the curves replacing root curve `id` and returns true, or returns false to
+    // keep the curve as it is. At most 256 curves per root curve.
+    virtual bool expand(const Scene& scene, LayerId layer, ElementId id, std::vector<Curve>& out) const = 0;
+};
+
+// Id of the k-th procedural curve made from root curve `root`.
+ElementId proceduralId(ElementId root, std::size_t k);
+
+struct UpdateStats {
+    std::size_t quadsVisited = 0;
+    std::vector<const Quad*> changedQuads;  // quads whose graph changed: their textures are dirty
+};
+
+class Quadtree {
+public:
+    explicit Quadtree(const Scene& scene, RefineParams params = {}, const ProceduralStep* procedural = nullptr);
+    Quadtree(const Quadtree&) = delete;
+    Quadtree& operator=(const Quadtree&) = delete;
+
+    const Scene& scene() const { return scene_; }
+    const RefineParams& params() const { return params_; }
+    Quad& root() { return root_; }
+    const Quad& root() const { return root_; }
+
+    // Makes the 4 children of a leaf from its graph (Alg. 4.1).
+    void subdivide(Quad& q);
+    // Deletes the descendants of q.
+    void merge(Quad& q);
+    // Subdivides every quad closer to the viewer than K times its size, down to maxLevel, and
+    // merges the others. `viewer` is (x, y, height above the ground plane z = 0), metres.
+    void refineForViewer(glm::dvec3 viewer, double K, int maxLevel);
+    // Subdivides this tree exactly where `other` is subdivided (and merges elsewhere).
+    void copyStructureOf(const Quadtree& other);
+
+    // UPDATE (Alg. 6.1) after the scene was edited as `changeset` says.
+    UpdateStats update(const Changeset& changeset);
+
+    // The ancestor curve: a root curve, or a procedural one.
+    const Curve& ancestorCurve(LayerId layer, ElementId id) const;
+    // Clipping margins (metres) of an ancestor element.
+    double curveMargin(LayerId layer, ElementId id) const { return 0.5 * double(ancestorCurve(layer, id).wf); }
+    double areaMargin(LayerId layer, ElementId id) const { return double(scene_.layers[layer].areas[id].wf); }
+    double nodeMargin(LayerId layer, ElementId id) const;
+
+    // CREATEDFROM(q)[(ancestor, parentIndex)]: the curves of q made from that parent piece.
+    static std::span<const ClippedCurve> createdFrom(const Quad& q, LayerId layer, ElementId ancestor,
+                                                     std::uint32_t parentIndex);
+
+    template <class F>
+    void forEachQuad(F&& f) const { visit(root_, f); }
+    std::size_t quadCount() const;
+    int depth() const;
+
+private:
+    struct Ancestors;  // per-layer sets of ancestor ids of nodes, curves, areas
+
+    template <class F>
+    static void visit(const Quad& q, F& f) {
+        f(q);
+        if (!q.isLeaf())
+            for (const auto& c : q.children) visit(*c, f);
+    }
+    Box childBounds(const Quad& q, int k) const;
+    void expandRoot(LayerId layer, ElementId id);
+    template <class F>
+    void forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) const;
+    ClippedCurve rootCurve(LayerId layer, ElementId ancestor) const;
+    ClippedArea rootArea(LayerId layer, ElementId id) const;
+    void clipCurveInto(LayerId layer, ElementId ancestor, std::span<const ClippedCurve> parent, const Quad& child,
+                       std::vector<ClippedCurve>& out) const;
+    void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
+                      std::vector<ClippedArea>& out) const;
+    void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
+    void refineQuad(Quad& q, glm::dvec3 viewer, double K, int maxLevel);
+    void copyQuad(Quad& q, const Quad& like);
+
+    const Scene& scene_;
+    RefineParams params_;
+    const ProceduralStep* procedural_;
+    Quad root_;
+    // Per layer: root curve -> the procedural curves made from it, and their geometry.
+    std::vector<std::unordered_map<ElementId, std::vector<ElementId>>> expandedFrom_;
+    std::vector<std::unordered_map<ElementId, Curve>> proceduralCurves_;
+};
+
+}  // namespace lacet

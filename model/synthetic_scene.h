@@ -1,0 +1,42 @@
+#pragma once
+// Deterministic, seeded synthetic scenes with the density of the paper's test dataset (§9: a
+// 100 x 100 km^2 area with about 600k curves, 190k areas and 940k nodes and control points,
+// most of them fields). Used by tests, benchmarks and the sample app when no real GIS data is
+// at hand.
+//
+// Units: metres, in a square extent with min = (0, 0) and side syntheticExtentSide(curves).
+// Generated layers, always in this order (some empty for very small targets):
+//   roads   - a network over a jittered grid of junctions (~1.5 km apart), cubic Bezier curves
+//             (some made of two pieces), 3-way and 4-way junctions, classes 0 primary, 1
+//             secondary, 2 track;
+//   rivers  - a few tree-shaped systems flowing out of the extent, curves oriented downstream
+//             (start = upstream node), tributaries joining at nodes, widths 2..20 m growing
+//             downstream;
+//   lakes   - smooth areas bounded by 3..6 curves, at least one with an island (hole);
+//   fields  - patches of 2x2 (mostly) or 3x3 parcels whose neighbours share border curves,
+//             placed in the road-free blocks away from rivers, lakes and forests; cls = crop;
+//   forests - smooth areas bounded by 2..4 curves, a few with a clearing (hole).
+// Fields take whatever is left of the curve budget, so the total number of curves is the
+// target within a few curves. The same seed always gives a bit-identical scene.
+
+#include <cstdint>
+
+#include "model/graph.h"
+
+namespace lacet {
+
+struct SyntheticParams {
+    std::uint64_t seed = 1;
+    std::size_t curves = 600000;  // target number of curves; the extent scales so that density stays that of the paper's dataset
+};
+
+// Side (metres) of the square extent for a given curve count: 100 km at 600k curves, scaled by
+// sqrt(curves/600k). A count of 0 is treated as 1 (the extent is never empty).
+double syntheticExtentSide(std::size_t curves);
+
+Scene makeSyntheticScene(const SyntheticParams& params);
+
+// Fixed layer order of synthetic scenes:
+constexpr LayerId kRoadsLayer = 0, kRiversLayer = 1, kLakesLayer = 2, kFieldsLayer = 3, kForestsLayer = 4;
+
+}  // namespace lacet

@@ -1,0 +1,118 @@
+#include "model/validate.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace lacet {
+namespace {
+
+std::string describe(const std::vector<Problem>& problems) {
+    std::ostringstream s;
+    s << problems.size() << " problem(s) in scene";
+    for (std::size_t i = 0; i < problems.size() && i < 10; ++i)
+        s << "\n  " << problems[i].where << ": " << problems[i].reason;
+    if (problems.size() > 10) s << "\n  ...";
+    return s.str();
+}
+
+std::string where(const Layer& layer, const char* kind, std::size_t id) {
+    return "layer '" + layer.name + "' " + kind + " " + std::to_string(id);
+}
+
+bool alive(const std::vector<Node>& v, ElementId id) { return id < v.size() && v[id].alive; }
+bool alive(const std::vector<Curve>& v, ElementId id) { return id < v.size() && v[id].alive; }
+
+void checkCurve(const Layer& layer, std::size_t id, std::vector<Problem>& out) {
+    const Curve& c = layer.curves[id];
+    auto report = [&](std::string reason) { out.push_back({where(layer, "curve", id), std::move(reason)}); };
+    if (!std::isfinite(c.w) || !std::isfinite(c.wf) || c.w < 0.0f || c.wf < c.w)
+        report("widths must be finite with 0 <= w <= wf (w=" + std::to_string(c.w) + ", wf=" + std::to_string(c.wf) + ")");
+    if (auto reason = splineProblem(c.vertices); !reason.empty()) report(reason);
+    if (!alive(layer.nodes, c.start) || !alive(layer.nodes, c.end)) {
+        report("start or end node is missing or deleted");
+        return;
+    }
+    if (!c.vertices.empty() &&
+        (c.vertices.front().p != layer.nodes[c.start].p || c.vertices.back().p != layer.nodes[c.end].p))
+        report("first/last vertex differs from its start/end node position");
+    for (ElementId a : c.areas)
+        if (a >= layer.areas.size() || !layer.areas[a].alive) report("refers to a missing area " + std::to_string(a));
+}
+
+void checkArea(const Layer& layer, std::size_t id, std::vector<Problem>& out) {
+    const Area& a = layer.areas[id];
+    auto report = [&](std::string reason) { out.push_back({where(layer, "area", id), std::move(reason)}); };
+    if (!std::isfinite(a.wf) || a.wf < 0.0f) report("footprint width must be finite and >= 0");
+    if (a.loops.empty()) report("has no outer loop");
+    if (a.axial != kNoElement && !alive(layer.curves, a.axial)) report("axial curve is missing or deleted");
+    for (std::size_t li = 0; li < a.loops.size(); ++li) {
+        const auto& loop = a.loops[li];
+        if (loop.empty()) {
+            report("loop " + std::to_string(li) + " is empty");
+            continue;
+        }
+        bool ok = true;
+        for (const auto& e : loop)
+            if (!alive(layer.curves, e.curve)) {
+                report("loop " + std::to_string(li) + " refers to a missing curve " + std::to_string(e.curve));
+                ok = false;
+            }
+        if (!ok) continue;
+        auto from = [&](const AreaEdge& e) { const Curve& c = layer.curves[e.curve]; return e.reversed ? c.end : c.start; };
+        auto to = [&](const AreaEdge& e) { const Curve& c = layer.curves[e.curve]; return e.reversed ? c.start : c.end; };
+        for (std::size_t k = 0; k < loop.size(); ++k)
+            if (to(loop[k]) != from(loop[(k + 1) % loop.size()])) {
+                report("loop " + std::to_string(li) + " is open: curve " + std::to_string(loop[k].curve) +
+                       " does not end where curve " + std::to_string(loop[(k + 1) % loop.size()].curve) + " starts");
+                break;
+            }
+    }
+}
+
+}  // namespace
+
+ValidationError::ValidationError(std::vector<Problem> problems)
+    : std::runtime_error(describe(problems)), problems_(std::move(problems)) {}
+
+bool isFinite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+
+std::string splineProblem(const std::vector<Vertex>& v) {
+    if (v.size() < 2) return "has fewer than 2 vertices";
+    if (!v.front().onCurve || !v.back().onCurve) return "first and last vertices must be on-curve";
+    int controls = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        if (!isFinite(v[i].p)) return "vertex " + std::to_string(i) + " has a non-finite coordinate";
+        controls = v[i].onCurve ? 0 : controls + 1;
+        if (controls > 2) return "more than 2 control points in a row at vertex " + std::to_string(i);
+    }
+    return {};
+}
+
+std::vector<Problem> validate(const Scene& scene) {
+    std::vector<Problem> out;
+    if (!isFinite(scene.extent.min) || !isFinite(scene.extent.max) || !(scene.extent.min.x < scene.extent.max.x) ||
+        !(scene.extent.min.y < scene.extent.max.y))
+        out.push_back({"scene", "extent must be finite and non-empty"});
+    for (const Layer& layer : scene.layers) {
+        for (std::size_t id = 0; id < layer.nodes.size(); ++id) {
+            const Node& n = layer.nodes[id];
+            if (!n.alive) continue;
+            if (!isFinite(n.p)) out.push_back({where(layer, "node", id), "position is not finite"});
+            for (ElementId c : n.curves)
+                if (!alive(layer.curves, c) || (layer.curves[c].start != id && layer.curves[c].end != id))
+                    out.push_back({where(layer, "node", id), "lists curve " + std::to_string(c) + " which does not end there"});
+        }
+        for (std::size_t id = 0; id < layer.curves.size(); ++id)
+            if (layer.curves[id].alive) checkCurve(layer, id, out);
+        for (std::size_t id = 0; id < layer.areas.size(); ++id)
+            if (layer.areas[id].alive) checkArea(layer, id, out);
+    }
+    return out;
+}
+
+void validateOrThrow(const Scene& scene) {
+    auto problems = validate(scene);
+    if (!problems.empty()) throw ValidationError(std::move(problems));
+}
+
+}  // namespace lacet

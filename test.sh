@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs every test: the GoogleTest suite through ctest, then
+# again under AddressSanitizer + UndefinedBehaviorSanitizer, then the command-line checks.
+set -euo pipefail
+cd "$(dirname "$0")"
+scripts/install_deps.sh
+
+scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
+(cd build && ctest --output-on-failure -j 2)
+
+scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=Debug -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF
+(cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j 2)
+
+# Incremental equals rebuild on a larger scene, through the command line.
+./build/lacet check incremental --seed 3 --curves 20000 --edits 60 --depth 14 --json > build/check-incremental.json
+grep -q '"mismatches": 0' build/check-incremental.json
+echo "lacet check incremental: 0 mismatches"

@@ -1,0 +1,73 @@
+// Invariant: after every edit, the incrementally updated quadtree equals a rebuild from scratch
+// (elements, geometry bit for bit, ancestors, CREATEDFROM). Randomized with fixed seeds.
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "model/quadtree_compare.h"
+#include "model/random_edits.h"
+#include "model/synthetic_scene.h"
+#include "model/validate.h"
+#include "tests/model/small_scene.h"
+
+namespace lacet {
+namespace {
+
+struct EditRun {
+    std::size_t edits = 0;
+    std::map<EditKind, std::size_t> byKind;
+};
+
+// Applies `edits` random edits; after each, updates `qt`, and every `viewEvery` edits moves the
+// viewer (subdividing and merging quads). Compares with a rebuild after every edit.
+EditRun checkIncremental(Scene& s, std::uint64_t seed, int edits, int maxLevel, double reach, int viewEvery) {
+    std::mt19937_64 rng(seed);
+    Quadtree qt(s);
+    auto viewer = [&]() {
+        return glm::dvec3(s.extent.min.x + uniform01(rng) * s.extent.size().x,
+                          s.extent.min.y + uniform01(rng) * s.extent.size().y, 1.0 + uniform01(rng) * 20.0);
+    };
+    qt.refineForViewer(viewer(), 2.8, maxLevel);
+    EditRun run;
+    for (int i = 0; i < edits; ++i) {
+        if (i % viewEvery == viewEvery - 1) qt.refineForViewer(viewer(), 2.8, maxLevel);
+        const RandomEdit e = applyRandomEdit(s, rng, reach);
+        if (e.changeset.empty()) continue;
+        ++run.edits;
+        ++run.byKind[e.kind];
+        qt.update(e.changeset);
+        Quadtree rebuilt(s);
+        rebuilt.copyStructureOf(qt);
+        const auto diff = compareQuadtrees(qt, rebuilt, 3);
+        EXPECT_EQ(diff.mismatches, 0u) << "seed " << seed << " edit " << i << " (" << toString(e.kind)
+                                       << "): " << (diff.details.empty() ? "" : diff.details[0]);
+        if (diff.mismatches) break;
+    }
+    EXPECT_TRUE(validate(s).empty());
+    return run;
+}
+
+TEST(Incremental, RandomEditsOfEveryKindOnASmallSceneEqualRebuild) {
+    EditRun total;
+    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+        Scene s = test::smallScene();
+        const EditRun r = checkIncremental(s, seed, 400, 7, 150.0, 25);
+        total.edits += r.edits;
+        for (auto [k, n] : r.byKind) total.byKind[k] += n;
+    }
+    EXPECT_GT(total.edits, 1000u);
+    for (int k = 0; k < int(EditKind::Count); ++k) EXPECT_GT(total.byKind[EditKind(k)], 10u) << toString(EditKind(k));
+}
+
+TEST(Incremental, RandomEditsOnSyntheticScenesEqualRebuild) {
+    std::size_t edits = 0;
+    for (std::uint64_t seed = 10; seed <= 12; ++seed) {
+        Scene s = makeSyntheticScene({seed, 400});
+        edits += checkIncremental(s, seed, 300, 8, 0.05 * s.extent.size().x, 30).edits;
+    }
+    EXPECT_GT(edits, 700u);
+}
+
+}  // namespace
+}  // namespace lacet
