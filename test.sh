@@ -8,7 +8,7 @@ scripts/install_deps.sh
 scripts/build.sh build -DCMAKE_BUILD_TYPE=Release
 (cd build && ctest --output-on-failure -j 2)
 
-scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=Debug -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF
+scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j 2)
 
 # Incremental equals rebuild on a larger scene, through the command line.

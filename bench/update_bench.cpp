@@ -57,7 +57,8 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
     nlohmann::json runs = nlohmann::json::array();
     double firstMedian = 0.0, lastMedian = 0.0, lastRebuild = 0.0;
     nlohmann::json byDepth;
-    for (std::size_t n : curves) {
+    for (std::size_t run = 0; run < curves.size(); ++run) {
+        const std::size_t n = curves[run];
         auto t0 = Clock::now();
         Scene s = makeSyntheticScene({seed, n});
         const double synthMs = msSince(t0);
@@ -103,7 +104,7 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
                         {"quads_changed_median", median(changed)},
                         {"rebuild_ms", rebuildMs},
                         {"peak_rss_mib", peakRssMiB()}});
-        if (&n == &curves.back()) {
+        if (run + 1 == curves.size()) {
             for (const auto& [level, ms] : timeClipAndRefineByLevel(s, qt))
                 byDepth.push_back({{"depth", level}, {"quads", ms.size()}, {"median_ms", median(ms)}, {"max_ms", quantile(ms, 1.0)}});
         }

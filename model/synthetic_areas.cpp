@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <cstdio>
-#include <cstdlib>
 
 #include "model/synthetic_internal.h"
 
@@ -212,7 +210,6 @@ void buildFields(Layer& layer, Context& ctx, Rng& rng, std::size_t curveBudget) 
         slots = freeSlots(ctx, t);
     }
     if (!best.empty()) slots = std::move(best);
-    if (std::getenv("SYNTH_DEBUG")) std::fprintf(stderr, "fields: budget %zu free %.0f wanted %.0f t %.1f slots %zu\n", curveBudget, freeArea, wanted, t, slots.size());
     // Patch sizes, drawn over the slots in random order until the budget is spent; then the
     // patches are built in slot order (blocks in grid order) for spatial coherence.
     std::vector<std::size_t> order(slots.size()), size(slots.size(), 0);

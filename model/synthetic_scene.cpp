@@ -122,6 +122,8 @@ void buildRoads(Layer& layer, Context& ctx, Rng& rng) {
             junction[j * n + i] = Vec2((double(i) + 0.5 + rng.uniform(-0.1, 0.1)) * s,
                                        (double(j) + 0.5 + rng.uniform(-0.1, 0.1)) * s);
     const std::size_t primaryRow = rng.below(4), primaryColumn = rng.below(4);
+    // An inner junction that keeps its 4 roads, so that small scenes have a 4-way crossing too.
+    const std::size_t anchor = n >= 3 ? (1 + rng.below(n - 2)) * n + 1 + rng.below(n - 2) : n * n;
 
     // Edges: horizontal (i,j)-(i+1,j) at j*(n-1)+i, then vertical (i,j)-(i,j+1) at H+i*(n-1)+j.
     const std::size_t H = n * (n - 1);
@@ -143,7 +145,7 @@ void buildRoads(Layer& layer, Context& ctx, Rng& rng) {
         e.b = horizontal ? e.a + 1 : e.a + n;
         const bool primary = line % 4 == (horizontal ? primaryRow : primaryColumn);
         e.cls = primary ? 0 : (rng.chance(0.25) ? 2 : 1);
-        e.present = primary || !rng.chance(e.cls == 2 ? 0.3 : 0.1);
+        e.present = primary || e.a == anchor || e.b == anchor || !rng.chance(e.cls == 2 ? 0.3 : 0.1);
         if (e.present) {
             e.v = roadGeometry(junction[e.a], junction[e.b], rng);
             ++degree[e.a], ++degree[e.b], ++present;
@@ -194,7 +196,7 @@ void buildRoads(Layer& layer, Context& ctx, Rng& rng) {
 void buildRivers(Layer& layer, Context& ctx, Rng& rng) {
     const double side = ctx.side;
     const std::size_t systems = std::max<std::size_t>(1, std::size_t(std::lround(side * side * 1e-6 / 1000.0)));
-    const std::size_t total = std::max<std::size_t>(3, ctx.target / 300);
+    const std::size_t total = std::max<std::size_t>(6, ctx.target / 300);
     const double reachLength = std::min(1500.0, side / 6.0);
     const double ignoreRadius = 0.4 * reachLength;  // near its start a reach may touch its parent and siblings
     const double avoidRadius = std::max(0.2 * reachLength, ctx.occ.cell());
@@ -224,8 +226,8 @@ void buildRivers(Layer& layer, Context& ctx, Rng& rng) {
         const std::size_t pieces = 1 + rng.below(3);
         const double l = length / double(pieces);
         const std::size_t steps = std::max<std::size_t>(4, std::size_t(std::ceil(l / ctx.occ.cell())));
-        for (int attempt = 0; attempt < 4; ++attempt) {
-            double course = tip.heading + (attempt == 0 ? 0.0 : rng.uniform(-0.6, 0.6));
+        for (int attempt = 0; attempt < 8; ++attempt) {  // turning further away at each attempt
+            double course = tip.heading + 0.2 * double(attempt) * rng.uniform(-1.0, 1.0);
             double tangent = course;
             std::vector<Vertex> v{onCurve(tip.p)};
             v.reserve(1 + 3 * pieces);
@@ -252,7 +254,7 @@ void buildRivers(Layer& layer, Context& ctx, Rng& rng) {
             bool ok = true;
             for (Vec2 q : samples) {
                 const bool nearStart = glm::length(q - tip.p) < ignoreRadius;
-                const double m = nearStart ? 0.0 : 2.0 * avoidRadius;
+                const double m = nearStart ? 0.0 : avoidRadius;
                 if (q.x < m || q.y < m || q.x > side - m || q.y > side - m ||
                     (!nearStart && ctx.occ.any(Box{q, q}, kNearRiver))) {
                     ok = false;
@@ -276,43 +278,66 @@ void buildRivers(Layer& layer, Context& ctx, Rng& rng) {
     const double phase = rng.uniform();
     for (std::size_t sys = 0; sys < systems; ++sys) {
         const std::size_t budget = total / systems + (sys < total % systems ? 1 : 0);
-        // Outlets spread evenly along the border (one turn from a random start).
-        const double along = 4.0 * std::fmod(phase + (double(sys) + rng.uniform(0.2, 0.8)) / double(systems), 1.0);
-        const auto edge = std::size_t(along);
-        const double t = (0.1 + 0.8 * (along - double(edge))) * side;
-        const Vec2 outlet = edge == 0 ? Vec2(t, 0.0) : edge == 1 ? Vec2(side, t) : edge == 2 ? Vec2(t, side) : Vec2(0.0, t);
-        const double inward = double(edge + 1) * 0.5 * kPi;
         // A trunk first, reaching well inside the extent with a tributary at each of its nodes;
-        // then tributaries grow from random pending tips, branching or going on.
-        Tip trunk{kNone, outlet, inward + rng.uniform(-0.4, 0.4), true};
-        bool trunkGoes = true;
-        std::size_t trunkLeft = std::max<std::size_t>(2, std::size_t(side * rng.uniform(0.4, 0.8) / reachLength));
-        std::vector<Tip> tips;
+        // then tributaries grow from random pending tips, branching or going on. Outlets are
+        // spread evenly along the border (one turn from a random start); another spot along the
+        // same stretch is tried if the first reach cannot grow from there.
+        double inward = 0.0;
+        const auto outletTip = [&] {
+            const double along = 4.0 * std::fmod(phase + (double(sys) + rng.uniform(0.2, 0.8)) / double(systems), 1.0);
+            const auto edge = std::size_t(along);
+            const double t = (0.1 + 0.8 * (along - double(edge))) * side;
+            inward = double(edge + 1) * 0.5 * kPi;
+            return Tip{kNone, edge == 0 ? Vec2(t, 0.0) : edge == 1 ? Vec2(side, t) : edge == 2 ? Vec2(t, side) : Vec2(0.0, t),
+                       inward + rng.uniform(-0.3, 0.3), true};
+        };
+        // `next` is a stack of tips grown first (the trunk's next reach, then the tributary at
+        // its upper node); `tips` the other pending tips, grown in random order.
+        std::vector<Tip> next{outletTip()}, tips;
+        int outletTries = 8;
+        std::size_t trunkLeft = std::clamp<std::size_t>(std::size_t(side * rng.uniform(0.4, 0.8) / reachLength), 2,
+                                                        std::max<std::size_t>(2, budget / 2));
         for (std::size_t grown = 0, head = 0; grown < budget;) {
-            if (!trunkGoes) {
-                if (head == tips.size()) break;
+            Tip tip;
+            if (!next.empty()) {
+                tip = next.back();
+                next.pop_back();
+            } else if (head < tips.size()) {
                 std::swap(tips[head], tips[head + rng.below(tips.size() - head)]);
+                tip = tips[head++];
+            } else {
+                break;
             }
-            const Tip tip = trunkGoes ? trunk : tips[head++];
-            trunkGoes = false;
             const double h = grow(tip);
-            if (std::isnan(h)) continue;
+            if (std::isnan(h)) {
+                if (tip.parent == kNone && --outletTries > 0) next.push_back(outletTip());
+                continue;
+            }
             ++grown;
             const std::size_t id = reaches.size() - 1;
             const Vec2 p = reaches.back().v.back().p;
             const double u = rng.uniform();
-            if (tip.trunk && --trunkLeft > 0) {
-                tips.push_back({id, p, h + (u < 0.5 ? 1.0 : -1.0) * rng.uniform(0.5, 0.9), false});
-                trunk = {id, p, h + 0.3 * std::remainder(inward - h, 2.0 * kPi) + rng.uniform(-0.2, 0.2), true};
-                trunkGoes = true;
-            } else if (tip.trunk || u < 0.5) {  // confluence
-                tips.push_back({id, p, h + rng.uniform(0.45, 0.8), false});
-                tips.push_back({id, p, h - rng.uniform(0.45, 0.8), false});
+            if (tip.trunk && --trunkLeft > 0) {  // the trunk goes on first, then the tributary beside it
+                const double on = h + 0.4 * std::remainder(inward - h, 2.0 * kPi) + rng.uniform(-0.2, 0.2);
+                next.push_back({id, p, on + (u < 0.5 ? 1.0 : -1.0) * rng.uniform(0.6, 1.0), false});
+                next.push_back({id, p, on, true});
+            } else if (tip.trunk || u < 0.5) {  // confluence (right away at the trunk's end)
+                auto& to = tip.trunk ? next : tips;
+                to.push_back({id, p, h + rng.uniform(0.45, 0.8), false});
+                to.push_back({id, p, h - rng.uniform(0.45, 0.8), false});
             } else if (u < 0.95) {
                 tips.push_back({id, p, h + rng.uniform(-0.25, 0.25), false});
             }
         }
     }
+
+    // Rivers always have a confluence: if none grew, a tributary is added where one fits.
+    const auto confluence = [&] {
+        return std::any_of(reaches.begin(), reaches.end(), [](const Reach& r) { return r.children >= 2; });
+    };
+    for (std::size_t r = 0, n = reaches.size(); r < n && !confluence(); ++r)
+        for (int k = 0; k < 12 && reaches[r].children == 1; ++k)
+            if (!std::isnan(grow({r, reaches[r].v.back().p, double(k) * kPi / 6.0, false}))) break;
 
     // Widths grow with the number of reaches upstream (reaches are stored parents first).
     for (std::size_t r = reaches.size(); r-- > 0;)
