@@ -28,7 +28,7 @@ void addBenchCommand(CLI::App& app) {
 
     struct AccuracyOptions {
         std::vector<double> tolerances{0.125, 0.25, 0.5, 1.0, 2.0, 4.0};
-        std::size_t curves = 2000;
+        std::size_t curves = 10000;
         std::uint64_t seed = 1;
         bool json = true;
     };

@@ -32,6 +32,8 @@ void measure(const std::vector<Vertex>& v, double texel, Error& e) {
 
 }  // namespace
 
+constexpr int kRepetitions = 7;  // timing runs per tolerance; the median is reported
+
 nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::size_t curves, std::uint64_t seed) {
     const Scene s = makeSyntheticScene({seed, curves});
     const Vec2 c = s.extent.center();
@@ -42,7 +44,7 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
         std::vector<double> times;
         std::size_t vertices = 0, quads = 0;
         Error err;
-        for (int rep = 0; rep < 3; ++rep) {
+        for (int rep = 0; rep < kRepetitions; ++rep) {
             const auto t0 = Clock::now();
             Quadtree qt(s, params);
             qt.refineForViewer({c.x, c.y, 10.0}, 2.8, 24);

@@ -106,7 +106,8 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
                         {"peak_rss_mib", peakRssMiB()}});
         if (run + 1 == curves.size()) {
             for (const auto& [level, ms] : timeClipAndRefineByLevel(s, qt))
-                byDepth.push_back({{"depth", level}, {"quads", ms.size()}, {"median_ms", median(ms)}, {"max_ms", quantile(ms, 1.0)}});
+                byDepth.push_back({{"depth", level}, {"subdivisions", ms.size()}, {"median_ms_per_child_quad", median(ms)},
+                                {"max_ms_per_child_quad", quantile(ms, 1.0)}});
         }
     }
     return {{"runs", runs},
