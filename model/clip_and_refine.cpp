@@ -33,7 +33,7 @@ bool canonicalIsReversed(const BezierPiece& b) {
 class Refiner {
 public:
     Refiner(const Box& quad, double margin, double tolerance)
-        : quad_(quad), box_(quad.dilated(margin)), tolerance_(tolerance), quadSize_(quad.size().x) {}
+        : box_(quad.dilated(margin)), tolerance_(tolerance), quadSize_(quad.size().x) {}
 
     const Box& box() const { return box_; }
 
@@ -54,9 +54,9 @@ private:
             out.push_back({b, false});
             return;
         }
-        // A piece larger than the quad that is not inside it is split even when flat, so that
-        // its sub-pieces far from the quad can be dropped (tighter conservative clipping).
-        const bool straddles = !quad_.contains(cb) && std::max(cb.size().x, cb.size().y) > quadSize_;
+        // A piece larger than the quad that crosses the dilated border is split even when flat,
+        // so that its sub-pieces far from the quad can be dropped (tighter conservative clipping).
+        const bool straddles = !box_.contains(cb) && std::max(cb.size().x, cb.size().y) > quadSize_;
         if (depth >= kMaxRefineDepth || (!straddles && flatness(b) <= tolerance_)) {
             out.push_back({b, true});
             return;
@@ -66,7 +66,6 @@ private:
         run(r, depth + 1, out);
     }
 
-    Box quad_;
     Box box_;
     double tolerance_;
     double quadSize_;

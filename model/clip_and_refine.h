@@ -7,7 +7,7 @@
 // strip; nodes: half the largest wf of their curves). Refinement splits pieces with de Casteljau
 // at t = 1/2 until each is flat within the tolerance (every control point within `tolerance` of
 // the chord, so the chord polyline is within `tolerance` of the curve), and also while a piece
-// larger than the quad straddles its border, so that pieces far outside are dropped. Kept pieces
+// larger than the quad crosses the dilated border, so that parts far outside are dropped. Kept pieces
 // stay exact Bezier sub-pieces (control points kept), so a child quad refines them further.
 //
 // A clipped curve is a maximal run of kept pieces. A clipped area keeps its loops, with each run

@@ -37,7 +37,7 @@ Area& liveArea(Scene& s, LayerId layer, ElementId id) {
 }
 
 void requireFinite(const Scene& s, LayerId layer, const char* kind, ElementId id, Vec2 p) {
-    if (!isFinite(p)) throw EditError(name(s, layer, kind, id) + ": position is not finite");
+    if (!isFinite(p)) throw EditError(name(s, layer, kind, id) + ": position is not finite or beyond 1e9 m");
 }
 
 // The curve's geometry changed: the curve and the areas using it.
@@ -199,6 +199,10 @@ Changeset deleteCurve(Scene& s, LayerId layer, ElementId curve) {
         throw EditError(name(s, layer, "curve", curve) + ": used by area " + std::to_string(c.areas.front()) +
                         "; delete the area first");
     Layer& l = s.layers[layer];
+    for (std::size_t a = 0; a < l.areas.size(); ++a)
+        if (l.areas[a].alive && l.areas[a].axial == curve)
+            throw EditError(name(s, layer, "curve", curve) + ": axial curve of area " + std::to_string(a) +
+                            "; delete the area first");
     for (ElementId n : {c.start, c.end}) {
         auto& list = l.nodes[n].curves;
         if (auto it = std::find(list.begin(), list.end(), curve); it != list.end()) list.erase(it);

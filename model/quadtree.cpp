@@ -1,5 +1,7 @@
 #include "model/quadtree.h"
 
+#include "model/validate.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -37,6 +39,7 @@ Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep
     : scene_(scene), params_(params), procedural_(procedural) {
     if (!(params_.toleranceTexels > 0.0) || params_.resolution <= 0)
         throw std::invalid_argument("Quadtree: refinement tolerance and resolution must be positive");
+    validateOrThrow(scene);
     root_.bounds = scene.extent;
     expandedFrom_.resize(scene.layers.size());
     proceduralCurves_.resize(scene.layers.size());
@@ -78,13 +81,13 @@ double Quadtree::nodeMargin(LayerId layer, ElementId id) const {
     return m;
 }
 
-Box Quadtree::childBounds(const Quad& q, int k) const {
-    const int level = q.level + 1;
-    const double size = scene_.extent.size().x / std::ldexp(1.0, level);
-    const double tx = double(q.tx * 2 + std::uint32_t(k & 1));
-    const double ty = double(q.ty * 2 + std::uint32_t(k >> 1));
-    const Vec2 min = scene_.extent.min + Vec2(tx * size, ty * size);
-    return {min, min + Vec2(size)};
+Box Quadtree::childBounds(const Quad& q, int k) {
+    // Children share the parent's corners and one midpoint, so siblings meet exactly (no ulp gaps
+    // at huge coordinates) and tile the parent.
+    const Vec2 mid = q.bounds.center();
+    const Vec2 min((k & 1) ? mid.x : q.bounds.min.x, (k >> 1) ? mid.y : q.bounds.min.y);
+    const Vec2 max((k & 1) ? q.bounds.max.x : mid.x, (k >> 1) ? q.bounds.max.y : mid.y);
+    return {min, max};
 }
 
 ClippedCurve Quadtree::rootCurve(LayerId layer, ElementId ancestor) const {
@@ -207,7 +210,15 @@ void Quadtree::copyQuad(Quad& q, const Quad& like) {
 
 void Quadtree::copyStructureOf(const Quadtree& other) { copyQuad(root_, other.root_); }
 
-UpdateStats Quadtree::update(const Changeset& cs) {
+UpdateStats Quadtree::update(const Changeset& changeset) {
+    // Root curves whose procedural expansion reads what the edit changed are re-expanded too.
+    Changeset cs = changeset;
+    if (procedural_) {
+        std::vector<ElementRef> dependents;
+        procedural_->dependents(scene_, changeset, dependents);
+        for (const ElementRef& r : dependents) cs.modify(r);
+        cs.normalize();
+    }
     const std::size_t nLayers = scene_.layers.size();
     Ancestors removed(nLayers), added(nLayers);
     for (const ElementRef& r : cs.removed) {
@@ -270,14 +281,19 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
         const auto& a = added.layers[l];
         auto& r2 = removed2.layers[l];
         auto& a2 = added2.layers[l];
+        auto erase = [](const std::vector<ElementId>& ids, auto& map, std::vector<ElementId>& erased) {
+            for (ElementId id : ids)
+                if (map.erase(id)) erased.push_back(id);
+        };
         // Alg. 6.1: first remove what was made from the removed elements...
-        for (ElementId id : r.nodes)
-            if (ql.nodes.erase(id)) r2.nodes.push_back(id);
-        for (ElementId id : r.curves)
-            if (ql.curves.erase(id)) r2.curves.push_back(id);
-        for (ElementId id : r.areas)
-            if (ql.areas.erase(id)) r2.areas.push_back(id);
-        // ...then SUBDIVIDE the added ones into q.
+        erase(r.nodes, ql.nodes, r2.nodes);
+        erase(r.curves, ql.curves, r2.curves);
+        erase(r.areas, ql.areas, r2.areas);
+        // ...then SUBDIVIDE the added ones into q (an element added without being removed first
+        // replaces what q had of it).
+        erase(a.nodes, ql.nodes, r2.nodes);
+        erase(a.curves, ql.curves, r2.curves);
+        erase(a.areas, ql.areas, r2.areas);
         for (ElementId id : a.nodes) {
             Vec2 pos;
             if (parentIsRoot) {

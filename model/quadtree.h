@@ -57,6 +57,11 @@ public:
     // Fills `out` with the curves replacing root curve `id` and returns true, or returns false to
     // keep the curve as it is. At most 256 curves per root curve.
     virtual bool expand(const Scene& scene, LayerId layer, ElementId id, std::vector<Curve>& out) const = 0;
+    // Root curves (ElementKind::Curve refs) whose expansion reads an element the changeset changed
+    // besides themselves (a road's bridges read the rivers it crosses): UPDATE re-expands them.
+    virtual void dependents(const Scene& scene, const Changeset& changeset, std::vector<ElementRef>& out) const {
+        (void)scene, (void)changeset, (void)out;
+    }
 };
 
 // Id of the k-th procedural curve made from root curve `root`.
@@ -69,6 +74,7 @@ struct UpdateStats {
 
 class Quadtree {
 public:
+    // Validates the scene first (throws ValidationError).
     explicit Quadtree(const Scene& scene, RefineParams params = {}, const ProceduralStep* procedural = nullptr);
     Quadtree(const Quadtree&) = delete;
     Quadtree& operator=(const Quadtree&) = delete;
@@ -116,7 +122,7 @@ private:
         if (!q.isLeaf())
             for (const auto& c : q.children) visit(*c, f);
     }
-    Box childBounds(const Quad& q, int k) const;
+    static Box childBounds(const Quad& q, int k);
     void expandRoot(LayerId layer, ElementId id);
     template <class F>
     void forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) const;

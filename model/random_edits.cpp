@@ -124,6 +124,10 @@ Changeset tryEdit(Scene& s, EditKind kind, LayerId l, std::mt19937_64& rng, doub
         case EditKind::SetCurveClass:
             if (c == kNoElement) return {};
             return setCurveClass(s, l, c, std::uint16_t(pick(rng, 4)));
+        case EditKind::SetAreaClass:
+            if (const ElementId a = pickAlive(rng, layer.areas); a != kNoElement)
+                return setAreaClass(s, l, a, std::uint16_t(pick(rng, 6)));
+            return {};
         case EditKind::SetAreaFootprint:
             if (const ElementId a = pickAlive(rng, layer.areas); a != kNoElement)
                 return setAreaFootprint(s, l, a, float(uniform01(rng) * 30.0));
@@ -138,7 +142,8 @@ Changeset tryEdit(Scene& s, EditKind kind, LayerId l, std::mt19937_64& rng, doub
 std::string_view toString(EditKind kind) {
     static constexpr std::string_view names[] = {
         "move_vertex", "insert_vertex", "delete_vertex", "move_node", "add_node", "delete_node", "add_curve",
-        "delete_curve", "add_area", "delete_area", "set_curve_width", "set_curve_class", "set_area_footprint"};
+        "delete_curve", "add_area", "delete_area", "set_curve_width", "set_curve_class", "set_area_class",
+        "set_area_footprint"};
     return names[std::size_t(kind)];
 }
 

@@ -13,7 +13,7 @@ namespace lacet {
 
 enum class EditKind : std::uint8_t {
     MoveVertex, InsertVertex, DeleteVertex, MoveNode, AddNode, DeleteNode, AddCurve, DeleteCurve,
-    AddArea, DeleteArea, SetCurveWidth, SetCurveClass, SetAreaFootprint, Count
+    AddArea, DeleteArea, SetCurveWidth, SetCurveClass, SetAreaClass, SetAreaFootprint, Count
 };
 std::string_view toString(EditKind kind);
 

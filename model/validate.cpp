@@ -1,5 +1,6 @@
 #include "model/validate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -35,8 +36,6 @@ void checkCurve(const Layer& layer, std::size_t id, std::vector<Problem>& out) {
     if (!c.vertices.empty() &&
         (c.vertices.front().p != layer.nodes[c.start].p || c.vertices.back().p != layer.nodes[c.end].p))
         report("first/last vertex differs from its start/end node position");
-    for (ElementId a : c.areas)
-        if (a >= layer.areas.size() || !layer.areas[a].alive) report("refers to a missing area " + std::to_string(a));
 }
 
 void checkArea(const Layer& layer, std::size_t id, std::vector<Problem>& out) {
@@ -69,19 +68,53 @@ void checkArea(const Layer& layer, std::size_t id, std::vector<Problem>& out) {
     }
 }
 
+// node.curves and curve.areas must list exactly what the curves and areas say.
+void checkAdjacency(const Layer& layer, std::vector<Problem>& out) {
+    std::vector<std::vector<ElementId>> curvesAt(layer.nodes.size()), areasOf(layer.curves.size());
+    for (ElementId c = 0; c < layer.curves.size(); ++c) {
+        const Curve& cv = layer.curves[c];
+        if (!cv.alive || cv.start >= layer.nodes.size() || cv.end >= layer.nodes.size()) continue;
+        curvesAt[cv.start].push_back(c);
+        curvesAt[cv.end].push_back(c);
+    }
+    for (ElementId a = 0; a < layer.areas.size(); ++a) {
+        if (!layer.areas[a].alive) continue;
+        for (const auto& loop : layer.areas[a].loops)
+            for (const auto& e : loop)
+                if (e.curve < layer.curves.size()) areasOf[e.curve].push_back(a);
+    }
+    auto same = [](std::vector<ElementId> a, std::vector<ElementId> b, bool unique) {
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        if (unique) {
+            a.erase(std::unique(a.begin(), a.end()), a.end());
+            b.erase(std::unique(b.begin(), b.end()), b.end());
+        }
+        return a == b;
+    };
+    for (std::size_t n = 0; n < layer.nodes.size(); ++n)
+        if (layer.nodes[n].alive && !same(layer.nodes[n].curves, curvesAt[n], false))
+            out.push_back({where(layer, "node", n), "its list of curves differs from the curves that end there"});
+    for (std::size_t c = 0; c < layer.curves.size(); ++c)
+        if (layer.curves[c].alive && !same(layer.curves[c].areas, areasOf[c], true))
+            out.push_back({where(layer, "curve", c), "its list of areas differs from the areas whose loops use it"});
+}
+
 }  // namespace
 
 ValidationError::ValidationError(std::vector<Problem> problems)
     : std::runtime_error(describe(problems)), problems_(std::move(problems)) {}
 
-bool isFinite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
+bool isFinite(Vec2 p) {
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::abs(p.x) <= kMaxCoordinate && std::abs(p.y) <= kMaxCoordinate;
+}
 
 std::string splineProblem(const std::vector<Vertex>& v) {
     if (v.size() < 2) return "has fewer than 2 vertices";
     if (!v.front().onCurve || !v.back().onCurve) return "first and last vertices must be on-curve";
     int controls = 0;
     for (std::size_t i = 0; i < v.size(); ++i) {
-        if (!isFinite(v[i].p)) return "vertex " + std::to_string(i) + " has a non-finite coordinate";
+        if (!isFinite(v[i].p)) return "vertex " + std::to_string(i) + " has a non-finite or out-of-range coordinate";
         controls = v[i].onCurve ? 0 : controls + 1;
         if (controls > 2) return "more than 2 control points in a row at vertex " + std::to_string(i);
     }
@@ -93,19 +126,19 @@ std::vector<Problem> validate(const Scene& scene) {
     if (!isFinite(scene.extent.min) || !isFinite(scene.extent.max) || !(scene.extent.min.x < scene.extent.max.x) ||
         !(scene.extent.min.y < scene.extent.max.y))
         out.push_back({"scene", "extent must be finite and non-empty"});
+    else if (scene.extent.size().x != scene.extent.size().y)
+        out.push_back({"scene", "extent must be square (it is the root quad)"});
     for (const Layer& layer : scene.layers) {
         for (std::size_t id = 0; id < layer.nodes.size(); ++id) {
             const Node& n = layer.nodes[id];
             if (!n.alive) continue;
-            if (!isFinite(n.p)) out.push_back({where(layer, "node", id), "position is not finite"});
-            for (ElementId c : n.curves)
-                if (!alive(layer.curves, c) || (layer.curves[c].start != id && layer.curves[c].end != id))
-                    out.push_back({where(layer, "node", id), "lists curve " + std::to_string(c) + " which does not end there"});
+            if (!isFinite(n.p)) out.push_back({where(layer, "node", id), "position is not finite or out of range"});
         }
         for (std::size_t id = 0; id < layer.curves.size(); ++id)
             if (layer.curves[id].alive) checkCurve(layer, id, out);
         for (std::size_t id = 0; id < layer.areas.size(); ++id)
             if (layer.areas[id].alive) checkArea(layer, id, out);
+        checkAdjacency(layer, out);
     }
     return out;
 }

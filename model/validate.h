@@ -1,6 +1,7 @@
 #pragma once
-// Validation of a scene's root graph: rejects NaN/Inf, dangling references, malformed splines
-// and open area loops, with a message naming the layer, the element and the reason.
+// Validation of a scene's root graph: rejects NaN/Inf and absurd coordinates, dangling
+// references, adjacency lists that disagree with the curves and areas, malformed splines, open
+// area loops and a non-square extent, with a message naming the layer, the element and the reason.
 
 #include <stdexcept>
 #include <string>
@@ -29,7 +30,12 @@ std::vector<Problem> validate(const Scene& scene);
 // Throws ValidationError listing every problem, if any.
 void validateOrThrow(const Scene& scene);
 
+// Largest coordinate magnitude accepted (metres): far beyond any projected CRS (the Earth's
+// circumference is 4e7 m), and small enough that squared distances stay finite.
+constexpr double kMaxCoordinate = 1.0e9;
+
 // Checks of single values and vertex chains, shared with the edit commands.
+// True when both coordinates are finite and within kMaxCoordinate.
 bool isFinite(Vec2 p);
 // Empty when `v` is a well-formed spline: >= 2 vertices, on-curve ends, <= 2 controls in a row,
 // finite coordinates. Otherwise the reason.

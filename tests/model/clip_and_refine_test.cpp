@@ -120,6 +120,14 @@ TEST(ClipAndRefine, HairpinWiderThanItsRadiusIsRefinedWithinTolerance) {
         EXPECT_LE(refinementError(pieces), tol);
         EXPECT_TRUE(pieces[0].startsAtNode && pieces[0].endsAtNode);
     }
+    // The bend reaches x = 70: a quad starting at x = 80 is reached by the footprint (wf/2 = 15 m)
+    // only: the bend is kept there, the arms are not.
+    const Box right{{80.0, 0.0}, {180.0, 100.0}};
+    const auto near = clip(c, right, 15.0, 0.1);
+    ASSERT_EQ(near.size(), 1u);
+    for (const auto& v : near[0].vertices) EXPECT_GT(v.p.x, 40.0);
+    EXPECT_FALSE(near[0].startsAtNode || near[0].endsAtNode);
+    EXPECT_TRUE(clip(c, right, 5.0, 0.1).empty());  // a narrow road does not reach it
 }
 
 TEST(ClipAndRefine, RefinementErrorIsWithinToleranceAgainstDenseSampling) {
@@ -144,9 +152,6 @@ TEST(ClipAndRefine, ConservativeClippingNeverLosesAPointOfTheCurveNearTheQuad) {
                               {{double(rng() % 400) - 150.0, double(rng() % 400) - 150.0}}};
         const double margin = 5.0;
         const auto pieces = clip(curveOf(v), kQuad, margin, 0.5);
-        std::vector<Vec2> kept;
-        for (const auto& run : pieces)
-            for (const Vec2& p : sample(run.vertices, 16)) kept.push_back(p);
         for (const Vec2& p : sample(v, 400)) {
             if (!kQuad.dilated(margin).contains(p)) continue;
             double d = 1e300;

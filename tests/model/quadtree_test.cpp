@@ -1,5 +1,6 @@
 #include "model/quadtree.h"
 
+#include <map>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include "model/edits.h"
 #include "model/quadtree_compare.h"
 #include "tests/model/small_scene.h"
+#include "tests/model/split_roads.h"
 #include "tests/model/test_geometry.h"
 
 namespace lacet {
@@ -14,33 +16,7 @@ namespace {
 
 using test::smallScene;
 
-// The procedural hook under test: every road becomes two procedural curves, split at its middle.
-class SplitRoadsInTwo : public ProceduralStep {
-public:
-    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<Curve>& out) const override {
-        if (s.layers[l].kind != LayerKind::Roads) return false;
-        const Curve& c = s.layers[l].curves[id];
-        BezierPiece first;
-        std::size_t firstEnd = 0;
-        forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t i) {
-            if (i == 0) {
-                first = b;
-                firstEnd = std::size_t(b.degree);
-            }
-        });
-        const auto [a, b] = splitHalf(first);
-        Curve left = c, right = c;
-        left.vertices.clear();
-        right.vertices.clear();
-        for (int k = 0; k <= a.degree; ++k) left.vertices.push_back({a.p[k], k == 0 || k == a.degree});
-        for (int k = 0; k <= b.degree; ++k) right.vertices.push_back({b.p[k], k == 0 || k == b.degree});
-        right.vertices.insert(right.vertices.end(), c.vertices.begin() + std::ptrdiff_t(firstEnd) + 1, c.vertices.end());
-        left.end = kNoElement;
-        right.start = kNoElement;
-        out = {left, right};
-        return true;
-    }
-};
+using test::SplitRoadsInTwo;
 
 TEST(Quadtree, PiecesReferToTheirAncestorAndCreatedFromCoversThem) {
     const Scene s = smallScene();
@@ -81,8 +57,11 @@ TEST(Quadtree, QuadsAtDepth24KeepThePieceWithinTolerance) {
         Quad* q = &qt.root();
         while (q->level < 24) {
             qt.subdivide(*q);
+            Quad* next = nullptr;
             for (auto& c : q->children)
-                if (c->bounds.contains(target)) q = c.get();
+                if (!next && c->bounds.contains(target)) next = c.get();
+            ASSERT_NE(next, nullptr) << "no child of level " << q->level << " contains the target";
+            q = next;
         }
         ASSERT_EQ(q->level, 24);
         const double size = q->bounds.size().x;
@@ -140,19 +119,31 @@ TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
     EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details[0]);
 }
 
-TEST(Quadtree, UpdateTouchesOnlyQuadsWhereTheElementIs) {
+TEST(Quadtree, UpdateMarksExactlyTheQuadsWhoseGraphChanged) {
     Scene s = smallScene();
     Quadtree qt(s);
     qt.refineForViewer({500.0, 500.0, 1.0}, 2.8, 9);
+    // Snapshot every quad's road pieces, edit, and compare.
+    std::map<const Quad*, std::vector<ClippedCurve>> before;
+    qt.forEachQuad([&](const Quad& q) {
+        if (q.layers.empty()) return;
+        const auto it = q.layers[0].curves.find(0);
+        before[&q] = it == q.layers[0].curves.end() ? std::vector<ClippedCurve>{} : it->second;
+    });
     const auto stats = qt.update(moveVertex(s, 0, 0, 1, {320.0, 380.0}));
-    EXPECT_GT(stats.changedQuads.size(), 0u);
-    EXPECT_LT(stats.changedQuads.size(), qt.quadCount() / 2);
-    for (const Quad* q : stats.changedQuads) {
-        // Each changed quad holds the road now (or held it before the edit).
-        const bool has = q->layers[0].curves.count(0) > 0;
-        const bool hadParent = q->parent->parent == nullptr || q->parent->layers[0].curves.count(0) > 0;
-        EXPECT_TRUE(has || hadParent);
+    const std::set<const Quad*> changed(stats.changedQuads.begin(), stats.changedQuads.end());
+    EXPECT_EQ(changed.size(), stats.changedQuads.size());
+    std::size_t withRoad = 0;
+    for (const auto& [q, pieces] : before) {
+        const auto it = q->layers[0].curves.find(0);
+        const bool hasNow = it != q->layers[0].curves.end();
+        // Alg. 6.1 rebuilds every piece made from the edited road: a quad is changed exactly when
+        // it held or now holds some.
+        EXPECT_EQ(changed.count(q) > 0, hasNow || !pieces.empty()) << "L" << q->level << " " << q->tx << "," << q->ty;
+        withRoad += hasNow || !pieces.empty();
     }
+    EXPECT_GT(withRoad, 10u);
+    EXPECT_LT(changed.size(), qt.quadCount() / 2);
 }
 
 }  // namespace

@@ -21,7 +21,7 @@ TEST(Validate, RejectsNaNAndInfinity) {
     const auto problems = validate(s);
     ASSERT_GE(problems.size(), 2u);
     EXPECT_EQ(problems[0].where, "layer 'roads' curve 0");
-    EXPECT_EQ(problems[0].reason, "vertex 1 has a non-finite coordinate");
+    EXPECT_EQ(problems[0].reason, "vertex 1 has a non-finite or out-of-range coordinate");
     EXPECT_THROW(validateOrThrow(s), ValidationError);
 }
 
@@ -37,6 +37,26 @@ TEST(Validate, RejectsDanglingReferencesAndOpenLoops) {
     }
     EXPECT_TRUE(dangling);
     EXPECT_TRUE(open);
+}
+
+TEST(Validate, RejectsAdjacencyThatDisagreesWithTheGraphAndANonSquareExtent) {
+    Scene s = smallScene();
+    s.layers[0].nodes[0].curves.clear();      // the road still starts there
+    s.layers[1].curves[6].areas = {0};        // the shared border is used by areas 0 and 1
+    s.extent.max.x = 2000;
+    const auto problems = validate(s);
+    ASSERT_EQ(problems.size(), 3u);
+    EXPECT_EQ(problems[0].where, "scene");
+    EXPECT_EQ(problems[1].where, "layer 'roads' node 0");
+    EXPECT_EQ(problems[1].reason, "its list of curves differs from the curves that end there");
+    EXPECT_EQ(problems[2].where, "layer 'fields' curve 6");
+}
+
+TEST(Validate, RejectsAbsurdCoordinates) {
+    Scene s = smallScene();
+    s.layers[0].nodes[1].p.x = 1e200;
+    s.layers[0].curves[0].vertices.back().p.x = 1e200;
+    EXPECT_FALSE(validate(s).empty());
 }
 
 TEST(Validate, RejectsMalformedSplinesAndWidths) {
@@ -77,7 +97,7 @@ TEST(Edits, BadArgumentsThrowAndLeaveTheSceneUntouched) {
     try {
         moveVertex(s, 0, 0, 1, {std::nan(""), 0});
     } catch (const EditError& e) {
-        EXPECT_STREQ(e.what(), "layer 'roads' curve 0: position is not finite");
+        EXPECT_STREQ(e.what(), "layer 'roads' curve 0: position is not finite or beyond 1e9 m");
     }
     EXPECT_EQ(s.layers[0].curves[0].vertices, before);
     EXPECT_TRUE(validate(s).empty());

@@ -1,0 +1,35 @@
+#pragma once
+// A procedural step for the tests of the hook (Alg. 4.1).
+#include "model/quadtree.h"
+
+namespace lacet::test {
+
+// The procedural hook under test: every road becomes two procedural curves, split at its middle.
+class SplitRoadsInTwo : public ProceduralStep {
+public:
+    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<Curve>& out) const override {
+        if (s.layers[l].kind != LayerKind::Roads) return false;
+        const Curve& c = s.layers[l].curves[id];
+        BezierPiece first;
+        std::size_t firstEnd = 0;
+        forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t i) {
+            if (i == 0) {
+                first = b;
+                firstEnd = std::size_t(b.degree);
+            }
+        });
+        const auto [a, b] = splitHalf(first);
+        Curve left = c, right = c;
+        left.vertices.clear();
+        right.vertices.clear();
+        for (int k = 0; k <= a.degree; ++k) left.vertices.push_back({a.p[k], k == 0 || k == a.degree});
+        for (int k = 0; k <= b.degree; ++k) right.vertices.push_back({b.p[k], k == 0 || k == b.degree});
+        right.vertices.insert(right.vertices.end(), c.vertices.begin() + std::ptrdiff_t(firstEnd) + 1, c.vertices.end());
+        left.end = kNoElement;
+        right.start = kNoElement;
+        out = {left, right};
+        return true;
+    }
+};
+
+}  // namespace lacet::test
