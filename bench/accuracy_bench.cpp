@@ -20,7 +20,7 @@ void measure(const std::vector<Vertex>& v, double texel, Error& e) {
         if (v[first].closing) return;
         ++e.pieces;
         double d = 0.0;
-        constexpr int kSamples = 16;
+        constexpr int kSamples = 64;
         for (int i = 0; i <= kSamples; ++i) {
             const double t = double(i) / kSamples;
             d = std::max(d, distanceToSegment(evaluate(b, t), b.start(), b.end()));
@@ -79,7 +79,7 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
     return {{"curves", curves},
             {"resolution_texels", RefineParams{}.resolution},
             {"viewer", "10 m above the scene centre, K = 2.8"},
-            {"reference", "dense sampling (17 points per piece, both ways) of the exact Bezier pieces"},
+            {"reference", "dense sampling (65 points per piece, both ways) of the exact Bezier pieces"},
             {"rows", rows}};
 }
 

@@ -15,6 +15,7 @@ namespace {
 struct Event {
     BezierPiece b;
     bool kept = false;
+    double t0 = 0.0, t1 = 1.0;  // parameter range of b within the parent piece (dyadic, exact)
 };
 
 bool lexLess(Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
@@ -37,33 +38,34 @@ public:
 
     const Box& box() const { return box_; }
 
-    void refine(const BezierPiece& b, std::vector<Event>& out) const { run(b, 0, out); }
+    void refine(const BezierPiece& b, std::vector<Event>& out) const { run(b, 0, 0.0, 1.0, out); }
 
     void refineCanonical(const BezierPiece& b, std::vector<Event>& out) const {
-        if (!canonicalIsReversed(b)) return run(b, 0, out);
+        if (!canonicalIsReversed(b)) return refine(b, out);
         const std::size_t first = out.size();
-        run(b.reversed(), 0, out);
+        refine(b.reversed(), out);
         std::reverse(out.begin() + std::ptrdiff_t(first), out.end());
         for (std::size_t i = first; i < out.size(); ++i) out[i].b = out[i].b.reversed();
     }
 
 private:
-    void run(const BezierPiece& b, int depth, std::vector<Event>& out) const {
+    void run(const BezierPiece& b, int depth, double t0, double t1, std::vector<Event>& out) const {
         const Box cb = controlBounds(b);
         if (!cb.intersects(box_) || !tightBounds(b).intersects(box_)) {
-            out.push_back({b, false});
+            out.push_back({b, false, t0, t1});
             return;
         }
         // A piece larger than the quad that crosses the dilated border is split even when flat,
         // so that its sub-pieces far from the quad can be dropped (tighter conservative clipping).
         const bool straddles = !box_.contains(cb) && std::max(cb.size().x, cb.size().y) > quadSize_;
         if (depth >= kMaxRefineDepth || (!straddles && flatness(b) <= tolerance_)) {
-            out.push_back({b, true});
+            out.push_back({b, true, t0, t1});
             return;
         }
         const auto [l, r] = splitHalf(b);
-        run(l, depth + 1, out);
-        run(r, depth + 1, out);
+        const double tm = (t0 + t1) * 0.5;
+        run(l, depth + 1, t0, tm, out);
+        run(r, depth + 1, tm, t1, out);
     }
 
     Box box_;
@@ -139,8 +141,18 @@ void clipAndRefineCurve(const ClippedCurve& parent, std::uint32_t parentIndex, c
                         double tolerance, std::vector<ClippedCurve>& out) {
     const Refiner refiner(quad, margin, tolerance);
     thread_local std::vector<Event> ev;
+    thread_local std::vector<std::pair<double, double>> range;  // ancestor parameters of each event
     ev.clear();
-    forEachPiece(parent.vertices, [&](const BezierPiece& b, std::size_t) { refiner.refine(b, ev); });
+    range.clear();
+    std::size_t piece = 0;
+    forEachPiece(parent.vertices, [&](const BezierPiece& b, std::size_t) {
+        const std::size_t first = ev.size();
+        refiner.refine(b, ev);
+        const double sa = parent.s[piece], sb = parent.s[piece + 1];
+        for (std::size_t i = first; i < ev.size(); ++i)
+            range.emplace_back(sa + (sb - sa) * ev[i].t0, sa + (sb - sa) * ev[i].t1);
+        ++piece;
+    });
     std::size_t current = SIZE_MAX;
     for (std::size_t i = 0; i < ev.size(); ++i) {
         if (!ev[i].kept) {
@@ -152,9 +164,11 @@ void clipAndRefineCurve(const ClippedCurve& parent, std::uint32_t parentIndex, c
             ClippedCurve run;
             run.parentIndex = parentIndex;
             run.startsAtNode = parent.startsAtNode && i == 0;
+            run.s.push_back(range[i].first);
             out.push_back(std::move(run));
         }
         appendPiece(ev[i].b, out[current].vertices);
+        out[current].s.push_back(range[i].second);
     }
     if (current != SIZE_MAX) out[current].endsAtNode = parent.endsAtNode;
 }
@@ -203,6 +217,9 @@ bool identical(const std::vector<Vertex>& a, const std::vector<Vertex>& b) {
 }
 
 bool identical(const ClippedCurve& a, const ClippedCurve& b) {
+    if (a.s.size() != b.s.size()) return false;
+    for (std::size_t i = 0; i < a.s.size(); ++i)
+        if (std::bit_cast<std::uint64_t>(a.s[i]) != std::bit_cast<std::uint64_t>(b.s[i])) return false;
     return a.parentIndex == b.parentIndex && a.startsAtNode == b.startsAtNode && a.endsAtNode == b.endsAtNode &&
            identical(a.vertices, b.vertices);
 }

@@ -33,6 +33,10 @@ struct RefineParams {
 
 struct ClippedCurve {
     std::vector<Vertex> vertices;
+    // Parameter on the ancestor curve of each on-curve vertex, in order: k + t at parameter t of
+    // the ancestor's k-th Bezier piece. Exact (dyadic), so the curvilinear coordinate u of any
+    // clipped point is computed on the ancestor (§5.1) and is continuous across quads.
+    std::vector<double> s;
     std::uint32_t parentIndex = 0;  // index of the piece it was made from in the parent bucket
     bool startsAtNode = false;      // its first vertex is the ancestor's start node
     bool endsAtNode = false;        // its last vertex is the ancestor's end node

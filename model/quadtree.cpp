@@ -94,6 +94,8 @@ ClippedCurve Quadtree::rootCurve(LayerId layer, ElementId ancestor) const {
     const Curve& a = ancestorCurve(layer, ancestor);
     ClippedCurve c;
     c.vertices = a.vertices;
+    for (const Vertex& v : a.vertices)
+        if (v.onCurve) c.s.push_back(double(c.s.size()));
     c.startsAtNode = a.start != kNoElement;
     c.endsAtNode = a.end != kNoElement;
     return c;

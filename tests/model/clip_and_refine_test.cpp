@@ -1,6 +1,7 @@
 // Hard cases of CLIPANDREFINE (§4.2): each checks the result, not only that nothing crashes.
 #include "model/clip_and_refine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -19,6 +20,8 @@ const Box kRight{{100.0, 0.0}, {200.0, 100.0}};
 
 ClippedCurve curveOf(std::vector<Vertex> v) {
     ClippedCurve c;
+    for (const Vertex& x : v)
+        if (x.onCurve) c.s.push_back(double(c.s.size()));
     c.vertices = std::move(v);
     c.startsAtNode = c.endsAtNode = true;
     return c;
@@ -140,6 +143,41 @@ TEST(ClipAndRefine, RefinementErrorIsWithinToleranceAgainstDenseSampling) {
             v.push_back({{double(rng() % 300) - 100.0, double(rng() % 300) - 100.0}});
         }
         for (double tol : {2.0, 0.25, 0.02}) EXPECT_LE(refinementError(clip(curveOf(v), kQuad, 3.0, tol)), tol);
+    }
+}
+
+// The point of the ancestor at parameter s (k + t on its k-th piece).
+Vec2 ancestorAt(const std::vector<Vertex>& v, double s) {
+    Vec2 p = v.back().p;
+    std::size_t k = 0;
+    forEachPiece(v, [&](const BezierPiece& b, std::size_t) {
+        if (s >= double(k) && s <= double(k + 1)) p = evaluate(b, s - double(k));
+        ++k;
+    });
+    return p;
+}
+
+TEST(ClipAndRefine, AncestorParametersLocateEveryOnCurveVertex) {
+    std::mt19937_64 rng(5);
+    for (int n = 0; n < 50; ++n) {
+        std::vector<Vertex> v{{{double(rng() % 400) - 150.0, double(rng() % 400) - 150.0}}};
+        for (int k = 0; k < 4; ++k) {
+            for (int j = int(rng() % 3); j > 0; --j) v.push_back({{double(rng() % 400) - 150.0, double(rng() % 400) - 150.0}, false});
+            v.push_back({{double(rng() % 400) - 150.0, double(rng() % 400) - 150.0}});
+        }
+        // Two levels: clip into a quad, then into its child, as the quadtree does.
+        for (const auto& run : clip(curveOf(v), kQuad, 4.0, 0.5)) {
+            ASSERT_EQ(run.s.size(), std::size_t(std::count_if(run.vertices.begin(), run.vertices.end(), [](const Vertex& x) { return x.onCurve; })));
+            for (const auto& child : clip(run, Box{{50, 50}, {100, 100}}, 4.0, 0.1)) {
+                std::size_t i = 0;
+                for (const Vertex& x : child.vertices) {
+                    if (x.onCurve) {
+                        EXPECT_LT(glm::length(ancestorAt(v, child.s[i++]) - x.p), 1e-9);
+                    }
+                }
+                EXPECT_TRUE(std::is_sorted(child.s.begin(), child.s.end()));
+            }
+        }
     }
 }
 
