@@ -68,7 +68,7 @@ Polygon clip(const Polygon& in, const ClipPlane& plane) {
         const Point b = in.p[(i + 1) % in.size];
         const bool keepA = plane.keeps(a), keepB = plane.keeps(b);
         if (keepA) push(a);
-        if (keepA != keepB) push(crossing(plane, a, b));
+        if (keepA != keepB) push(keepA ? crossing(plane, a, b) : crossing(plane, b, a));
     }
     return out;
 }

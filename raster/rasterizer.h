@@ -113,9 +113,8 @@ inline std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-
 // Walks the rows of t's bounding box inside the tile. On each row the covered pixels form one
 // run, found exactly from the three edge functions with integer divisions; the edge functions
 // at the row start are stepped incrementally from row to row.
-template <class F>
-void scanTriangle(const FixedTriangle& t, const AttributePlanes& planes, int nAttributes, int width,
-                  int height, F& shade) {
+template <int nAttributes, class F>
+void scanTriangle(const FixedTriangle& t, const AttributePlanes& planes, int width, int height, F& shade) {
     constexpr std::int64_t half = kSubpixelSteps / 2;
     const std::int64_t minY = std::min({t.y[0], t.y[1], t.y[2]});
     const std::int64_t maxY = std::max({t.y[0], t.y[1], t.y[2]});
@@ -163,6 +162,24 @@ void scanTriangle(const FixedTriangle& t, const AttributePlanes& planes, int nAt
     }
 }
 
+// scanTriangle with the attribute count as a compile-time constant, so that the per-pixel
+// loops over attributes unroll.
+template <class F>
+void dispatch(const FixedTriangle& t, const AttributePlanes& planes, int nAttributes, int width, int height, F& shade) {
+    static_assert(kMaxAttributes == 8);
+    switch (nAttributes) {
+        case 0: return scanTriangle<0>(t, planes, width, height, shade);
+        case 1: return scanTriangle<1>(t, planes, width, height, shade);
+        case 2: return scanTriangle<2>(t, planes, width, height, shade);
+        case 3: return scanTriangle<3>(t, planes, width, height, shade);
+        case 4: return scanTriangle<4>(t, planes, width, height, shade);
+        case 5: return scanTriangle<5>(t, planes, width, height, shade);
+        case 6: return scanTriangle<6>(t, planes, width, height, shade);
+        case 7: return scanTriangle<7>(t, planes, width, height, shade);
+        default: return scanTriangle<8>(t, planes, width, height, shade);
+    }
+}
+
 }  // namespace raster_detail
 
 // Calls shade(x, y, attributes) exactly once for every pixel of the width x height tile whose
@@ -173,7 +190,7 @@ void rasterizeTriangle(const RasterVertex& v0, const RasterVertex& v1, const Ras
                        int nAttributes, int width, int height, F&& shade) {
     const raster_detail::TriangleSetup setup = raster_detail::setupTriangle(v0, v1, v2, nAttributes, width, height);
     for (int i = 0; i < setup.count; ++i)
-        raster_detail::scanTriangle(setup.triangles[i], setup.planes, nAttributes, width, height, shade);
+        raster_detail::dispatch(setup.triangles[i], setup.planes, nAttributes, width, height, shade);
 }
 
 // Triangle strip: triangle i is (v[i], v[i+1], v[i+2]), for i + 2 < v.size(). Consecutive

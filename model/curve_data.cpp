@@ -1,0 +1,234 @@
+#include "model/curve_data.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+namespace lacet {
+namespace {
+
+// Node heights average the terrain over a disc: its centre and two rings of this many samples.
+constexpr int kNodeRingSamples = 8;
+// Flattening of a curve into a polyline to place z-profile samples: segments per piece, at least.
+constexpr int kPolylineSegmentsPerPiece = 16;
+
+template <class T, class Map, class Key, class Compute>
+const T& getOrCompute(std::mutex& mutex, Map& map, const Key& key, std::atomic<std::size_t>& counter, Compute&& compute) {
+    {
+        std::lock_guard lock(mutex);
+        if (auto it = map.find(key); it != map.end()) return *it->second;
+    }
+    auto value = compute();  // outside the lock: it may ask for other cached data
+    std::lock_guard lock(mutex);
+    auto [it, inserted] = map.try_emplace(key, std::move(value));
+    if (inserted) ++counter;
+    return *it->second;
+}
+
+}  // namespace
+
+double ZProfile::at(double u) const {
+    if (z.empty()) return 0.0;
+    if (z.size() == 1 || spacing <= 0.0) return z.front();
+    const double x = std::clamp(u / spacing, 0.0, double(z.size() - 1));
+    const auto i = std::min(std::size_t(x), z.size() - 2);
+    const double f = x - double(i);
+    return z[i] + (z[i + 1] - z[i]) * f;
+}
+
+CurveDataCache::CurveDataCache(const Quadtree& quadtree, const HeightField& heights, ZProfileParams params)
+    : quadtree_(quadtree), heights_(heights), params_(params) {
+    if (!(params_.sampleSpacing > 0.0) || !(params_.kernelRadius >= 0.0) || !(params_.arcLengthTolerance > 0.0))
+        throw std::invalid_argument("CurveDataCache: sample spacing and arc-length tolerance must be > 0, kernel radius >= 0");
+}
+
+const CurveDataCache::Arc& CurveDataCache::arc(LayerId layer, ElementId ancestor) const {
+    return getOrCompute<Arc>(mutex_, arcs_, Key{layer, ancestor}, counters_.arcLengthTables, [&] {
+        auto a = std::make_unique<Arc>();
+        a->start.push_back(0.0);
+        forEachPiece(quadtree_.ancestorCurve(layer, ancestor).vertices, [&](const BezierPiece& b, std::size_t) {
+            a->pieces.push_back(b);
+            a->start.push_back(a->start.back() + arcLength(b, params_.arcLengthTolerance));
+        });
+        return a;
+    });
+}
+
+double CurveDataCache::u(LayerId layer, ElementId ancestor, double s) const {
+    const Arc& a = arc(layer, ancestor);
+    if (a.pieces.empty() || s <= 0.0) return 0.0;
+    const auto k = std::min(std::size_t(s), a.pieces.size() - 1);
+    const double t = std::min(s - double(k), 1.0);
+    if (t <= 0.0) return a.start[k];
+    if (t >= 1.0) return a.start[k + 1];
+    return a.start[k] + arcLength(split(a.pieces[k], t).first, params_.arcLengthTolerance);
+}
+
+double CurveDataCache::length(LayerId layer, ElementId ancestor) const { return arc(layer, ancestor).start.back(); }
+
+double CurveDataCache::localNodeHeight(LayerId layer, ElementId node) const {
+    const Vec2 c = quadtree_.scene().layers[layer].nodes[node].p;
+    double sum = heights_.height(c);
+    int n = 1;
+    for (double r : {0.5 * params_.kernelRadius, params_.kernelRadius}) {
+        if (r <= 0.0) continue;
+        for (int k = 0; k < kNodeRingSamples; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / kNodeRingSamples;
+            sum += heights_.height(c + r * Vec2(std::cos(a), std::sin(a)));
+            ++n;
+        }
+    }
+    return sum / n;
+}
+
+double CurveDataCache::nodeHeight(LayerId layer, ElementId node) const {
+    return getOrCompute<double>(mutex_, nodeHeights_, Key{layer, node}, counters_.nodeHeights, [&] {
+        const Layer& l = quadtree_.scene().layers[layer];
+        double h = localNodeHeight(layer, node);
+        if (l.kind == LayerKind::Rivers) {
+            // No higher than any river node upstream (curves flow from start to end). A cycle in
+            // a river network is broken where the walk first meets a node already on it.
+            thread_local std::vector<Key> onPath;
+            if (std::find(onPath.begin(), onPath.end(), Key{layer, node}) != onPath.end()) return std::make_unique<double>(h);
+            onPath.push_back({layer, node});
+            for (ElementId c : l.nodes[node].curves)
+                if (l.curves[c].end == node && l.curves[c].start != node) h = std::min(h, nodeHeight(layer, l.curves[c].start));
+            onPath.pop_back();
+        }
+        return std::make_unique<double>(h);
+    });
+}
+
+std::unique_ptr<ZProfile> CurveDataCache::computeProfile(LayerId layer, ElementId ancestor) const {
+    const Curve& c = quadtree_.ancestorCurve(layer, ancestor);
+    const Arc& a = arc(layer, ancestor);
+    // Flatten, then place samples at regular arc length along the polyline.
+    std::vector<Vec2> pts;
+    std::vector<double> cum;
+    for (const BezierPiece& b : a.pieces) {
+        const int n = std::max(kPolylineSegmentsPerPiece, int(std::ceil(arcLength(b, 1.0) / (0.25 * params_.sampleSpacing))));
+        for (int i = pts.empty() ? 0 : 1; i <= n; ++i) {
+            const Vec2 p = evaluate(b, double(i) / n);
+            cum.push_back(pts.empty() ? 0.0 : cum.back() + glm::length(p - pts.back()));
+            pts.push_back(p);
+        }
+    }
+    auto prof = std::make_unique<ZProfile>();
+    prof->length = a.start.back();
+    const double polyLength = cum.empty() ? 0.0 : cum.back();
+    const auto n = std::size_t(std::max(1.0, std::ceil(prof->length / params_.sampleSpacing))) + 1;
+    prof->spacing = prof->length / double(n - 1);
+    std::vector<double> raw(n);
+    std::size_t seg = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double target = polyLength * double(i) / double(n - 1);
+        while (seg + 2 < cum.size() && cum[seg + 1] < target) ++seg;
+        const double span = cum[seg + 1] - cum[seg];
+        const double f = span > 0.0 ? std::clamp((target - cum[seg]) / span, 0.0, 1.0) : 0.0;
+        raw[i] = heights_.height(pts[seg] + (pts[seg + 1] - pts[seg]) * f);
+    }
+    // Triangular kernel of half-width kernelRadius, indices clamped at the ends.
+    const int half = prof->spacing > 0.0 ? int(params_.kernelRadius / prof->spacing) : 0;
+    auto& z = prof->z;
+    z.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        double sum = 0.0, wsum = 0.0;
+        for (int j = -half; j <= half; ++j) {
+            const double w = 1.0 - std::abs(j) / double(half + 1);
+            const auto k = std::size_t(std::clamp<std::ptrdiff_t>(std::ptrdiff_t(i) + j, 0, std::ptrdiff_t(n - 1)));
+            sum += w * raw[k];
+            wsum += w;
+        }
+        z[i] = sum / wsum;
+    }
+    const bool river = quadtree_.scene().layers[layer].kind == LayerKind::Rivers;
+    const bool hasStart = c.start != kNoElement, hasEnd = c.end != kNoElement;
+    const double h0 = hasStart ? nodeHeight(layer, c.start) : z.front();
+    const double h1 = hasEnd ? nodeHeight(layer, c.end) : z.back();
+    if (river) {
+        for (std::size_t i = 1; i < n; ++i) z[i] = std::min(z[i], z[i - 1]);
+        const double hi = std::max(h0, h1), lo = std::min(h0, h1);
+        for (double& v : z) v = std::clamp(v, lo, hi);
+    } else {
+        // Pull towards the node heights near the ends, each pull vanishing before the other end.
+        const double reach = std::min(params_.kernelRadius, 0.5 * prof->length);
+        const double d0 = h0 - z.front(), d1 = h1 - z.back();
+        for (std::size_t i = 0; i < n; ++i) {
+            const double ui = prof->spacing * double(i);
+            if (reach > 0.0) {
+                z[i] += d0 * std::max(0.0, 1.0 - ui / reach);
+                z[i] += d1 * std::max(0.0, 1.0 - (prof->length - ui) / reach);
+            }
+        }
+    }
+    z.front() = h0;
+    if (n > 1) z.back() = h1;
+    return prof;
+}
+
+const ZProfile& CurveDataCache::zProfile(LayerId layer, ElementId ancestor) const {
+    return getOrCompute<ZProfile>(mutex_, profiles_, Key{layer, ancestor}, counters_.zProfiles,
+                                  [&] { return computeProfile(layer, ancestor); });
+}
+
+double CurveDataCache::lakeLevel(LayerId layer, ElementId area) const {
+    return getOrCompute<double>(mutex_, lakeLevels_, Key{layer, area}, counters_.lakeLevels, [&] {
+        const Layer& l = quadtree_.scene().layers[layer];
+        double lowest = INFINITY;
+        for (const auto& loop : l.areas[area].loops)
+            for (const auto& e : loop)
+                forEachPiece(l.curves[e.curve].vertices, [&](const BezierPiece& b, std::size_t) {
+                    const int n = std::max(2, int(std::ceil(arcLength(b, 1.0) / params_.sampleSpacing)));
+                    for (int i = 0; i <= n; ++i) lowest = std::min(lowest, heights_.height(evaluate(b, double(i) / n)));
+                });
+        return std::make_unique<double>(lowest);
+    });
+}
+
+void CurveDataCache::dropDownstream(LayerId layer, ElementId node) {
+    const Layer& l = quadtree_.scene().layers[layer];
+    std::vector<ElementId> todo{node};
+    std::vector<ElementId> seen;
+    while (!todo.empty()) {
+        const ElementId n = todo.back();
+        todo.pop_back();
+        if (n >= l.nodes.size() || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+        seen.push_back(n);
+        nodeHeights_.erase(Key{layer, n});
+        for (ElementId c : l.nodes[n].curves) {
+            profiles_.erase(Key{layer, c});
+            if (l.curves[c].start == n) todo.push_back(l.curves[c].end);
+        }
+    }
+}
+
+void CurveDataCache::invalidate(const Changeset& cs) {
+    std::lock_guard lock(mutex_);
+    const Scene& scene = quadtree_.scene();
+    for (const auto* list : {&cs.removed, &cs.added})
+        for (const ElementRef& r : *list) {
+            const Layer& l = scene.layers[r.layer];
+            switch (r.kind) {
+                case ElementKind::Curve:
+                    for (std::size_t k = 0; k < 256; ++k) {  // its procedural curves, if any
+                        arcs_.erase(Key{r.layer, proceduralId(r.id, k)});
+                        profiles_.erase(Key{r.layer, proceduralId(r.id, k)});
+                    }
+                    arcs_.erase(Key{r.layer, r.id});
+                    profiles_.erase(Key{r.layer, r.id});
+                    if (l.kind == LayerKind::Rivers && r.id < l.curves.size()) dropDownstream(r.layer, l.curves[r.id].end);
+                    break;
+                case ElementKind::Node:
+                    nodeHeights_.erase(Key{r.layer, r.id});
+                    if (r.id < l.nodes.size())
+                        for (ElementId c : l.nodes[r.id].curves) profiles_.erase(Key{r.layer, c});
+                    if (l.kind == LayerKind::Rivers) dropDownstream(r.layer, r.id);
+                    break;
+                case ElementKind::Area: lakeLevels_.erase(Key{r.layer, r.id}); break;
+            }
+        }
+}
+
+}  // namespace lacet

@@ -1,0 +1,112 @@
+#pragma once
+// Curve data on ancestors (§5.1, §5.2): the curvilinear coordinate u and the z-profile of an
+// ancestor curve, computed only when a producer asks for them, cached per ancestor, and dropped
+// when an edit touches what they were computed from.
+//
+// u(s): the arc length (metres) from the ancestor's start to its point of parameter s (k + t on
+// its k-th piece; ClippedCurve::s gives s for every clipped vertex), so u is continuous across
+// every clipped piece of the curve.
+//
+// z-profile: the height field sampled every `sampleSpacing` metres along the ancestor, smoothed by
+// a kernel of half-width `kernelRadius`; then
+// - every curve meeting at a node has the node's one height there: the node height is the mean
+//   height over a disc of radius `kernelRadius` around it, and the profile is pulled to it near the
+//   ends (linearly over `kernelRadius`);
+// - rivers (LayerKind::Rivers) flow from start to end and never rise: a river node is no higher
+//   than any river node upstream of it, and the profile is the running minimum clamped between its
+//   end nodes' heights;
+// - lakes (areas of LayerKind::Lakes) are flat at the lowest height of their border.
+//
+// Order of calls: construct over a Quadtree (for ancestor curves) and a HeightField; ask u(),
+// zProfile(), nodeHeight(), lakeLevel() from any number of threads; after each edit call
+// invalidate(changeset) (before Quadtree::update or after; it only drops cached data).
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "model/changeset.h"
+#include "model/quadtree.h"
+
+namespace lacet {
+
+// Terrain height (metres) at a point of the scene (metres), e.g. a DEM.
+class HeightField {
+public:
+    virtual ~HeightField() = default;
+    virtual double height(Vec2 p) const = 0;
+};
+
+// Accuracy knobs of z-profiles.
+struct ZProfileParams {
+    double sampleSpacing = 10.0;  // metres between height samples along a curve, > 0
+    double kernelRadius = 40.0;   // metres, half-width of the triangular smoothing kernel, >= 0
+    double arcLengthTolerance = 1e-4;  // metres, accuracy of u
+};
+
+struct ZProfile {
+    double length = 0.0;    // arc length of the ancestor (m)
+    double spacing = 0.0;   // metres between samples (<= sampleSpacing; the last sample is at the end)
+    std::vector<double> z;  // heights at u = i * spacing
+    double at(double u) const;  // linear interpolation, clamped to the ends
+};
+
+struct CurveDataCounters {
+    std::atomic<std::size_t> arcLengthTables{0};  // ancestors whose u table was computed
+    std::atomic<std::size_t> zProfiles{0};        // z-profiles computed
+    std::atomic<std::size_t> nodeHeights{0};
+    std::atomic<std::size_t> lakeLevels{0};
+};
+
+class CurveDataCache {
+public:
+    CurveDataCache(const Quadtree& quadtree, const HeightField& heights, ZProfileParams params = {});
+
+    double u(LayerId layer, ElementId ancestor, double s) const;
+    double length(LayerId layer, ElementId ancestor) const;
+    const ZProfile& zProfile(LayerId layer, ElementId ancestor) const;
+    double nodeHeight(LayerId layer, ElementId node) const;
+    double lakeLevel(LayerId layer, ElementId area) const;
+
+    // Drops what the changeset touches: its curves, nodes and areas, the procedural curves of its
+    // curves, and for rivers everything downstream of a touched river node or curve.
+    void invalidate(const Changeset& changeset);
+
+    const CurveDataCounters& counters() const { return counters_; }
+    const ZProfileParams& params() const { return params_; }
+
+private:
+    struct Key {
+        LayerId layer;
+        ElementId id;
+        friend bool operator==(const Key&, const Key&) = default;
+    };
+    struct KeyHash {
+        std::size_t operator()(const Key& k) const { return std::hash<std::uint64_t>()(std::uint64_t(k.layer) << 32 | k.id); }
+    };
+    template <class T>
+    using Map = std::unordered_map<Key, std::unique_ptr<T>, KeyHash>;
+
+    struct Arc {
+        std::vector<BezierPiece> pieces;
+        std::vector<double> start;  // u at each on-curve vertex
+    };
+    const Arc& arc(LayerId layer, ElementId ancestor) const;
+    double localNodeHeight(LayerId layer, ElementId node) const;
+    std::unique_ptr<ZProfile> computeProfile(LayerId layer, ElementId ancestor) const;
+    void dropDownstream(LayerId layer, ElementId node);
+
+    const Quadtree& quadtree_;
+    const HeightField& heights_;
+    ZProfileParams params_;
+    mutable std::mutex mutex_;
+    mutable Map<Arc> arcs_;
+    mutable Map<ZProfile> profiles_;
+    mutable Map<double> nodeHeights_;
+    mutable Map<double> lakeLevels_;
+    mutable CurveDataCounters counters_;
+};
+
+}  // namespace lacet

@@ -1,0 +1,151 @@
+#include "model/curve_data.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "model/edits.h"
+#include "model/synthetic_scene.h"
+
+namespace lacet {
+namespace {
+
+// Hilly terrain tilted towards -x, with bumps that a river must not climb.
+class Hills : public HeightField {
+public:
+    double height(Vec2 p) const override { return 300.0 + 0.02 * p.x + 8.0 * std::sin(p.x / 90.0) * std::cos(p.y / 130.0); }
+};
+
+// Arc length of the ancestor from its start to parameter s, by dense sampling.
+double denseU(const Curve& c, double s) {
+    double u = 0.0;
+    std::size_t k = 0;
+    forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t) {
+        const double t1 = std::clamp(s - double(k), 0.0, 1.0);
+        Vec2 prev = b.start();
+        for (int i = 1; i <= 4000; ++i) {
+            const Vec2 p = evaluate(b, t1 * i / 4000.0);
+            u += glm::length(p - prev);
+            prev = p;
+        }
+        ++k;
+    });
+    return u;
+}
+
+struct Fixture {
+    Scene scene = makeSyntheticScene({3, 3000});
+    Hills hills;
+};
+
+TEST(CurveData, NothingIsComputedUntilAskedAndUMatchesDenseArcLength) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    qt.refineForViewer({f.scene.extent.center().x, f.scene.extent.center().y, 20.0}, 2.8, 10);
+    CurveDataCache cache(qt, f.hills);
+    EXPECT_EQ(cache.counters().arcLengthTables, 0u);
+    EXPECT_EQ(cache.counters().zProfiles, 0u);
+    // u of every on-curve vertex of the road pieces in deep quads equals the ancestor's arc length.
+    std::size_t checked = 0;
+    qt.forEachQuad([&](const Quad& q) {
+        if (q.level < 8) return;
+        for (const auto& [a, pieces] : q.layers[kRoadsLayer].curves)
+            for (const auto& piece : pieces)
+                for (double s : piece.s) {
+                    EXPECT_NEAR(cache.u(kRoadsLayer, a, s), denseU(qt.ancestorCurve(kRoadsLayer, a), s), 1e-3);
+                    ++checked;
+                }
+    });
+    EXPECT_GT(checked, 20u);
+    EXPECT_GT(cache.counters().arcLengthTables, 0u);
+    EXPECT_EQ(cache.counters().zProfiles, 0u);  // nobody asked for heights
+}
+
+TEST(CurveData, RiversNeverRiseAndCurvesShareTheirNodesHeight) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    CurveDataCache cache(qt, f.hills);
+    for (LayerId l : {kRoadsLayer, kRiversLayer}) {
+        const Layer& layer = f.scene.layers[l];
+        for (ElementId c = 0; c < layer.curves.size(); ++c) {
+            const ZProfile& z = cache.zProfile(l, c);
+            EXPECT_EQ(z.z.front(), cache.nodeHeight(l, layer.curves[c].start));
+            EXPECT_EQ(z.z.back(), cache.nodeHeight(l, layer.curves[c].end));
+            EXPECT_NEAR(z.length, cache.length(l, c), 1e-9);
+            if (l != kRiversLayer) continue;
+            for (std::size_t i = 1; i < z.z.size(); ++i) EXPECT_LE(z.z[i], z.z[i - 1]) << "river " << c << " rises at " << i;
+        }
+    }
+}
+
+TEST(CurveData, ProfilesAreSmoothedTerrain) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    CurveDataCache cache(qt, f.hills, {5.0, 0.0});  // no smoothing: the profile is the terrain
+    const Curve& road = f.scene.layers[kRoadsLayer].curves[0];
+    const ZProfile& z = cache.zProfile(kRoadsLayer, 0);
+    ASSERT_GT(z.z.size(), 10u);
+    // Away from the ends, samples lie on the terrain under the curve.
+    const Vec2 mid = evaluate(BezierPiece{3, {road.vertices[0].p, road.vertices[1].p, road.vertices[2].p, road.vertices[3].p}}, 0.5);
+    double best = 1e300;
+    for (std::size_t i = 1; i + 1 < z.z.size(); ++i) best = std::min(best, std::abs(z.z[i] - f.hills.height(mid)));
+    EXPECT_LT(best, 1.0);
+}
+
+TEST(CurveData, LakesAreFlatAtTheirLowestBorderHeight) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    CurveDataCache cache(qt, f.hills);
+    const Layer& lakes = f.scene.layers[kLakesLayer];
+    ASSERT_FALSE(lakes.areas.empty());
+    const double level = cache.lakeLevel(kLakesLayer, 0);
+    for (const auto& e : lakes.areas[0].loops[0])
+        for (const auto& v : lakes.curves[e.curve].vertices) {
+            if (v.onCurve) {
+                EXPECT_LE(level, f.hills.height(v.p) + 1e-9);
+            }
+        }
+}
+
+TEST(CurveData, AnEditDropsOnlyWhatItTouches) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    CurveDataCache cache(qt, f.hills);
+    const Layer& roads = f.scene.layers[kRoadsLayer];
+    for (ElementId c = 0; c < roads.curves.size(); ++c) cache.zProfile(kRoadsLayer, c);
+    const std::size_t before = cache.counters().zProfiles;
+    const ElementId node = roads.curves[0].start;
+    const double oldHeight = cache.nodeHeight(kRoadsLayer, node);
+    const auto cs = moveNode(f.scene, kRoadsLayer, node, roads.nodes[node].p + Vec2(150.0, 0.0));
+    cache.invalidate(cs);
+    qt.update(cs);
+    for (ElementId c = 0; c < roads.curves.size(); ++c) cache.zProfile(kRoadsLayer, c);
+    // Only the curves at the moved node were recomputed.
+    EXPECT_EQ(cache.counters().zProfiles - before, roads.nodes[node].curves.size());
+    EXPECT_NE(cache.nodeHeight(kRoadsLayer, node), oldHeight);
+    EXPECT_EQ(cache.zProfile(kRoadsLayer, 0).z.front(), cache.nodeHeight(kRoadsLayer, node));
+}
+
+TEST(CurveData, RiversStayMonotoneAfterASourceMoves) {
+    Fixture f;
+    Quadtree qt(f.scene);
+    CurveDataCache cache(qt, f.hills);
+    const Layer& rivers = f.scene.layers[kRiversLayer];
+    // Move a source node down into a valley: every profile downstream stays monotone afterwards.
+    ElementId source = kNoElement;
+    for (ElementId n = 0; n < rivers.nodes.size() && source == kNoElement; ++n)
+        if (rivers.nodes[n].curves.size() == 1 && rivers.curves[rivers.nodes[n].curves[0]].start == n) source = n;
+    ASSERT_NE(source, kNoElement);
+    for (ElementId c = 0; c < rivers.curves.size(); ++c) cache.zProfile(kRiversLayer, c);
+    const auto cs = moveNode(f.scene, kRiversLayer, source, rivers.nodes[source].p + Vec2(-400.0, 0.0));
+    cache.invalidate(cs);
+    for (ElementId c = 0; c < rivers.curves.size(); ++c) {
+        const ZProfile& z = cache.zProfile(kRiversLayer, c);
+        for (std::size_t i = 1; i < z.z.size(); ++i) EXPECT_LE(z.z[i], z.z[i - 1]);
+        EXPECT_EQ(z.z.back(), cache.nodeHeight(kRiversLayer, rivers.curves[c].end));
+    }
+}
+
+}  // namespace
+}  // namespace lacet
