@@ -55,10 +55,11 @@ private:
             out.push_back({b, false, t0, t1});
             return;
         }
-        // A piece larger than the quad that crosses the dilated border is split even when flat,
-        // so that its sub-pieces far from the quad can be dropped (tighter conservative clipping).
-        const bool straddles = !box_.contains(cb) && std::max(cb.size().x, cb.size().y) > quadSize_;
-        if (depth >= kMaxRefineDepth || (!straddles && flatness(b) <= tolerance_)) {
+        // A piece larger than the quad is split even when flat, so that its parts far from the
+        // quad are dropped (tighter conservative clipping). The decision depends only on the piece
+        // and the level, not on the quad: adjacent quads refine a piece they share identically.
+        const bool large = std::max(cb.size().x, cb.size().y) > quadSize_;
+        if (depth >= kMaxRefineDepth || (!large && flatness(b) <= tolerance_)) {
             out.push_back({b, true, t0, t1});
             return;
         }

@@ -7,7 +7,8 @@
 // strip; nodes: half the largest wf of their curves). Refinement splits pieces with de Casteljau
 // at t = 1/2 until each is flat within the tolerance (every control point within `tolerance` of
 // the chord, so the chord polyline is within `tolerance` of the curve), and also while a piece
-// larger than the quad crosses the dilated border, so that parts far outside are dropped. Kept pieces
+// larger than the quad, so that parts far outside are dropped; both decisions depend only on the
+// piece and the level, so adjacent quads refine the pieces they share identically. Kept pieces
 // stay exact Bezier sub-pieces (control points kept), so a child quad refines them further.
 //
 // A clipped curve is a maximal run of kept pieces. A clipped area keeps its loops, with each run

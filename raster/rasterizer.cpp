@@ -96,12 +96,13 @@ AttributePlanes attributePlanes(const std::array<Point, 3>& s, const std::array<
     planes.x0 = s[0].x;
     planes.y0 = s[0].y;
     const Point e1 = s[1] - s[0], e2 = s[2] - s[0];
+    const double inverseArea2 = 1.0 / area2;
     for (int k = 0; k < nAttributes; ++k) {
         const double a0 = v[0]->a[k];
         const double d1 = double(v[1]->a[k]) - a0, d2 = double(v[2]->a[k]) - a0;
         planes.a0[k] = a0;
-        planes.dadx[k] = (d1 * e2.y - d2 * e1.y) / area2;
-        planes.dady[k] = (d2 * e1.x - d1 * e2.x) / area2;
+        planes.dadx[k] = (d1 * e2.y - d2 * e1.y) * inverseArea2;
+        planes.dady[k] = (d2 * e1.x - d1 * e2.x) * inverseArea2;
     }
     return planes;
 }

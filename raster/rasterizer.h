@@ -17,8 +17,9 @@
 // covers nothing; a triangle with a non-finite coordinate is dropped. A triangle with a vertex
 // farther than kGuardBandPixels from the tile is first clipped (in double) against the guard
 // band, symmetrically in the two triangles sharing an edge, so a huge triangle covering the tile
-// still fills it and meshes stay watertight; its edges then keep a relative precision of about
-// 1e-16 times the farthest vertex's distance.
+// still fills it and meshes stay watertight; its edges then keep a precision of about 1e-16
+// times the farthest vertex's distance, and one whose doubled area overflows a double (vertices
+// beyond about 1e150 pixels) is dropped.
 //
 // Attributes are linear in screen space (no perspective): barycentric interpolation from the
 // snapped vertex positions, evaluated in double as the equivalent plane equation and handed to
@@ -30,6 +31,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -45,8 +47,9 @@ constexpr int kSubpixelBits = 8;
 constexpr std::int64_t kSubpixelSteps = std::int64_t{1} << kSubpixelBits;
 
 // Largest tile side in pixels, and the distance in pixels beyond the tile past which vertices
-// are clipped away. Together they bound snapped coordinates by 2^29 steps, so that every edge
-// function (a difference of two products of coordinate differences) fits in int64.
+// are clipped away. Together they keep snapped coordinates below 2^29 steps in magnitude, so
+// that every edge function (a difference of two products of coordinate differences) fits in
+// int64.
 constexpr int kMaxTileSize = 1 << 16;
 constexpr double kGuardBandPixels = double(1 << 20);
 
@@ -79,23 +82,24 @@ namespace raster_detail {
 // A triangle in snapped fixed-point coordinates (kSubpixelSteps per pixel) with positive area
 // (x1 - x0)(y2 - y0) - (y1 - y0)(x2 - x0) > 0.
 struct FixedTriangle {
-    std::array<std::int64_t, 3> x{};
-    std::array<std::int64_t, 3> y{};
+    std::array<std::int64_t, 3> x;
+    std::array<std::int64_t, 3> y;
 };
 
-// Attribute k at pixel-space point p is a0[k] + dadx[k] (p.x - x0) + dady[k] (p.y - y0).
+// Attribute k < nAttributes at pixel-space point p is a0[k] + dadx[k] (p.x - x0) + dady[k] (p.y - y0).
 struct AttributePlanes {
     double x0 = 0.0, y0 = 0.0;
-    std::array<double, kMaxAttributes> a0{}, dadx{}, dady{};
+    std::array<double, kMaxAttributes> a0, dadx, dady;
 };
 
 // A triangle clipped against the guard band is a convex polygon of at most 7 vertices, fanned
 // into at most 5 triangles.
 constexpr int kMaxClippedTriangles = 5;
 
+// Left uninitialized beyond what is used: it is made once per triangle, on the hot path.
 struct TriangleSetup {
-    int count = 0;  // triangles to scan; 0 when nothing can be covered
-    std::array<FixedTriangle, kMaxClippedTriangles> triangles{};
+    int count = 0;  // triangles[0, count) are to be scanned; 0 when nothing can be covered
+    std::array<FixedTriangle, kMaxClippedTriangles> triangles;
     AttributePlanes planes;
 };
 
@@ -110,9 +114,28 @@ inline std::int64_t floorDiv(std::int64_t a, std::int64_t b) {  // b > 0
 }
 inline std::int64_t ceilDiv(std::int64_t a, std::int64_t b) { return -floorDiv(-a, b); }
 
+// Where an edge function E(x) = c + x step (step != 0) is >= 0 along a row of `width` pixels:
+// x >= first (step > 0) or x <= last (step < 0). The crossing is estimated in double, clamped
+// to the row, then corrected with exact integer evaluations of E (a step or two at most), which
+// is exact and cheaper than a 64-bit integer division.
+inline std::int64_t firstInside(std::int64_t c, std::int64_t step, std::int64_t width) {  // step > 0
+    const double estimate = std::clamp(std::ceil(-double(c) / double(step)), 0.0, double(width));
+    std::int64_t x = static_cast<std::int64_t>(estimate);
+    while (x > 0 && c + (x - 1) * step >= 0) --x;
+    while (x < width && c + x * step < 0) ++x;
+    return x;
+}
+inline std::int64_t lastInside(std::int64_t c, std::int64_t step, std::int64_t width) {  // step < 0
+    const double estimate = std::clamp(std::floor(double(c) / double(-step)), -1.0, double(width - 1));
+    std::int64_t x = static_cast<std::int64_t>(estimate);
+    while (x < width - 1 && c + (x + 1) * step >= 0) ++x;
+    while (x >= 0 && c + x * step < 0) --x;
+    return x;
+}
+
 // Walks the rows of t's bounding box inside the tile. On each row the covered pixels form one
-// run, found exactly from the three edge functions with integer divisions; the edge functions
-// at the row start are stepped incrementally from row to row.
+// run, bounded exactly by firstInside/lastInside of the three edge functions, whose values at
+// the row start are stepped incrementally from row to row.
 template <int nAttributes, class F>
 void scanTriangle(const FixedTriangle& t, const AttributePlanes& planes, int width, int height, F& shade) {
     constexpr std::int64_t half = kSubpixelSteps / 2;
@@ -143,8 +166,8 @@ void scanTriangle(const FixedTriangle& t, const AttributePlanes& planes, int wid
         std::int64_t first = 0, last = width - 1;
         for (int i = 0; i < 3; ++i) {
             const std::int64_t c = rowValue[i];
-            if (xStep[i] > 0) first = std::max(first, ceilDiv(-c, xStep[i]));
-            else if (xStep[i] < 0) last = std::min(last, floorDiv(c, -xStep[i]));
+            if (xStep[i] > 0) first = std::max(first, firstInside(c, xStep[i], width));
+            else if (xStep[i] < 0) last = std::min(last, lastInside(c, xStep[i], width));
             else if (c < 0) last = -1;
             rowValue[i] += rowStep[i];
         }

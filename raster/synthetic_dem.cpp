@@ -11,6 +11,10 @@
 #include <string>
 #ifdef DEM_DEBUG
 #include <cstdio>
+#include <chrono>
+#define TICK(name) fprintf(stderr, "%s %.3f\n", name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0__).count()); t0__ = std::chrono::steady_clock::now();
+#else
+#define TICK(name)
 #endif
 
 #include <glm/geometric.hpp>
@@ -23,14 +27,21 @@ constexpr double kPaperSide = 100000.0;  // m: the extent that `resolution` refe
 
 // --- Terrain ---------------------------------------------------------------------------------
 
-constexpr double kBaseAltitude = 300.0;              // m, at the extent border
-constexpr double kInlandRise = 400.0;                // m, added away from the border
-constexpr double kInlandRange = 12000.0;             // m from the border over which the rise builds up
+constexpr double kOutletAltitude = 200.0;        // m, valley lines where rivers leave the network
+constexpr double kPlateauAltitude = 1400.0;      // m, terrain far from any river (before noise)
+constexpr double kHillslope = 0.12;              // m/m, terrain rising from the valley lines to the ridges
+// Valley lines rise upstream by kValleyLineGradient + kValleyLineWidthGradient / w (m/m, w the
+// river width in metres, at least kNarrowestRiver): steep for brooks, gentle for wide rivers
+// (Flint's law, with the width standing in for the drainage area).
+constexpr double kValleyLineGradient = 0.003;
+constexpr double kValleyLineWidthGradient = 0.04;  // m
+constexpr double kNarrowestRiver = 1.0;            // m
 constexpr int kNoiseOctaves = 6;
-constexpr double kNoiseLongestSpacing = 12000.0;     // m between lattice values of the first octave
-constexpr double kNoiseAmplitude = 600.0;            // m, lattice values of the first octave in [-a, a]
-constexpr double kNoisePersistence = 0.5;            // amplitude ratio of successive octaves (spacing halves)
-constexpr double kMinNoiseSpacingCells = 2.0;        // cells: finer octaves would alias, they are left out
+constexpr double kNoiseLongestSpacing = 8000.0;    // m between lattice values of the first octave
+constexpr double kNoiseAmplitude = 250.0;          // m, lattice values of the first octave in [-a, a)
+constexpr double kNoisePersistence = 0.5;          // amplitude ratio of successive octaves (spacing halves)
+constexpr double kMinNoiseSpacingCells = 2.0;      // cells: finer octaves would alias, they are left out
+constexpr double kNoiseFadeDistance = 800.0;       // m from a valley floor over which the noise fades in
 
 // --- Rivers ----------------------------------------------------------------------------------
 
@@ -96,23 +107,12 @@ AxisWeights axisWeights(int n, double cell, double spacing) {
     return a;
 }
 
-// Heights (m) of the terrain before any valley: base altitude, inland rise, value noise.
-std::vector<float> terrain(const Grid& g, std::uint64_t seed) {
+// Value noise (m): octaves of cubic B-spline interpolated random lattices, fixed in metres so
+// that a coarser Dem shows the same terrain, less its finest octaves.
+std::vector<float> noise(const Grid& g, std::uint64_t seed) {
     const auto W = std::size_t(g.w), H = std::size_t(g.h);
-    std::vector<double> rx(W), ry(H);
     const Vec2 size = g.extent.size();
-    for (std::size_t i = 0; i < W; ++i) {
-        const double x = (double(i) + 0.5) * g.cell.x;
-        rx[i] = smoothstep(std::min(x, size.x - x) / kInlandRange);
-    }
-    for (std::size_t j = 0; j < H; ++j) {
-        const double y = (double(j) + 0.5) * g.cell.y;
-        ry[j] = smoothstep(std::min(y, size.y - y) / kInlandRange);
-    }
-    std::vector<double> acc(W * H);
-    for (std::size_t j = 0; j < H; ++j)
-        for (std::size_t i = 0; i < W; ++i) acc[j * W + i] = kBaseAltitude + kInlandRise * rx[i] * ry[j];
-
+    std::vector<double> acc(W * H, 0.0);
     std::vector<double> lattice, rows;
     for (int o = 0; o < kNoiseOctaves; ++o) {
         const double spacing = kNoiseLongestSpacing / double(1 << o);
@@ -139,15 +139,16 @@ std::vector<float> terrain(const Grid& g, std::uint64_t seed) {
                 out[i] += w[0] * r[i] + w[1] * r[W + i] + w[2] * r[2 * W + i] + w[3] * r[3 * W + i];
         }
     }
-    std::vector<float> t(W * H);
-    for (std::size_t k = 0; k < W * H; ++k) t[k] = float(acc[k]);
-    return t;
+    std::vector<float> n(W * H);
+    for (std::size_t k = 0; k < W * H; ++k) n[k] = float(acc[k]);
+    return n;
 }
 
 // --- River network ---------------------------------------------------------------------------
 
 struct River {
     std::size_t start = 0, end = 0;  // network node indices
+    double width = 0.0;              // m, the curve's w
     double floor = 0.0;              // m, half width of the valley floor
     std::vector<Vec2> x;             // samples from start to end
     std::vector<double> ds;          // m, ds[k] = |x[k] - x[k-1]|, ds[0] = 0
@@ -174,6 +175,7 @@ Network riverNetwork(const Scene& scene, const Grid& g) {
             River r;
             r.start = nodes + c.start;
             r.end = nodes + c.end;
+            r.width = double(c.w);
             r.floor = std::max(0.5 * double(c.w) + kFloodplainMargin, minFloor);
             r.x.push_back(c.vertices.front().p);
             forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t) {
@@ -213,7 +215,8 @@ Network riverNetwork(const Scene& scene, const Grid& g) {
     return net;
 }
 
-// Calls f(cell index) for every grid cell whose centre lies within `radius` of p.
+// Calls f(cell index, squared distance in m^2) for every grid cell whose centre lies within
+// `radius` of p.
 template <class F>
 void forCellsWithin(const Grid& g, Vec2 p, double radius, F&& f) {
     const Vec2 lo = (p - radius - g.extent.min) / g.cell - 0.5, hi = (p + radius - g.extent.min) / g.cell - 0.5;
@@ -222,7 +225,7 @@ void forCellsWithin(const Grid& g, Vec2 p, double radius, F&& f) {
     for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
             const Vec2 d = g.position(i, j) - p;
-            if (glm::dot(d, d) <= radius * radius) f(g.index(i, j));
+            if (const double d2 = glm::dot(d, d); d2 <= radius * radius) f(g.index(i, j), d2);
         }
 }
 
@@ -234,7 +237,7 @@ void setTargets(Network& net, const Grid& g, const std::vector<float>& t) {
         for (std::size_t k = 0; k < r.x.size(); ++k) {
             const Vec2 c = glm::floor((r.x[k] - g.extent.min) / g.cell);
             double lowest = t[g.index(std::clamp(int(c.x), 0, g.w - 1), std::clamp(int(c.y), 0, g.h - 1))];
-            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell) { lowest = std::min(lowest, double(t[cell])); });
+            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell, double) { lowest = std::min(lowest, double(t[cell])); });
             r.target[k] = lowest - kChannelDepth;
         }
     }
@@ -277,45 +280,98 @@ void setBeds(Network& net) {
     }
 }
 
-// Valley heights: the floor of every river sample at its bed, and walls rising at kValleySlope
-// from the floors, by a two-pass 5 x 5 chamfer propagation (distances within 2% of Euclidean).
-// Cells that no valley reaches stay +infinity.
-std::vector<float> valleys(const Network& net, const Grid& g) {
-    std::vector<float> v(std::size_t(g.w) * std::size_t(g.h), kInfinity);
+// A field that is, on the valley floor of every river sample, the value `value(river, k)` of
+// its nearest sample (so that it is level across the river), and +infinity elsewhere.
+template <class F>
+std::vector<float> floors(const Network& net, const Grid& g, F&& value) {
+    const std::size_t cells = std::size_t(g.w) * std::size_t(g.h);
+    std::vector<float> v(cells, kInfinity);
+    std::vector<double> nearest(cells, std::numeric_limits<double>::infinity());  // m^2
     for (const River& r : net.rivers)
         for (std::size_t k = 0; k < r.x.size(); ++k) {
-            const auto b = float(r.bed[k]);
-            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell) { v[cell] = std::min(v[cell], b); });
+            const auto z = float(value(r, k));
+            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell, double d2) {
+                if (d2 < nearest[cell]) {
+                    nearest[cell] = d2;
+                    v[cell] = z;
+                }
+            });
         }
-    const double cx = g.cell.x, cy = g.cell.y;
-    const auto rise = [](double metres) { return float(kValleySlope * metres); };
-    struct Step {
-        int di, dj;
-        float dz;
-    };
-    // The neighbours visited before a cell in a row-major forward scan; the backward scan uses
-    // their opposites.
-    const std::array<Step, 8> steps = {{{-1, 0, rise(cx)},
-                                        {0, -1, rise(cy)},
-                                        {-1, -1, rise(std::hypot(cx, cy))},
-                                        {1, -1, rise(std::hypot(cx, cy))},
-                                        {-2, -1, rise(std::hypot(2.0 * cx, cy))},
-                                        {2, -1, rise(std::hypot(2.0 * cx, cy))},
-                                        {-1, -2, rise(std::hypot(cx, 2.0 * cy))},
-                                        {1, -2, rise(std::hypot(cx, 2.0 * cy))}}};
-    const auto relax = [&](int i, int j, int sign) {
-        float& here = v[g.index(i, j)];
-        for (const Step& s : steps) {
-            const int ni = i + sign * s.di, nj = j + sign * s.dj;
-            if (ni < 0 || nj < 0 || ni >= g.w || nj >= g.h) continue;
-            here = std::min(here, v[g.index(ni, nj)] + s.dz);
-        }
-    };
-    for (int j = 0; j < g.h; ++j)
-        for (int i = 0; i < g.w; ++i) relax(i, j, 1);
-    for (int j = g.h - 1; j >= 0; --j)
-        for (int i = g.w - 1; i >= 0; --i) relax(i, j, -1);
     return v;
+}
+
+// v(c) = min over cells c' of v(c') + slope * |c - c'|, the distance measured by a two-pass
+// 5 x 5 chamfer propagation (within 2% of Euclidean). Linear in the number of cells.
+void propagateCones(std::vector<float>& v, const Grid& g, double slope) {
+    // On a copy with a margin of 2 cells of +infinity, so that no neighbour needs a bounds check.
+    constexpr std::size_t kMargin = 2;
+    const auto W = std::size_t(g.w), H = std::size_t(g.h), stride = W + 2 * kMargin;
+    std::vector<float> p(stride * (H + 2 * kMargin), kInfinity);
+    for (std::size_t j = 0; j < H; ++j)
+        std::copy_n(&v[j * W], W, &p[(j + kMargin) * stride + kMargin]);
+    const double cx = g.cell.x, cy = g.cell.y;
+    const auto rise = [&](double metres) { return float(slope * metres); };
+    const float side = rise(cx), up = rise(cy), diagonal = rise(std::hypot(cx, cy)),
+                knightX = rise(std::hypot(2.0 * cx, cy)), knightY = rise(std::hypot(cx, 2.0 * cy));
+    // A row is relaxed from the two rows before it in the scan (above in the forward scan,
+    // below in the backward one; the mask is symmetric across the column), then by a running
+    // minimum along the row (rightwards forward, leftwards backward).
+    std::vector<float> relaxed(W);
+    const auto scanRow = [&](std::size_t j, bool forward) {
+        float* row = &p[(j + kMargin) * stride + kMargin];
+        const float* a = forward ? row - stride : row + stride;
+        const float* b = forward ? row - 2 * stride : row + 2 * stride;
+        float* out = relaxed.data();
+        for (std::size_t i = 0; i < W; ++i)
+            out[i] = std::min({row[i], a[i] + up, a[i - 1] + diagonal, a[i + 1] + diagonal, a[i - 2] + knightX,
+                               a[i + 2] + knightX, b[i - 1] + knightY, b[i + 1] + knightY});
+        float run = kInfinity;
+        for (std::size_t n = 0; n < W; ++n) {
+            const std::size_t i = forward ? n : W - 1 - n;
+            run = std::min(out[i], run + side);
+            row[i] = run;
+        }
+    };
+    for (std::size_t j = 0; j < H; ++j) scanRow(j, true);
+    for (std::size_t j = H; j-- > 0;) scanRow(j, false);
+    for (std::size_t j = 0; j < H; ++j)
+        std::copy_n(&p[(j + kMargin) * stride + kMargin], W, &v[j * W]);
+}
+
+// Valley lines: heights rising upstream from kOutletAltitude at the network's outlets (nodes no
+// curve leaves), by the Flint-like gradient of each curve's width. They shape the terrain only;
+// the beds are made later from the terrain. One upstream walk; a node left by several curves
+// takes the lowest of their heights.
+std::vector<std::vector<double>> valleyLines(const Network& net) {
+    std::vector<double> node(net.in.size(), std::numeric_limits<double>::infinity());
+    std::vector<std::vector<double>> lines(net.rivers.size());
+    for (auto it = net.order.rbegin(); it != net.order.rend(); ++it) {
+        const River& r = net.rivers[*it];
+        std::vector<double>& z = lines[*it];
+        z.resize(r.x.size());
+        const double end = node[r.end];
+        z.back() = std::isinf(end) ? kOutletAltitude : end;  // an outlet, or a curve on a cycle
+        const double gradient = kValleyLineGradient + kValleyLineWidthGradient / std::max(r.width, kNarrowestRiver);
+        for (std::size_t k = z.size() - 1; k > 0; --k) z[k - 1] = z[k] + gradient * r.ds[k];
+        node[r.start] = std::min(node[r.start], z.front());
+    }
+    return lines;
+}
+
+// The terrain before the valleys are cut: hillsides rising at kHillslope from the valley lines
+// up to a plateau, and noise that fades in away from the valley floors.
+std::vector<float> terrain(const Network& net, const Grid& g, std::uint64_t seed) {
+    const std::vector<std::vector<double>> lines = valleyLines(net);
+    std::vector<float> t = floors(net, g, [&](const River& r, std::size_t k) {
+        return lines[std::size_t(&r - net.rivers.data())][k];
+    });
+    propagateCones(t, g, kHillslope);
+    std::vector<float> distance = floors(net, g, [](const River&, std::size_t) { return 0.0; });
+    propagateCones(distance, g, 1.0);
+    const std::vector<float> n = noise(g, seed);
+    for (std::size_t k = 0; k < t.size(); ++k)
+        t[k] = float(std::min(double(t[k]), kPlateauAltitude) + smoothstep(double(distance[k]) / kNoiseFadeDistance) * n[k]);
+    return t;
 }
 
 // Heights along every river, walked downstream from its sources; where the Dem rises by more
@@ -354,16 +410,28 @@ Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
     g.h = std::max(2, int(std::lround(double(params.resolution) * size.y / kPaperSide)));
     g.cell = size / Vec2(g.w, g.h);
 
-    const std::vector<float> t = terrain(g, params.seed);
+#ifdef DEM_DEBUG
+    auto t0__ = std::chrono::steady_clock::now();
+#endif
     Network net = riverNetwork(scene, g);
+    TICK("network")
+    const std::vector<float> t = terrain(net, g, params.seed);
+    TICK("terrain")
     setTargets(net, g, t);
+    TICK("targets")
     std::vector<float> z;
     for (int pass = 0;; ++pass) {
         setBeds(net);
-        z = valleys(net, g);
+        TICK("beds")
+        // Valleys: floors at the beds, walls rising at kValleySlope until they meet the terrain.
+        z = floors(net, g, [](const River& r, std::size_t k) { return r.bed[k]; });
+        TICK("floors")
+        propagateCones(z, g, kValleySlope);
+        TICK("propagate")
         for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::min(z[k], t[k]);
 #ifdef DEM_DEBUG
         fprintf(stderr, "pass %d\n", pass);
+        TICK("min")
 #endif
         if (pass == kMaxCorrections || net.rivers.empty() || !lowerTargetsWhereRising(net, Dem(g.extent, g.w, g.h, z)))
             break;

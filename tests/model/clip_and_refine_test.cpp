@@ -181,6 +181,31 @@ TEST(ClipAndRefine, AncestorParametersLocateEveryOnCurveVertex) {
     }
 }
 
+TEST(ClipAndRefine, AdjacentQuadsRefineASharedPieceIdentically) {
+    // Seams: what both quads keep near their shared border is the same sub-pieces, bit for bit.
+    std::mt19937_64 rng(9);
+    for (int n = 0; n < 100; ++n) {
+        std::vector<Vertex> v{{{double(rng() % 300) - 50.0, double(rng() % 300) - 100.0}},
+                              {{double(rng() % 300) - 50.0, double(rng() % 300) - 100.0}, false},
+                              {{double(rng() % 300) - 50.0, double(rng() % 300) - 100.0}, false},
+                              {{double(rng() % 300) - 50.0, double(rng() % 300) - 100.0}}};
+        const double margin = 3.0;
+        auto piecesOf = [&](const Box& q) {
+            std::vector<BezierPiece> out;
+            for (const auto& run : clip(curveOf(v), q, margin, 0.2))
+                forEachPiece(run.vertices, [&](const BezierPiece& b, std::size_t) { out.push_back(b); });
+            return out;
+        };
+        const auto a = piecesOf(kQuad), b = piecesOf(kRight);
+        const Box shared = kQuad.dilated(margin);
+        for (const BezierPiece& p : a) {
+            if (!tightBounds(p).intersects(kRight.dilated(margin)) || !tightBounds(p).intersects(shared)) continue;
+            const bool found = std::any_of(b.begin(), b.end(), [&](const BezierPiece& q) { return q.degree == p.degree && q.p == p.p; });
+            EXPECT_TRUE(found) << "curve " << n;
+        }
+    }
+}
+
 TEST(ClipAndRefine, ConservativeClippingNeverLosesAPointOfTheCurveNearTheQuad) {
     std::mt19937_64 rng(11);
     for (int n = 0; n < 100; ++n) {

@@ -7,6 +7,7 @@
 #include <random>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -247,6 +248,14 @@ TEST(Rasterizer, HugeTrianglesFillTheTile) {
         counts.add({q0, q1, q2});
         counts.add({q2, q3, q0});
         expectEveryPixelOnce(counts, "huge quad");
+    }
+    // The largest tile with vertices at the guard band's corners: the extreme int64 edge values.
+    {
+        const double g = kGuardBandPixels, w = kMaxTileSize;
+        Counts c(kMaxTileSize, 2);
+        c.add({vertex(-g, -g), vertex(w + g, -g), vertex(w + g, 2 + g)});
+        c.add({vertex(-g, -g), vertex(w + g, 2 + g), vertex(-g, 2 + g)});
+        expectEveryPixelOnce(c, "guard-band quad");
     }
     // A diagonal exactly through the pixel centres (k + 0.5, k + 0.5).
     Counts c(32, 32);
