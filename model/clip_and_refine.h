@@ -30,6 +30,20 @@ struct RefineParams {
     double toleranceTexels = 0.5;  // texels, > 0
     int resolution = 256;          // texels per quad side
     double tolerance(double quadSize) const { return toleranceTexels * quadSize / double(resolution); }  // metres
+
+    // How far beyond an element's footprint the elevation producer reads it, in elevation samples
+    // (delta = quad size / elevationResolution): the sqrt(2) delta widening of §5.2 plus the
+    // samples of the tile border. Clipping keeps elements that far outside the quad too, so that
+    // adjacent tiles see the same elements at their shared and border samples. A curve narrower
+    // than 2 delta leaves no footprint at that level and gets no extra margin.
+    int elevationResolution = 24;     // samples per quad side, even
+    double footprintReach = 3.5;      // elevation samples, >= sqrt(2) + the tile border (2)
+    double elevationDelta(double quadSize) const { return quadSize / double(elevationResolution); }  // metres
+    double curveMargin(double w, double wf, double quadSize) const {
+        const double delta = elevationDelta(quadSize);
+        return 0.5 * wf + (w >= 2.0 * delta ? footprintReach * delta : 0.0);
+    }
+    double areaMargin(double wf, double quadSize) const { return wf + footprintReach * elevationDelta(quadSize); }
 };
 
 struct ClippedCurve {

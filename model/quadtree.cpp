@@ -74,10 +74,10 @@ const Curve& Quadtree::ancestorCurve(LayerId layer, ElementId id) const {
     return scene_.layers[layer].curves[id];
 }
 
-double Quadtree::nodeMargin(LayerId layer, ElementId id) const {
+double Quadtree::nodeMargin(LayerId layer, ElementId id, double quadSize) const {
     const Layer& l = scene_.layers[layer];
     double m = 0.0;  // an isolated node is kept only inside the quad
-    for (ElementId c : l.nodes[id].curves) m = std::max(m, 0.5 * double(l.curves[c].wf));
+    for (ElementId c : l.nodes[id].curves) m = std::max(m, curveMargin(layer, c, quadSize));
     return m;
 }
 
@@ -111,7 +111,7 @@ ClippedArea Quadtree::rootArea(LayerId layer, ElementId id) const {
 
 void Quadtree::clipCurveInto(LayerId layer, ElementId ancestor, std::span<const ClippedCurve> parent,
                              const Quad& child, std::vector<ClippedCurve>& out) const {
-    const double margin = curveMargin(layer, ancestor);
+    const double margin = curveMargin(layer, ancestor, child.bounds.size().x);
     const double tol = params_.tolerance(child.bounds.size().x);
     for (std::size_t i = 0; i < parent.size(); ++i)
         clipAndRefineCurve(parent[i], std::uint32_t(i), child.bounds, margin, tol, out);
@@ -119,7 +119,7 @@ void Quadtree::clipCurveInto(LayerId layer, ElementId ancestor, std::span<const 
 
 void Quadtree::clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                             std::vector<ClippedArea>& out) const {
-    const double margin = areaMargin(layer, id);
+    const double margin = areaMargin(layer, id, child.bounds.size().x);
     const double tol = params_.tolerance(child.bounds.size().x);
     for (std::size_t i = 0; i < parent.size(); ++i)
         clipAndRefineArea(parent[i], std::uint32_t(i), child.bounds, margin, tol, out);
@@ -156,7 +156,7 @@ void Quadtree::subdivide(Quad& q) {
         }
     };
     auto addNode = [&](LayerId l, ElementId a, Vec2 p) {
-        const double m = nodeMargin(l, a);
+        const double m = nodeMargin(l, a, kids[0]->bounds.size().x);
         for (auto& kid : kids)
             if (keepNode(p, kid->bounds, m)) kid->layers[l].nodes.emplace(a, p);
     };
@@ -305,7 +305,7 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
                 if (it == p.layers[l].nodes.end()) continue;
                 pos = it->second;
             }
-            if (!keepNode(pos, q.bounds, nodeMargin(l, id))) continue;
+            if (!keepNode(pos, q.bounds, nodeMargin(l, id, q.bounds.size().x))) continue;
             ql.nodes[id] = pos;
             a2.nodes.push_back(id);
         }

@@ -99,10 +99,15 @@ public:
 
     // The ancestor curve: a root curve, or a procedural one.
     const Curve& ancestorCurve(LayerId layer, ElementId id) const;
-    // Clipping margins (metres) of an ancestor element.
-    double curveMargin(LayerId layer, ElementId id) const { return 0.5 * double(ancestorCurve(layer, id).wf); }
-    double areaMargin(LayerId layer, ElementId id) const { return double(scene_.layers[layer].areas[id].wf); }
-    double nodeMargin(LayerId layer, ElementId id) const;
+    // Clipping margins (metres) of an ancestor element in a quad of the given size.
+    double curveMargin(LayerId layer, ElementId id, double quadSize) const {
+        const Curve& c = ancestorCurve(layer, id);
+        return params_.curveMargin(double(c.w), double(c.wf), quadSize);
+    }
+    double areaMargin(LayerId layer, ElementId id, double quadSize) const {
+        return params_.areaMargin(double(scene_.layers[layer].areas[id].wf), quadSize);
+    }
+    double nodeMargin(LayerId layer, ElementId id, double quadSize) const;
 
     // CREATEDFROM(q)[(ancestor, parentIndex)]: the curves of q made from that parent piece.
     static std::span<const ClippedCurve> createdFrom(const Quad& q, LayerId layer, ElementId ancestor,

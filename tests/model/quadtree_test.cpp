@@ -91,7 +91,8 @@ TEST(Quadtree, AnAreaCoveringDeepQuadsIsKnownToCoverThem) {
         if (q.layers.empty() || q.level < 4) return;
         const auto it = q.layers[1].areas.find(0);
         if (it == q.layers[1].areas.end()) return;
-        const bool inside = Box{{200 + 3, 500 + 3}, {400 - 3, 700 - 3}}.contains(q.bounds);
+        const double m = qt.params().areaMargin(2.0, q.bounds.size().x);
+        const bool inside = Box{{200 + m, 500 + m}, {400 - m, 700 - m}}.contains(q.bounds);
         EXPECT_EQ(it->second[0].coversQuad, inside) << "L" << q.level << " " << q.tx << "," << q.ty;
         covered += inside;
     });
