@@ -142,7 +142,8 @@ TriangleSetup setupTriangle(const RasterVertex& v0, const RasterVertex& v1, cons
         const std::int64_t area2 = signedArea2(t);
         if (!orientPositive(t)) return setup;
         setup.count = 1;
-        setup.planes = attributePlanes(snapped, v, double(area2) / double(kSubpixelSteps * kSubpixelSteps), nAttributes);
+        constexpr double kStepsPerSquarePixel = double(kSubpixelSteps * kSubpixelSteps);
+        setup.planes = attributePlanes(snapped, v, double(area2) / kStepsPerSquarePixel, nAttributes);
         return setup;
     }
 

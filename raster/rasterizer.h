@@ -220,7 +220,8 @@ void rasterizeTriangle(const RasterVertex& v0, const RasterVertex& v1, const Ras
 // triangles share an edge, so the strip covers each pixel centre inside it once.
 template <class F>
 void rasterizeStrip(std::span<const RasterVertex> v, int nAttributes, int width, int height, F&& shade) {
-    for (std::size_t i = 0; i + 2 < v.size(); ++i) rasterizeTriangle(v[i], v[i + 1], v[i + 2], nAttributes, width, height, shade);
+    for (std::size_t i = 0; i + 2 < v.size(); ++i)
+        rasterizeTriangle(v[i], v[i + 1], v[i + 2], nAttributes, width, height, shade);
 }
 
 }  // namespace lacet

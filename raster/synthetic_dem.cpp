@@ -54,9 +54,12 @@ constexpr double kFloodplainMargin = 10.0;   // m, valley floor beyond the river
 // stencil (2 cells on each axis, 2.83 diagonally) of any point of the axis between two samples,
 // so that the Dem along the axis interpolates floor values only.
 constexpr double kMinFloorCells = 3.25;
+// m/m: the floors, where they overlap (at confluences), ramp from the lower level to the higher
+// at most this steeply instead of stepping; above kMaxBedSlope so that a lone floor is unchanged.
+constexpr double kFloorSlope = 0.06;
 constexpr double kValleySlope = 0.35;        // m/m, valley walls from the floor up to the terrain
-constexpr int kMaxCorrections = 4;           // passes of step 4
-constexpr double kCorrectionRise = 0.2;      // m: a rise along a river beyond this is corrected
+constexpr int kMaxCorrections = 3;           // passes of step 4
+constexpr double kCorrectionRise = 0.3;      // m: a rise along a river beyond this is corrected
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
@@ -152,6 +155,9 @@ struct River {
     double floor = 0.0;              // m, half width of the valley floor
     std::vector<Vec2> x;             // samples from start to end
     std::vector<double> ds;          // m, ds[k] = |x[k] - x[k-1]|, ds[0] = 0
+    // The cells of its valley floor (centre within `floor` of a sample), each with its nearest
+    // sample, by cell index.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> floorCells;
     std::vector<double> target;      // m, the highest bed allowed at each sample
     std::vector<double> bed;         // m
 };
@@ -161,6 +167,66 @@ struct Network {
     std::vector<std::vector<std::size_t>> in, out;  // per node: curves ending, starting there
     std::vector<std::size_t> order;                 // rivers, upstream before downstream
 };
+
+// Calls f(cell index, squared distance in m^2) for every grid cell whose centre lies within
+// `radius` of p.
+template <class F>
+void forCellsWithin(const Grid& g, Vec2 p, double radius, F&& f) {
+    const Vec2 lo = (p - radius - g.extent.min) / g.cell - 0.5, hi = (p + radius - g.extent.min) / g.cell - 0.5;
+    const int i0 = std::max(0, int(std::ceil(lo.x))), i1 = std::min(g.w - 1, int(std::floor(hi.x)));
+    const int j0 = std::max(0, int(std::ceil(lo.y))), j1 = std::min(g.h - 1, int(std::floor(hi.y)));
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+            const Vec2 d = g.position(i, j) - p;
+            if (const double d2 = glm::dot(d, d); d2 <= radius * radius) f(g.index(i, j), d2);
+        }
+}
+
+// Sets r.floorCells. Samples are taken in chunks whose floors fit a small local grid; a cell
+// reached from several chunks keeps its nearest sample (the first one on a tie).
+void assignFloorCells(River& r, const Grid& g) {
+    constexpr std::size_t kChunk = 512;  // samples
+    struct Candidate {
+        std::uint32_t cell, sample;
+        double d2;  // m^2
+    };
+    std::vector<Candidate> found;
+    std::vector<double> best;
+    std::vector<std::uint32_t> nearest;
+    for (std::size_t first = 0; first < r.x.size(); first += kChunk) {
+        const std::size_t last = std::min(r.x.size(), first + kChunk);
+        Vec2 lo = r.x[first], hi = r.x[first];
+        for (std::size_t k = first; k < last; ++k) {
+            lo = glm::min(lo, r.x[k]);
+            hi = glm::max(hi, r.x[k]);
+        }
+        const Vec2 a = (lo - r.floor - g.extent.min) / g.cell - 0.5, b = (hi + r.floor - g.extent.min) / g.cell - 0.5;
+        const int i0 = std::max(0, int(std::ceil(a.x))), i1 = std::min(g.w - 1, int(std::floor(b.x)));
+        const int j0 = std::max(0, int(std::ceil(a.y))), j1 = std::min(g.h - 1, int(std::floor(b.y)));
+        if (i0 > i1 || j0 > j1) continue;
+        const auto w = std::size_t(i1 - i0 + 1), h = std::size_t(j1 - j0 + 1);
+        best.assign(w * h, std::numeric_limits<double>::infinity());
+        nearest.assign(w * h, 0);
+        for (std::size_t k = first; k < last; ++k)
+            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell, double d2) {
+                const std::size_t local = (cell / std::size_t(g.w) - std::size_t(j0)) * w + cell % std::size_t(g.w) - std::size_t(i0);
+                if (d2 < best[local]) {
+                    best[local] = d2;
+                    nearest[local] = std::uint32_t(k);
+                }
+            });
+        for (std::size_t j = 0; j < h; ++j)
+            for (std::size_t i = 0; i < w; ++i)
+                if (const std::size_t local = j * w + i; !std::isinf(best[local]))
+                    found.push_back({std::uint32_t(g.index(i0 + int(i), j0 + int(j))), nearest[local], best[local]});
+    }
+    std::sort(found.begin(), found.end(), [](const Candidate& p, const Candidate& q) {
+        return p.cell != q.cell ? p.cell < q.cell : p.d2 != q.d2 ? p.d2 < q.d2 : p.sample < q.sample;
+    });
+    r.floorCells.clear();
+    for (std::size_t n = 0; n < found.size(); ++n)
+        if (n == 0 || found[n].cell != found[n - 1].cell) r.floorCells.emplace_back(found[n].cell, found[n].sample);
+}
 
 Network riverNetwork(const Scene& scene, const Grid& g) {
     Network net;
@@ -186,6 +252,7 @@ Network riverNetwork(const Scene& scene, const Grid& g) {
             });
             r.ds.resize(r.x.size(), 0.0);
             for (std::size_t k = 1; k < r.x.size(); ++k) r.ds[k] = glm::distance(r.x[k - 1], r.x[k]);
+            assignFloorCells(r, g);
             net.rivers.push_back(std::move(r));
         }
         nodes += layer.nodes.size();
@@ -215,31 +282,17 @@ Network riverNetwork(const Scene& scene, const Grid& g) {
     return net;
 }
 
-// Calls f(cell index, squared distance in m^2) for every grid cell whose centre lies within
-// `radius` of p.
-template <class F>
-void forCellsWithin(const Grid& g, Vec2 p, double radius, F&& f) {
-    const Vec2 lo = (p - radius - g.extent.min) / g.cell - 0.5, hi = (p + radius - g.extent.min) / g.cell - 0.5;
-    const int i0 = std::max(0, int(std::ceil(lo.x))), i1 = std::min(g.w - 1, int(std::floor(hi.x)));
-    const int j0 = std::max(0, int(std::ceil(lo.y))), j1 = std::min(g.h - 1, int(std::floor(hi.y)));
-    for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) {
-            const Vec2 d = g.position(i, j) - p;
-            if (const double d2 = glm::dot(d, d); d2 <= radius * radius) f(g.index(i, j), d2);
-        }
-}
-
-// The highest bed allowed at each river sample: the lowest terrain under its valley floor, less
-// the channel depth (the terrain of the nearest cell when the floor covers no cell centre).
+// The highest bed allowed at each river sample: the lowest terrain of the floor cells it is the
+// nearest sample of, and of its own cell, less the channel depth.
 void setTargets(Network& net, const Grid& g, const std::vector<float>& t) {
     for (River& r : net.rivers) {
         r.target.resize(r.x.size());
         for (std::size_t k = 0; k < r.x.size(); ++k) {
             const Vec2 c = glm::floor((r.x[k] - g.extent.min) / g.cell);
-            double lowest = t[g.index(std::clamp(int(c.x), 0, g.w - 1), std::clamp(int(c.y), 0, g.h - 1))];
-            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell, double) { lowest = std::min(lowest, double(t[cell])); });
-            r.target[k] = lowest - kChannelDepth;
+            r.target[k] = t[g.index(std::clamp(int(c.x), 0, g.w - 1), std::clamp(int(c.y), 0, g.h - 1))];
         }
+        for (const auto& [cell, k] : r.floorCells) r.target[k] = std::min(r.target[k], double(t[cell]));
+        for (double& z : r.target) z -= kChannelDepth;
     }
 }
 
@@ -280,29 +333,21 @@ void setBeds(Network& net) {
     }
 }
 
-// A field that is, on the valley floor of every river sample, the value `value(river, k)` of
-// its nearest sample (so that it is level across the river), and +infinity elsewhere.
+// Fills v with a field that is, on the valley floor of each river, the value `value(river, k)`
+// of its nearest sample k (so that it is level across the river), the lowest of them where
+// floors overlap, and +infinity elsewhere.
 template <class F>
-std::vector<float> floors(const Network& net, const Grid& g, F&& value) {
-    const std::size_t cells = std::size_t(g.w) * std::size_t(g.h);
-    std::vector<float> v(cells, kInfinity);
-    std::vector<double> nearest(cells, std::numeric_limits<double>::infinity());  // m^2
+void floors(std::vector<float>& v, const Network& net, const Grid& g, F&& value) {
+    v.assign(std::size_t(g.w) * std::size_t(g.h), kInfinity);
     for (const River& r : net.rivers)
-        for (std::size_t k = 0; k < r.x.size(); ++k) {
-            const auto z = float(value(r, k));
-            forCellsWithin(g, r.x[k], r.floor, [&](std::size_t cell, double d2) {
-                if (d2 < nearest[cell]) {
-                    nearest[cell] = d2;
-                    v[cell] = z;
-                }
-            });
-        }
-    return v;
+        for (const auto& [cell, k] : r.floorCells) v[cell] = std::min(v[cell], float(value(r, k)));
 }
 
 // v(c) = min over cells c' of v(c') + slope * |c - c'|, the distance measured by a two-pass
-// 5 x 5 chamfer propagation (within 2% of Euclidean). Linear in the number of cells.
-void propagateCones(std::vector<float>& v, const Grid& g, double slope) {
+// 5 x 5 chamfer propagation (within 2% of Euclidean). Linear in the number of cells. With
+// `withinFinite`, cells at +infinity stay there and pass nothing on: the cones spread only
+// through the finite cells.
+void propagateCones(std::vector<float>& v, const Grid& g, double slope, bool withinFinite) {
     // On a copy with a margin of 2 cells of +infinity, so that no neighbour needs a bounds check.
     constexpr std::size_t kMargin = 2;
     const auto W = std::size_t(g.w), H = std::size_t(g.h), stride = W + 2 * kMargin;
@@ -322,13 +367,17 @@ void propagateCones(std::vector<float>& v, const Grid& g, double slope) {
         const float* a = forward ? row - stride : row + stride;
         const float* b = forward ? row - 2 * stride : row + 2 * stride;
         float* out = relaxed.data();
-        for (std::size_t i = 0; i < W; ++i)
-            out[i] = std::min({row[i], a[i] + up, a[i - 1] + diagonal, a[i + 1] + diagonal, a[i - 2] + knightX,
-                               a[i + 2] + knightX, b[i - 1] + knightY, b[i + 1] + knightY});
+        for (std::size_t i = 0; i < W; ++i) {
+            const float m = std::min(std::min(row[i], a[i] + up), std::min(a[i - 1], a[i + 1]) + diagonal);
+            out[i] = std::min(m, std::min(std::min(a[i - 2], a[i + 2]) + knightX, std::min(b[i - 1], b[i + 1]) + knightY));
+        }
+        if (withinFinite)
+            for (std::size_t i = 0; i < W; ++i)
+                if (std::isinf(row[i])) out[i] = kInfinity;
         float run = kInfinity;
         for (std::size_t n = 0; n < W; ++n) {
             const std::size_t i = forward ? n : W - 1 - n;
-            run = std::min(out[i], run + side);
+            run = withinFinite && std::isinf(out[i]) ? kInfinity : std::min(out[i], run + side);
             row[i] = run;
         }
     };
@@ -362,12 +411,11 @@ std::vector<std::vector<double>> valleyLines(const Network& net) {
 // up to a plateau, and noise that fades in away from the valley floors.
 std::vector<float> terrain(const Network& net, const Grid& g, std::uint64_t seed) {
     const std::vector<std::vector<double>> lines = valleyLines(net);
-    std::vector<float> t = floors(net, g, [&](const River& r, std::size_t k) {
-        return lines[std::size_t(&r - net.rivers.data())][k];
-    });
-    propagateCones(t, g, kHillslope);
-    std::vector<float> distance = floors(net, g, [](const River&, std::size_t) { return 0.0; });
-    propagateCones(distance, g, 1.0);
+    std::vector<float> t, distance;
+    floors(t, net, g, [&](const River& r, std::size_t k) { return lines[std::size_t(&r - net.rivers.data())][k]; });
+    propagateCones(t, g, kHillslope, false);
+    floors(distance, net, g, [](const River&, std::size_t) { return 0.0; });
+    propagateCones(distance, g, 1.0, false);
     const std::vector<float> n = noise(g, seed);
     for (std::size_t k = 0; k < t.size(); ++k)
         t[k] = float(std::min(double(t[k]), kPlateauAltitude) + smoothstep(double(distance[k]) / kNoiseFadeDistance) * n[k]);
@@ -424,9 +472,10 @@ Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
         setBeds(net);
         TICK("beds")
         // Valleys: floors at the beds, walls rising at kValleySlope until they meet the terrain.
-        z = floors(net, g, [](const River& r, std::size_t k) { return r.bed[k]; });
+        floors(z, net, g, [](const River& r, std::size_t k) { return r.bed[k]; });
         TICK("floors")
-        propagateCones(z, g, kValleySlope);
+        propagateCones(z, g, kFloorSlope, true);
+        propagateCones(z, g, kValleySlope, false);
         TICK("propagate")
         for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::min(z[k], t[k]);
 #ifdef DEM_DEBUG

@@ -43,7 +43,8 @@ void expectEveryPixelOnce(const Counts& c, const char* what) {
     int bad = 0;
     for (int y = 0; y < c.height; ++y)
         for (int x = 0; x < c.width; ++x)
-            if (c.at(x, y) != 1 && bad++ < 5) ADD_FAILURE() << what << ": pixel " << x << "," << y << " covered " << c.at(x, y) << " times";
+            if (c.at(x, y) != 1 && bad++ < 5)
+                ADD_FAILURE() << what << ": pixel " << x << "," << y << " covered " << c.at(x, y) << " times";
     EXPECT_EQ(bad, 0) << what;
 }
 
@@ -62,7 +63,8 @@ double place(double v, Placement placement, std::mt19937_64& rng) {
 // A jittered grid over [x0, x1] x [y0, y1] (border vertices stay on the border), each cell split
 // along a random diagonal, each triangle given a random winding. Jitter <= a quarter cell keeps
 // the cells convex, so the triangles tile the rectangle.
-std::vector<Triangle> gridMesh(std::uint64_t seed, double x0, double y0, double x1, double y1, int nx, int ny, Placement placement) {
+std::vector<Triangle> gridMesh(std::uint64_t seed, double x0, double y0, double x1, double y1, int nx, int ny,
+                               Placement placement) {
     std::mt19937_64 rng(seed);
     const double sx = (x1 - x0) / nx, sy = (y1 - y0) / ny;
     std::uniform_real_distribution<double> jitter(-0.18, 0.18);
@@ -100,7 +102,8 @@ TEST(Rasterizer, FullTileQuadCoversEveryPixelOnce) {
 }
 
 TEST(Rasterizer, SharedEdgeMeshesCoverEachPixelCentreOnce) {
-    const Placement placements[] = {Placement::Continuous, Placement::PixelCentres, Placement::PixelCorners, Placement::Mixed};
+    const Placement placements[] = {Placement::Continuous, Placement::PixelCentres, Placement::PixelCorners,
+                                    Placement::Mixed};
     for (std::uint64_t seed = 1; seed <= 12; ++seed)
         for (Placement placement : placements) {
             // The mesh overhangs the 61 x 47 tile, so its border triangles are clipped by the tile.
@@ -136,7 +139,8 @@ TEST(Rasterizer, FanAroundAPixelCentreCoversEachPixelOnce) {
 TEST(Rasterizer, StripCoversItsRectangleOnce) {
     std::mt19937_64 rng(5);
     std::vector<RasterVertex> strip = {vertex(-4, -2), vertex(-4, 34)};
-    for (double x = -2.0; x < 44.0; x += 0.5 + double(rng() % 700) / 100.0) strip.push_back(vertex(x, strip.size() % 2 ? 34.0 : -2.0));
+    for (double x = -2.0; x < 44.0; x += 0.5 + double(rng() % 700) / 100.0)
+        strip.push_back(vertex(x, strip.size() % 2 ? 34.0 : -2.0));
     strip.push_back(vertex(45, strip.size() % 2 ? 34.0 : -2.0));
     strip.push_back(vertex(45, strip.size() % 2 ? 34.0 : -2.0));
     std::vector<int> n(40 * 30, 0);
@@ -300,7 +304,8 @@ TEST(Rasterizer, TrianglesPartlyOutsideTheTileAreClipped) {
         Counts c(41, 37);
         c.add(t);
         for (int y = 0; y < c.height; ++y)
-            for (int x = 0; x < c.width; ++x) ASSERT_EQ(c.at(x, y), referenceCovers(t, x, y) ? 1 : 0) << i << " " << x << "," << y;
+            for (int x = 0; x < c.width; ++x)
+                ASSERT_EQ(c.at(x, y), referenceCovers(t, x, y) ? 1 : 0) << i << " " << x << "," << y;
         covered += c.total();
     }
     EXPECT_GT(covered, 50000);
@@ -314,7 +319,8 @@ TEST(Rasterizer, CoverageMatchesAnalyticArea) {
         for (RasterVertex& v : t) v.p = {coord(rng), coord(rng)};
         const glm::dvec2 e1 = t[1].p - t[0].p, e2 = t[2].p - t[0].p;
         const double area = 0.5 * std::abs(e1.x * e2.y - e1.y * e2.x);
-        const glm::dvec2 lo = glm::min(t[0].p, glm::min(t[1].p, t[2].p)), hi = glm::max(t[0].p, glm::max(t[1].p, t[2].p));
+        const glm::dvec2 lo = glm::min(t[0].p, glm::min(t[1].p, t[2].p));
+        const glm::dvec2 hi = glm::max(t[0].p, glm::max(t[1].p, t[2].p));
         // Each covered centre's pixel lies in the triangle dilated by half a pixel in x and y, and
         // the triangle eroded likewise lies in the covered pixels: the difference is at most the
         // box's width + height (+ a pixel for the corners), itself at most the perimeter.
@@ -322,6 +328,24 @@ TEST(Rasterizer, CoverageMatchesAnalyticArea) {
         Counts c(512, 512);
         c.add(t);
         EXPECT_LE(std::abs(double(c.total()) - area), bound) << i;
+    }
+}
+
+TEST(Rasterizer, RowRunBoundsMatchExactIntegerDivision) {
+    // The row runs come from a double estimate corrected with exact integer tests; compare with
+    // floor/ceil integer division over the whole range of edge values the rasterizer can meet.
+    using raster_detail::ceilDiv, raster_detail::firstInside, raster_detail::floorDiv, raster_detail::lastInside;
+    std::mt19937_64 rng(23);
+    for (int i = 0; i < 300000; ++i) {
+        const int valueBits = 1 + int(rng() % 59), stepBits = 1 + int(rng() % 40);
+        std::int64_t c = std::int64_t(rng() >> (64 - valueBits)) * (rng() % 2 ? 1 : -1);
+        const std::int64_t step = std::int64_t(rng() >> (64 - stepBits)) + 1;
+        const std::int64_t width = 1 + std::int64_t(rng() % kMaxTileSize);
+        if (i % 2) c = -step * (std::int64_t(rng() % 70000) - 2000) + std::int64_t(rng() % 3) - 1;  // near a pixel
+        ASSERT_EQ(firstInside(c, step, width), std::clamp<std::int64_t>(ceilDiv(-c, step), 0, width))
+            << c << " " << step;
+        ASSERT_EQ(lastInside(c, -step, width), std::clamp<std::int64_t>(floorDiv(c, step), -1, width - 1))
+            << c << " " << step;
     }
 }
 

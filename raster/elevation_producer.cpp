@@ -1,0 +1,219 @@
+#include "raster/elevation_producer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "raster/rasterizer.h"
+
+namespace lacet {
+namespace {
+
+constexpr double kSqrt2 = std::numbers::sqrt2;
+
+// The blending profile b(d): 1 up to `inner`, 0 from `outer`, smoothstep between.
+float blend(double d, double inner, double outer) {
+    if (d <= inner) return 1.0f;
+    if (d >= outer) return 0.0f;
+    const double t = (outer - d) / (outer - inner);
+    return float(t * t * (3.0 - 2.0 * t));
+}
+
+class FootprintCanvas {
+public:
+    FootprintCanvas(ElevationTile& tile) : t_(tile) {}
+
+    // MAX combination: the larger b wins and brings its z_e; equal b keep the lower z_e, so the
+    // result does not depend on the drawing order.
+    void put(std::size_t k, float b, float z) {
+        if (b <= 0.0f) return;
+        if (b > t_.b[k] || (b == t_.b[k] && z < t_.ze[k])) {
+            t_.b[k] = b;
+            t_.ze[k] = z;
+        }
+    }
+
+    // Tile pixel coordinates of a scene point: sample (i, j) is pixel (i + border, j + border).
+    glm::dvec2 pixel(Vec2 p) const { return (p - t_.bounds.min) / t_.delta + double(t_.border) + 0.5; }
+
+    // Calls f(k, position) for every sample within `radius` metres of segment a-b (a superset:
+    // the capsule's oriented bounding rectangle, rasterized).
+    template <class F>
+    void capsule(Vec2 a, Vec2 b, double radius, F&& f) const {
+        const glm::dvec2 pa = pixel(a), pb = pixel(b);
+        const double r = radius / t_.delta + 1.0;  // one sample of slack: the test below is exact
+        glm::dvec2 d = pb - pa;
+        const double len = glm::length(d);
+        d = len > 0.0 ? d / len : glm::dvec2(1.0, 0.0);
+        const glm::dvec2 n(-d.y, d.x);
+        RasterVertex v[4];
+        v[0].p = pa - d * r - n * r;
+        v[1].p = pa - d * r + n * r;
+        v[2].p = pb + d * r - n * r;
+        v[3].p = pb + d * r + n * r;
+        auto shade = [&](int x, int y, const float*) {
+            const int i = x - t_.border, j = y - t_.border;
+            f(t_.index(i, j), t_.position(i, j));
+        };
+        rasterizeTriangle(v[0], v[1], v[2], 0, t_.stride, t_.stride, shade);
+        rasterizeTriangle(v[1], v[3], v[2], 0, t_.stride, t_.stride, shade);
+    }
+
+private:
+    ElevationTile& t_;
+};
+
+void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, ElementId a,
+               const std::vector<ClippedCurve>& pieces, const Curve& c, const CurveDataCache& data) {
+    const double inner = 0.5 * double(c.w) + kSqrt2 * tile.delta;
+    const double outer = std::max(inner, 0.5 * double(c.wf) + kSqrt2 * tile.delta);
+    const ZProfile& profile = data.zProfile(l, a);
+    std::vector<Vec2> pts;
+    std::vector<double> us;
+    for (const ClippedCurve& run : pieces) {
+        pts.clear();
+        us.clear();
+        std::size_t k = 0;
+        for (const Vertex& v : run.vertices)
+            if (v.onCurve) {
+                pts.push_back(v.p);
+                us.push_back(data.u(l, a, run.s[k++]));
+            }
+        for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+            const Vec2 p0 = pts[i], p1 = pts[i + 1];
+            const Vec2 seg = p1 - p0;
+            const double len2 = glm::dot(seg, seg);
+            canvas.capsule(p0, p1, outer, [&](std::size_t idx, Vec2 q) {
+                const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
+                const double d = glm::length(q - (p0 + seg * t));
+                const float b = blend(d, inner, outer);
+                if (b > 0.0f) canvas.put(idx, b, float(profile.at(us[i] + (us[i + 1] - us[i]) * t)));
+            });
+        }
+    }
+}
+
+bool insideLoops(const std::vector<ClippedLoop>& loops, Vec2 q) {
+    bool inside = false;
+    for (const auto& l : loops) {
+        const auto& v = l.vertices;
+        Vec2 prev = v.front().p;
+        for (std::size_t i = 1; i < v.size(); ++i) {
+            if (!v[i].onCurve) continue;
+            const Vec2 cur = v[i].p;
+            if ((cur.y > q.y) != (prev.y > q.y) && q.x < (prev.x - cur.x) * (q.y - cur.y) / (prev.y - cur.y) + cur.x)
+                inside = !inside;
+            prev = cur;
+        }
+    }
+    return inside;
+}
+
+void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<ClippedArea>& pieces, double wf, float level) {
+    const double reach = wf + kSqrt2 * tile.delta;
+    for (const ClippedArea& area : pieces) {
+        // Inside: every sample of the tile is tested (tiles are small: 25 x 25 plus border).
+        for (int j = -tile.border; j <= tile.resolution + tile.border; ++j)
+            for (int i = -tile.border; i <= tile.resolution + tile.border; ++i)
+                if (area.coversQuad || insideLoops(area.loops, tile.position(i, j))) canvas.put(tile.index(i, j), 1.0f, level);
+        if (area.coversQuad) continue;
+        // Banks: outside the real border, down to 0 at wf.
+        for (const ClippedLoop& loop : area.loops) {
+            Vec2 prev = loop.vertices.front().p;
+            bool closing = loop.vertices.front().closing;
+            for (std::size_t i = 1; i < loop.vertices.size(); ++i) {
+                const Vertex& v = loop.vertices[i];
+                if (!v.onCurve) continue;
+                if (!closing) {
+                    const Vec2 p0 = prev, seg = v.p - prev;
+                    const double len2 = glm::dot(seg, seg);
+                    canvas.capsule(p0, v.p, reach, [&](std::size_t idx, Vec2 q) {
+                        const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
+                        canvas.put(idx, blend(glm::length(q - (p0 + seg * t)), kSqrt2 * tile.delta, reach), level);
+                    });
+                }
+                prev = v.p;
+                closing = v.closing;
+            }
+        }
+    }
+}
+
+// 3x3 Gaussian (1 2 1) x (1 2 1) / 16 of z_m where b > 0, on every sample but the outer ring.
+void filterWhereBlended(ElevationTile& t) {
+    const std::vector<float> zm = t.zm;
+    for (int j = 1 - t.border; j <= t.resolution + t.border - 1; ++j)
+        for (int i = 1 - t.border; i <= t.resolution + t.border - 1; ++i) {
+            if (t.b[t.index(i, j)] <= 0.0f) continue;
+            double sum = 0.0;
+            for (int dj = -1; dj <= 1; ++dj)
+                for (int di = -1; di <= 1; ++di) sum += double((2 - std::abs(di)) * (2 - std::abs(dj))) * zm[t.index(i + di, j + dj)];
+            t.zm[t.index(i, j)] = float(sum / 16.0);
+        }
+}
+
+// z_c: z_m at the even samples (the parent level's grid), linear in between.
+void halfResolution(ElevationTile& t) {
+    auto even = [&](int i) { return (i % 2 + 2) % 2 == 0; };
+    for (int j = 1 - t.border; j <= t.resolution + t.border - 1; ++j)
+        for (int i = 1 - t.border; i <= t.resolution + t.border - 1; ++i) {
+            const int i0 = even(i) ? i : i - 1, i1 = even(i) ? i : i + 1;
+            const int j0 = even(j) ? j : j - 1, j1 = even(j) ? j : j + 1;
+            t.zc[t.index(i, j)] = 0.25f * (t.zm[t.index(i0, j0)] + t.zm[t.index(i1, j0)] + t.zm[t.index(i0, j1)] + t.zm[t.index(i1, j1)]);
+        }
+}
+
+}  // namespace
+
+ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
+                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters) {
+    const int n = quadtree.params().elevationResolution;
+    if (n <= 0 || n % 2 != 0 || params.border < 2)
+        throw std::invalid_argument("produceElevation(): the resolution must be even and the border >= 2");
+    ElevationTile t;
+    t.bounds = quad.bounds;
+    t.resolution = n;
+    t.border = params.border;
+    t.delta = quad.bounds.size().x / double(n);
+    t.stride = n + 1 + 2 * params.border;
+    const std::size_t count = std::size_t(t.stride) * std::size_t(t.stride);
+    t.zo.resize(count);
+    t.ze.assign(count, 0.0f);
+    t.b.assign(count, 0.0f);
+    t.zc.assign(count, 0.0f);
+    for (int j = -t.border; j <= n + t.border; ++j)
+        for (int i = -t.border; i <= n + t.border; ++i) t.zo[t.index(i, j)] = float(dem.sample(t.position(i, j)));
+
+    FootprintCanvas canvas(t);
+    const Scene& scene = quadtree.scene();
+    for (LayerId l = 0; l < quad.layers.size(); ++l) {
+        const LayerKind kind = scene.layers[l].kind;
+        if (kind == LayerKind::Roads || kind == LayerKind::Rivers) {
+            for (const auto& [a, pieces] : quad.layers[l].curves) {
+                const Curve& c = quadtree.ancestorCurve(l, a);
+                if (double(c.w) < 2.0 * t.delta) {
+                    if (counters) ++counters->curvesSkippedThin;
+                    continue;
+                }
+                drawCurve(canvas, t, l, a, pieces, c, curveData);
+                if (counters) ++counters->curvesDrawn;
+            }
+        } else if (kind == LayerKind::Lakes) {
+            for (const auto& [a, pieces] : quad.layers[l].areas) {
+                drawLake(canvas, t, pieces, double(scene.layers[l].areas[a].wf), float(curveData.lakeLevel(l, a)));
+                if (counters) ++counters->lakesDrawn;
+            }
+        }
+    }
+    t.zm.resize(count);
+    for (std::size_t k = 0; k < count; ++k) t.zm[k] = t.b[k] * t.ze[k] + (1.0f - t.b[k]) * t.zo[k];
+    filterWhereBlended(t);
+    halfResolution(t);
+    if (counters) ++counters->tiles;
+    return t;
+}
+
+}  // namespace lacet

@@ -1,0 +1,44 @@
+#pragma once
+// The elevation producer (§5.2): for one quad, the DEM resampled on the tile grid (z_o), the
+// footprint of its roads, rivers and lakes (z_e, b), combined with MAX so overlaps stay
+// continuous (z_e follows the larger b), the modified height z_m = b z_e + (1 - b) z_o filtered
+// by a 3x3 Gaussian where b > 0, and the height at half resolution z_c for level transitions.
+//
+// Footprints: a curve of a Roads or Rivers layer narrower than 2 delta is skipped (it would not
+// show after filtering, Fig. 8); the others are drawn with b = 1 within w/2 + sqrt(2) delta of
+// their axis, falling smoothly to 0 at wf/2 + sqrt(2) delta, and z_e = z(u) from the ancestor's
+// z-profile. Each refined segment is drawn as a capsule (its rectangle and the discs at its
+// ends), whose footprint is evaluated exactly from the distance to the segment: the union over
+// a polyline is the footprint of the distance to the polyline, so sharp turns and hairpins wider
+// than their radius have no spike and no gap. Lakes: b = 1 and z_e = the lake level inside,
+// falling to 0 at wf outside the real border (not the closing curves of clipped areas).
+//
+// Thread safety: produce() may run for many quads at once; it only reads the quadtree and the
+// DEM, and asks the CurveDataCache (which is thread-safe) for u and z-profiles.
+
+#include <atomic>
+
+#include "model/curve_data.h"
+#include "model/quadtree.h"
+#include "raster/dem.h"
+#include "raster/elevation_tile.h"
+
+namespace lacet {
+
+struct ElevationParams {
+    int border = 2;  // samples outside the quad on each side (>= 2: the filter reads one more)
+};
+
+struct ElevationCounters {
+    std::atomic<std::size_t> tiles{0};
+    std::atomic<std::size_t> curvesDrawn{0};
+    std::atomic<std::size_t> curvesSkippedThin{0};  // w < 2 delta: no z-profile asked
+    std::atomic<std::size_t> lakesDrawn{0};
+};
+
+// Resolution and delta come from quadtree.params() (elevationResolution), so that the clipping
+// margins match what this reads.
+ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
+                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters = nullptr);
+
+}  // namespace lacet
