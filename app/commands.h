@@ -8,5 +8,6 @@ namespace lacet::app {
 void addSynthCommand(CLI::App& app);
 void addCheckCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
 
 }  // namespace lacet::app

@@ -10,6 +10,7 @@ int main(int argc, char** argv) {
     lacet::app::addSynthCommand(app);
     lacet::app::addCheckCommand(app);
     lacet::app::addBenchCommand(app);
+    lacet::app::addRenderCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

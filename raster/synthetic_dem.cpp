@@ -9,13 +9,6 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#ifdef DEM_DEBUG
-#include <cstdio>
-#include <chrono>
-#define TICK(name) fprintf(stderr, "%s %.3f\n", name, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0__).count()); t0__ = std::chrono::steady_clock::now();
-#else
-#define TICK(name)
-#endif
 
 #include <glm/geometric.hpp>
 
@@ -115,8 +108,14 @@ AxisWeights axisWeights(int n, double cell, double spacing) {
 std::vector<float> noise(const Grid& g, std::uint64_t seed) {
     const auto W = std::size_t(g.w), H = std::size_t(g.h);
     const Vec2 size = g.extent.size();
-    std::vector<double> acc(W * H, 0.0);
-    std::vector<double> lattice, rows;
+    // Separable: each octave is interpolated along x on every lattice row first, then every grid
+    // row sums the octaves' interpolations along y.
+    struct Octave {
+        AxisWeights y;
+        std::vector<float> rows;  // lattice row b, grid column i at b * W + i
+    };
+    std::vector<Octave> octaves;
+    std::vector<double> lattice;
     for (int o = 0; o < kNoiseOctaves; ++o) {
         const double spacing = kNoiseLongestSpacing / double(1 << o);
         if (spacing < kMinNoiseSpacingCells * std::max(g.cell.x, g.cell.y)) break;
@@ -125,25 +124,35 @@ std::vector<float> noise(const Grid& g, std::uint64_t seed) {
         std::mt19937_64 rng(splitmix(seed + 0x9e3779b97f4a7c15ull * std::uint64_t(o + 1)));
         lattice.resize(nx * ny);
         for (double& v : lattice) v = amplitude * (double(rng() >> 11) * 0x1.0p-52 - 1.0);  // [-a, a)
-        const AxisWeights ax = axisWeights(g.w, g.cell.x, spacing), ay = axisWeights(g.h, g.cell.y, spacing);
-        // Separable: along x on every lattice row, then along y for every grid row.
-        rows.resize(ny * W);
+        const AxisWeights ax = axisWeights(g.w, g.cell.x, spacing);
+        Octave& octave = octaves.emplace_back(Octave{axisWeights(g.h, g.cell.y, spacing), std::vector<float>(ny * W)});
         for (std::size_t b = 0; b < ny; ++b)
             for (std::size_t i = 0; i < W; ++i) {
                 const double* l = &lattice[b * nx + ax.first[i]];
                 const auto& w = ax.w[i];
-                rows[b * W + i] = w[0] * l[0] + w[1] * l[1] + w[2] * l[2] + w[3] * l[3];
+                octave.rows[b * W + i] = float(w[0] * l[0] + w[1] * l[1] + w[2] * l[2] + w[3] * l[3]);
             }
-        for (std::size_t j = 0; j < H; ++j) {
-            const auto& w = ay.w[j];
-            const double* r = &rows[ay.first[j] * W];
-            double* out = &acc[j * W];
-            for (std::size_t i = 0; i < W; ++i)
-                out[i] += w[0] * r[i] + w[1] * r[W + i] + w[2] * r[2 * W + i] + w[3] * r[3 * W + i];
+    }
+    std::vector<float> n(W * H, 0.0f);
+    for (std::size_t j = 0; j < H; ++j) {
+        float* out = &n[j * W];
+        for (const Octave& octave : octaves) {
+            const auto& w64 = octave.y.w[j];
+            const std::array<float, 4> w = {float(w64[0]), float(w64[1]), float(w64[2]), float(w64[3])};
+            const float* r = &octave.rows[octave.y.first[j] * W];
+            const auto sum = [&](std::size_t i) {
+                return out[i] + (w[0] * r[i] + w[1] * r[W + i] + w[2] * r[2 * W + i] + w[3] * r[3 * W + i]);
+            };
+            // By groups of 4 through a local array, which the compiler turns into vector code.
+            std::size_t i = 0;
+            for (constexpr std::size_t kGroup = 4; i + kGroup <= W; i += kGroup) {
+                std::array<float, kGroup> group;
+                for (std::size_t q = 0; q < kGroup; ++q) group[q] = sum(i + q);
+                std::copy(group.begin(), group.end(), out + i);
+            }
+            for (; i < W; ++i) out[i] = sum(i);
         }
     }
-    std::vector<float> n(W * H);
-    for (std::size_t k = 0; k < W * H; ++k) n[k] = float(acc[k]);
     return n;
 }
 
@@ -333,14 +342,14 @@ void setBeds(Network& net) {
     }
 }
 
-// Fills v with a field that is, on the valley floor of each river, the value `value(river, k)`
-// of its nearest sample k (so that it is level across the river), the lowest of them where
+// Fills v with a field that is, on the valley floor of each river c, the value `value(c, k)` of
+// its nearest sample k (so that it is level across the river), the lowest of them where
 // floors overlap, and +infinity elsewhere.
 template <class F>
 void floors(std::vector<float>& v, const Network& net, const Grid& g, F&& value) {
     v.assign(std::size_t(g.w) * std::size_t(g.h), kInfinity);
-    for (const River& r : net.rivers)
-        for (const auto& [cell, k] : r.floorCells) v[cell] = std::min(v[cell], float(value(r, k)));
+    for (std::size_t c = 0; c < net.rivers.size(); ++c)
+        for (const auto& [cell, k] : net.rivers[c].floorCells) v[cell] = std::min(v[cell], float(value(c, k)));
 }
 
 // v(c) = min over cells c' of v(c') + slope * |c - c'|, the distance measured by a two-pass
@@ -348,12 +357,8 @@ void floors(std::vector<float>& v, const Network& net, const Grid& g, F&& value)
 // `withinFinite`, cells at +infinity stay there and pass nothing on: the cones spread only
 // through the finite cells.
 void propagateCones(std::vector<float>& v, const Grid& g, double slope, bool withinFinite) {
-    // On a copy with a margin of 2 cells of +infinity, so that no neighbour needs a bounds check.
-    constexpr std::size_t kMargin = 2;
-    const auto W = std::size_t(g.w), H = std::size_t(g.h), stride = W + 2 * kMargin;
-    std::vector<float> p(stride * (H + 2 * kMargin), kInfinity);
-    for (std::size_t j = 0; j < H; ++j)
-        std::copy_n(&v[j * W], W, &p[(j + kMargin) * stride + kMargin]);
+    constexpr std::size_t kMargin = 2;  // cells of +infinity around the rows before, for the mask
+    const auto W = std::size_t(g.w), H = std::size_t(g.h);
     const double cx = g.cell.x, cy = g.cell.y;
     const auto rise = [&](double metres) { return float(slope * metres); };
     const float side = rise(cx), up = rise(cy), diagonal = rise(std::hypot(cx, cy)),
@@ -361,30 +366,45 @@ void propagateCones(std::vector<float>& v, const Grid& g, double slope, bool wit
     // A row is relaxed from the two rows before it in the scan (above in the forward scan,
     // below in the backward one; the mask is symmetric across the column), then by a running
     // minimum along the row (rightwards forward, leftwards backward).
-    std::vector<float> relaxed(W);
-    const auto scanRow = [&](std::size_t j, bool forward) {
-        float* row = &p[(j + kMargin) * stride + kMargin];
-        const float* a = forward ? row - stride : row + stride;
-        const float* b = forward ? row - 2 * stride : row + 2 * stride;
-        float* out = relaxed.data();
-        for (std::size_t i = 0; i < W; ++i) {
-            const float m = std::min(std::min(row[i], a[i] + up), std::min(a[i - 1], a[i + 1]) + diagonal);
-            out[i] = std::min(m, std::min(std::min(a[i - 2], a[i + 2]) + knightX, std::min(b[i - 1], b[i + 1]) + knightY));
-        }
-        if (withinFinite)
-            for (std::size_t i = 0; i < W; ++i)
-                if (std::isinf(row[i])) out[i] = kInfinity;
-        float run = kInfinity;
-        for (std::size_t n = 0; n < W; ++n) {
-            const std::size_t i = forward ? n : W - 1 - n;
-            run = withinFinite && std::isinf(out[i]) ? kInfinity : std::min(out[i], run + side);
-            row[i] = run;
+    std::vector<float> before1(W + 2 * kMargin), before2(W + 2 * kMargin), relaxed(W);
+    const auto scan = [&](bool forward) {
+        std::fill(before1.begin(), before1.end(), kInfinity);
+        std::fill(before2.begin(), before2.end(), kInfinity);
+        for (std::size_t n = 0; n < H; ++n) {
+            float* row = &v[(forward ? n : H - 1 - n) * W];
+            const float* a = before1.data() + kMargin;
+            const float* b = before2.data() + kMargin;
+            float* out = relaxed.data();
+            const auto relax = [&](std::size_t i) {
+                const float m = std::min(std::min(row[i], a[i] + up), std::min(a[i - 1], a[i + 1]) + diagonal);
+                return std::min(m, std::min(std::min(a[i - 2], a[i + 2]) + knightX, std::min(b[i - 1], b[i + 1]) + knightY));
+            };
+            // By groups of 4 through a local array, which the compiler turns into vector code.
+            std::size_t i = 0;
+            for (constexpr std::size_t kGroup = 4; i + kGroup <= W; i += kGroup) {
+                std::array<float, kGroup> group;
+                for (std::size_t q = 0; q < kGroup; ++q) group[q] = relax(i + q);
+                std::copy(group.begin(), group.end(), out + i);
+            }
+            for (; i < W; ++i) out[i] = relax(i);
+            if (withinFinite)
+                for (i = 0; i < W; ++i)
+                    if (std::isinf(row[i])) out[i] = kInfinity;
+            float run = kInfinity;
+            const auto step = [&](std::size_t k) {
+                run = withinFinite && std::isinf(out[k]) ? kInfinity : std::min(out[k], run + side);
+                row[k] = run;
+            };
+            if (forward)
+                for (i = 0; i < W; ++i) step(i);
+            else
+                for (i = W; i-- > 0;) step(i);
+            std::swap(before1, before2);
+            std::copy_n(row, W, before1.data() + kMargin);
         }
     };
-    for (std::size_t j = 0; j < H; ++j) scanRow(j, true);
-    for (std::size_t j = H; j-- > 0;) scanRow(j, false);
-    for (std::size_t j = 0; j < H; ++j)
-        std::copy_n(&p[(j + kMargin) * stride + kMargin], W, &v[j * W]);
+    scan(true);
+    scan(false);
 }
 
 // Valley lines: heights rising upstream from kOutletAltitude at the network's outlets (nodes no
@@ -412,9 +432,9 @@ std::vector<std::vector<double>> valleyLines(const Network& net) {
 std::vector<float> terrain(const Network& net, const Grid& g, std::uint64_t seed) {
     const std::vector<std::vector<double>> lines = valleyLines(net);
     std::vector<float> t, distance;
-    floors(t, net, g, [&](const River& r, std::size_t k) { return lines[std::size_t(&r - net.rivers.data())][k]; });
+    floors(t, net, g, [&](std::size_t c, std::size_t k) { return lines[c][k]; });
     propagateCones(t, g, kHillslope, false);
-    floors(distance, net, g, [](const River&, std::size_t) { return 0.0; });
+    floors(distance, net, g, [](std::size_t, std::size_t) { return 0.0; });
     propagateCones(distance, g, 1.0, false);
     const std::vector<float> n = noise(g, seed);
     for (std::size_t k = 0; k < t.size(); ++k)
@@ -452,40 +472,31 @@ Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
         throw std::invalid_argument("makeSyntheticDem: resolution must be >= 1, got " + std::to_string(params.resolution));
     if (!(size.x > 0.0 && size.y > 0.0))
         throw std::invalid_argument("makeSyntheticDem: the scene extent is empty");
+    const double w = std::max(2.0, std::round(double(params.resolution) * size.x / kPaperSide)),
+                 h = std::max(2.0, std::round(double(params.resolution) * size.y / kPaperSide));
+    if (w * h > double(std::numeric_limits<std::uint32_t>::max()))
+        throw std::invalid_argument("makeSyntheticDem: " + std::to_string(w) + " x " + std::to_string(h) +
+                                    " samples is more than 2^32");
     Grid g;
     g.extent = scene.extent;
-    g.w = std::max(2, int(std::lround(double(params.resolution) * size.x / kPaperSide)));
-    g.h = std::max(2, int(std::lround(double(params.resolution) * size.y / kPaperSide)));
+    g.w = int(w);
+    g.h = int(h);
     g.cell = size / Vec2(g.w, g.h);
 
-#ifdef DEM_DEBUG
-    auto t0__ = std::chrono::steady_clock::now();
-#endif
     Network net = riverNetwork(scene, g);
-    TICK("network")
     const std::vector<float> t = terrain(net, g, params.seed);
-    TICK("terrain")
     setTargets(net, g, t);
-    TICK("targets")
-    std::vector<float> z;
     for (int pass = 0;; ++pass) {
         setBeds(net);
-        TICK("beds")
         // Valleys: floors at the beds, walls rising at kValleySlope until they meet the terrain.
-        floors(z, net, g, [](const River& r, std::size_t k) { return r.bed[k]; });
-        TICK("floors")
+        std::vector<float> z;
+        floors(z, net, g, [&](std::size_t c, std::size_t k) { return net.rivers[c].bed[k]; });
         propagateCones(z, g, kFloorSlope, true);
         propagateCones(z, g, kValleySlope, false);
-        TICK("propagate")
         for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::min(z[k], t[k]);
-#ifdef DEM_DEBUG
-        fprintf(stderr, "pass %d\n", pass);
-        TICK("min")
-#endif
-        if (pass == kMaxCorrections || net.rivers.empty() || !lowerTargetsWhereRising(net, Dem(g.extent, g.w, g.h, z)))
-            break;
+        Dem dem(g.extent, g.w, g.h, std::move(z));
+        if (pass == kMaxCorrections || net.rivers.empty() || !lowerTargetsWhereRising(net, dem)) return dem;
     }
-    return Dem(g.extent, g.w, g.h, std::move(z));
 }
 
 }  // namespace lacet

@@ -6,6 +6,7 @@ packages=(
   libglm-dev libcgal-dev libgmp-dev libmpfr-dev
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libtbb-dev libopenimageio-dev pkg-config
 )
 missing=()
 for p in "${packages[@]}"; do

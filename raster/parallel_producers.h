@@ -1,0 +1,16 @@
+#pragma once
+// Runs a producer over many quads on TBB worker threads. Each tile depends only on its quad, the
+// quadtree, the DEM and the curve data, so the results are the same for any number of threads.
+
+#include <span>
+#include <vector>
+
+#include "raster/elevation_producer.h"
+
+namespace lacet {
+
+std::vector<ElevationTile> produceElevationTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
+                                                 const CurveDataCache& curveData, const Dem& dem,
+                                                 const ElevationParams& params, ElevationCounters* counters = nullptr);
+
+}  // namespace lacet
