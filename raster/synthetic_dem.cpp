@@ -51,8 +51,6 @@ constexpr double kMinFloorCells = 3.25;
 // at most this steeply instead of stepping; above kMaxBedSlope so that a lone floor is unchanged.
 constexpr double kFloorSlope = 0.06;
 constexpr double kValleySlope = 0.35;        // m/m, valley walls from the floor up to the terrain
-constexpr int kMaxCorrections = 3;           // passes of step 4
-constexpr double kCorrectionRise = 0.3;      // m: a rise along a river beyond this is corrected
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
@@ -442,28 +440,6 @@ std::vector<float> terrain(const Network& net, const Grid& g, std::uint64_t seed
     return t;
 }
 
-// Heights along every river, walked downstream from its sources; where the Dem rises by more
-// than kCorrectionRise above the lowest height upstream, that sample's target is lowered to it.
-// Returns whether a target was lowered.
-bool lowerTargetsWhereRising(Network& net, const Dem& dem) {
-    std::vector<double> lowest(net.in.size(), std::numeric_limits<double>::infinity());
-    bool lowered = false;
-    for (std::size_t c : net.order) {
-        River& r = net.rivers[c];
-        double m = lowest[r.start];
-        for (std::size_t k = 0; k < r.x.size(); ++k) {
-            const double z = dem.sample(r.x[k]);
-            if (z > m + kCorrectionRise && m < r.target[k]) {
-                r.target[k] = m;
-                lowered = true;
-            }
-            m = std::min(m, z);
-        }
-        lowest[r.end] = std::min(lowest[r.end], m);
-    }
-    return lowered;
-}
-
 }  // namespace
 
 Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
@@ -475,8 +451,8 @@ Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
     const double w = std::max(2.0, std::round(double(params.resolution) * size.x / kPaperSide)),
                  h = std::max(2.0, std::round(double(params.resolution) * size.y / kPaperSide));
     if (w * h > double(std::numeric_limits<std::uint32_t>::max()))
-        throw std::invalid_argument("makeSyntheticDem: " + std::to_string(w) + " x " + std::to_string(h) +
-                                    " samples is more than 2^32");
+        throw std::invalid_argument("makeSyntheticDem: " + std::to_string(std::llround(w)) + " x " +
+                                    std::to_string(std::llround(h)) + " samples are 2^32 or more");
     Grid g;
     g.extent = scene.extent;
     g.w = int(w);
@@ -486,17 +462,17 @@ Dem makeSyntheticDem(const Scene& scene, const SyntheticDemParams& params) {
     Network net = riverNetwork(scene, g);
     const std::vector<float> t = terrain(net, g, params.seed);
     setTargets(net, g, t);
-    for (int pass = 0;; ++pass) {
-        setBeds(net);
-        // Valleys: floors at the beds, walls rising at kValleySlope until they meet the terrain.
-        std::vector<float> z;
-        floors(z, net, g, [&](std::size_t c, std::size_t k) { return net.rivers[c].bed[k]; });
-        propagateCones(z, g, kFloorSlope, true);
-        propagateCones(z, g, kValleySlope, false);
-        for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::min(z[k], t[k]);
-        Dem dem(g.extent, g.w, g.h, std::move(z));
-        if (pass == kMaxCorrections || net.rivers.empty() || !lowerTargetsWhereRising(net, dem)) return dem;
-    }
+    setBeds(net);
+    // Valleys: floors at the beds, walls rising at kValleySlope from them until they meet the
+    // terrain. A wall does not cut into another river's floor, so that the Dem along a river
+    // interpolates its floor only.
+    std::vector<float> levels;
+    floors(levels, net, g, [&](std::size_t c, std::size_t k) { return net.rivers[c].bed[k]; });
+    propagateCones(levels, g, kFloorSlope, true);
+    std::vector<float> z = levels;
+    propagateCones(z, g, kValleySlope, false);
+    for (std::size_t k = 0; k < z.size(); ++k) z[k] = std::isinf(levels[k]) ? std::min(z[k], t[k]) : levels[k];
+    return Dem(g.extent, g.w, g.h, std::move(z));
 }
 
 }  // namespace lacet
