@@ -189,17 +189,17 @@ double CurveDataCache::lakeLevel(LayerId layer, ElementId area) const {
 
 void CurveDataCache::dropDownstream(LayerId layer, ElementId node) {
     const Layer& l = quadtree_.scene().layers[layer];
-    std::vector<ElementId> todo{node};
+    std::vector<ElementId> pending{node};
     std::vector<ElementId> seen;
-    while (!todo.empty()) {
-        const ElementId n = todo.back();
-        todo.pop_back();
+    while (!pending.empty()) {
+        const ElementId n = pending.back();
+        pending.pop_back();
         if (n >= l.nodes.size() || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
         seen.push_back(n);
         nodeHeights_.erase(Key{layer, n});
         for (ElementId c : l.nodes[n].curves) {
             profiles_.erase(Key{layer, c});
-            if (l.curves[c].start == n) todo.push_back(l.curves[c].end);
+            if (l.curves[c].start == n) pending.push_back(l.curves[c].end);
         }
     }
 }
