@@ -1,5 +1,5 @@
 // `lacet render`: produces the tiles of a region at one level of a synthetic scene and writes
-// them as one mosaic image (elevation as a hillshade, or the footprint).
+// them as one mosaic image (the appearance colour, elevation as a hillshade, or the footprint).
 #include <iostream>
 #include <sstream>
 
@@ -57,8 +57,21 @@ void run(const RenderOptions& o) {
     DemHeightField heights(dem);
     CurveDataCache data(qt, heights);
     ElevationCounters counters;
+    AppearanceCounters appearanceCounters;
+    const bool appearance = o.layer == "appearance";
+    const int n = appearance ? qt.params().resolution : qt.params().elevationResolution;
+    std::vector<std::vector<std::uint8_t>> images(quads.size());
     t0 = Clock::now();
-    const auto tiles = produceElevationTiles(quads, qt, data, dem, {}, &counters);
+    if (appearance) {
+        const auto tiles = produceAppearanceTiles(quads, qt, data, dem, {}, &appearanceCounters);
+        for (std::size_t k = 0; k < quads.size(); ++k) appearanceImage(tiles[k], images[k]);
+    } else {
+        const auto tiles = produceElevationTiles(quads, qt, data, dem, {}, &counters);
+        for (std::size_t k = 0; k < quads.size(); ++k) {
+            if (o.layer == "footprint") footprintImage(tiles[k], images[k]);
+            else hillshade(tiles[k], images[k]);
+        }
+    }
     const double produceMs = msSince(t0);
 
     std::uint32_t x0 = UINT32_MAX, y0 = UINT32_MAX, x1 = 0, y1 = 0;
@@ -66,23 +79,25 @@ void run(const RenderOptions& o) {
         x0 = std::min(x0, q->tx), y0 = std::min(y0, q->ty);
         x1 = std::max(x1, q->tx), y1 = std::max(y1, q->ty);
     }
-    const int n = qt.params().elevationResolution;
     const int width = int(x1 - x0 + 1) * n, height = int(y1 - y0 + 1) * n;
-    std::vector<std::uint8_t> mosaic(std::size_t(width) * std::size_t(height) * 3, 0), rgb;
+    std::vector<std::uint8_t> mosaic(std::size_t(width) * std::size_t(height) * 3, 0);
     for (std::size_t k = 0; k < quads.size(); ++k) {
-        if (o.layer == "footprint") footprintImage(tiles[k], rgb);
-        else hillshade(tiles[k], rgb);
         const int ox = int(quads[k]->tx - x0) * n, oy = int(y1 - quads[k]->ty) * n;  // north up
         for (int r = 0; r < n; ++r)
-            std::copy_n(rgb.begin() + std::ptrdiff_t(r) * n * 3, n * 3,
+            std::copy_n(images[k].begin() + std::ptrdiff_t(r) * n * 3, n * 3,
                         mosaic.begin() + (std::ptrdiff_t(oy + r) * width + ox) * 3);
     }
     writeImage8(o.out, width, height, 3, mosaic);
     std::cout << "Wrote " << o.out << " (" << width << "x" << height << "): " << quads.size() << " tiles of level "
               << o.level << ", " << o.layer << "; scene and DEM " << prepareMs << " ms, clipping " << clipMs
-              << " ms, producing " << produceMs << " ms; curves drawn " << counters.curvesDrawn << ", skipped as thin "
+              << " ms, producing " << produceMs << " ms; elevation curves drawn " << counters.curvesDrawn << ", skipped as thin "
               << counters.curvesSkippedThin << ", lakes " << counters.lakesDrawn << ", z-profiles computed "
-              << data.counters().zProfiles << "\n";
+              << data.counters().zProfiles << "; appearance tiles " << appearanceCounters.tiles << " (uniform "
+              << appearanceCounters.uniformTiles << "), curves drawn " << appearanceCounters.curvesDrawn << ", with markings "
+              << appearanceCounters.curvesWithMarkings << ", markings below a texel " << appearanceCounters.markingsBelowTexel
+              << ", area pieces " << appearanceCounters.areaPieces << ", triangles " << appearanceCounters.triangles
+              << ", water texels " << appearanceCounters.waterTexels << ", u tables computed "
+              << data.counters().arcLengthTables << "\n";
 }
 
 }  // namespace
@@ -94,7 +109,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--curves", o->curves, "Target number of curves of the synthetic scene");
     cmd->add_option("--region", o->region, "X0,Y0,X1,Y1 in metres (default: the whole scene)")->delimiter(',');
     cmd->add_option("--level", o->level, "Quadtree level of the tiles")->check(CLI::Range(0, 24));
-    cmd->add_option("--layer", o->layer, "elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"elevation", "footprint"}));
+    cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
     cmd->callback([o] { run(*o); });

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "raster/appearance_producer.h"
 #include "raster/elevation_producer.h"
 
 namespace lacet {
@@ -12,5 +13,9 @@ namespace lacet {
 std::vector<ElevationTile> produceElevationTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
                                                  const CurveDataCache& curveData, const Dem& dem,
                                                  const ElevationParams& params, ElevationCounters* counters = nullptr);
+
+std::vector<AppearanceTile> produceAppearanceTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
+                                                   const CurveDataCache& curveData, const Dem& dem,
+                                                   const AppearanceParams& params, AppearanceCounters* counters = nullptr);
 
 }  // namespace lacet

@@ -6,6 +6,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "raster/appearance_producer.h"
+
 namespace lacet {
 namespace {
 
@@ -49,6 +51,17 @@ void footprintImage(const ElevationTile& t, std::vector<std::uint8_t>& rgb) {
         const glm::dvec3 ground = glm::dvec3(0.5) * shadeAt(t, i, j);
         return ground * (1.0 - b) + glm::dvec3(0.9, 0.15, 0.1) * b;
     });
+}
+
+void appearanceImage(const AppearanceTile& t, std::vector<std::uint8_t>& rgb) {
+    const std::vector<std::uint8_t> texels = tileTexels(t);
+    const int n = t.resolution;
+    rgb.resize(std::size_t(n) * std::size_t(n) * 3);
+    for (int row = 0; row < n; ++row)
+        for (int i = 0; i < n; ++i) {
+            const std::uint8_t* texel = &texels[t.index(i, n - 1 - row)];  // north up
+            std::copy_n(texel, 3, &rgb[(std::size_t(row) * std::size_t(n) + std::size_t(i)) * 3]);
+        }
 }
 
 }  // namespace lacet

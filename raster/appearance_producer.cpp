@@ -1,0 +1,528 @@
+#include "raster/appearance_producer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "model/junctions.h"
+#include "raster/appearance_shading.h"
+#include "raster/area_triangulation.h"
+#include "raster/rasterizer.h"
+
+namespace lacet {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr std::uint8_t kTouched = 1, kInside = 2;
+
+// Per-thread buffers of one tile, on the supersampled canvas.
+struct Scratch {
+    std::vector<Rgbm> colour;
+    std::vector<float> dist, v, u;  // per element: distance to its border or axis, signed v, u
+    std::vector<std::uint8_t> flags;
+    std::vector<std::uint32_t> touched;
+    void reset(std::size_t n) {
+        colour.resize(n);
+        dist.assign(n, kInf);
+        v.resize(n);
+        u.resize(n);
+        flags.assign(n, 0);
+        touched.clear();
+    }
+};
+
+class Canvas {
+public:
+    Canvas(const AppearanceTile& t, Scratch& s)
+        : t_(t), s_(s), side_(t.stride * t.samples), pixel_(t.delta / double(t.samples)) {
+        s_.reset(std::size_t(side_) * std::size_t(side_));
+    }
+
+    int side() const { return side_; }
+    double pixelSize() const { return pixel_; }  // metres
+    Scratch& scratch() { return s_; }
+    Vec2 world(int x, int y) const {
+        return t_.bounds.min + ((Vec2(double(x), double(y)) + 0.5) / double(t_.samples) - double(t_.border)) * t_.delta;
+    }
+    glm::dvec2 pixel(Vec2 p) const { return ((p - t_.bounds.min) / t_.delta + double(t_.border)) * double(t_.samples); }
+
+    // f(k, x, y) for every pixel whose centre is within `radius` metres of segment a-b (and a
+    // few more: the capsule's oriented bounding rectangle with one pixel of slack).
+    template <class F>
+    void capsule(Vec2 a, Vec2 b, double radius, F&& f) {
+        const glm::dvec2 pa = pixel(a), pb = pixel(b);
+        const double r = radius / pixel_ + 1.0;
+        glm::dvec2 d = pb - pa;
+        const double len = glm::length(d);
+        d = len > 0.0 ? d / len : glm::dvec2(1.0, 0.0);
+        const glm::dvec2 n(-d.y, d.x);
+        RasterVertex v[4];
+        v[0].p = pa - d * r - n * r;
+        v[1].p = pa - d * r + n * r;
+        v[2].p = pb + d * r - n * r;
+        v[3].p = pb + d * r + n * r;
+        auto shade = [&](int x, int y, const float*) { f(std::size_t(y) * std::size_t(side_) + std::size_t(x), x, y); };
+        rasterizeTriangle(v[0], v[1], v[2], 0, side_, side_, shade);
+        rasterizeTriangle(v[1], v[3], v[2], 0, side_, side_, shade);
+    }
+
+    template <class F>
+    void triangle(const Triangle& tri, F&& f) {
+        RasterVertex v[3];
+        for (int i = 0; i < 3; ++i) v[i].p = pixel(tri[std::size_t(i)]);
+        rasterizeTriangle(v[0], v[1], v[2], 0, side_, side_,
+                          [&](int x, int y, const float*) { f(std::size_t(y) * std::size_t(side_) + std::size_t(x), x, y); });
+    }
+
+    void touch(std::size_t k) {
+        if (!(s_.flags[k] & kTouched)) {
+            s_.flags[k] |= kTouched;
+            s_.touched.push_back(std::uint32_t(k));
+        }
+    }
+    void clearTouched() {
+        for (std::uint32_t k : s_.touched) {
+            s_.dist[k] = kInf;
+            s_.flags[k] = 0;
+        }
+        s_.touched.clear();
+    }
+    void over(std::size_t k, glm::vec3 rgb, float mask, float alpha) {
+        if (alpha <= 0.0f) return;
+        Rgbm& c = s_.colour[k];
+        c = c * (1.0f - alpha) + Rgbm(rgb, mask) * alpha;
+    }
+
+private:
+    const AppearanceTile& t_;
+    Scratch& s_;
+    int side_;
+    double pixel_;
+};
+
+// --- Ground ------------------------------------------------------------------------------------
+
+void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cells) {
+    const double cell = t.bounds.size().x / double(cells);
+    // Nodes -1 .. cells + 1 cover the border texels (border * delta < one cell).
+    const int nodes = cells + 3;
+    std::vector<glm::vec3> grid(std::size_t(nodes) * std::size_t(nodes));
+    for (int j = 0; j < nodes; ++j)
+        for (int i = 0; i < nodes; ++i) {
+            const Vec2 p = t.bounds.min + Vec2(double(i - 1), double(j - 1)) * cell;
+            grid[std::size_t(j) * std::size_t(nodes) + std::size_t(i)] = groundColour(dem.sample(p), glm::length(dem.gradient(p)));
+        }
+    const int side = canvas.side();
+    std::vector<int> i0(std::size_t(side), 0);
+    std::vector<float> fx(std::size_t(side), 0.0f);
+    for (int x = 0; x < side; ++x) {
+        const double g = std::clamp((canvas.world(x, 0).x - t.bounds.min.x) / cell + 1.0, 0.0, double(nodes - 1) - 1e-9);
+        i0[std::size_t(x)] = int(g);
+        fx[std::size_t(x)] = float(g - std::floor(g));
+    }
+    Scratch& s = canvas.scratch();
+    for (int y = 0; y < side; ++y) {
+        const double g = std::clamp((canvas.world(0, y).y - t.bounds.min.y) / cell + 1.0, 0.0, double(nodes - 1) - 1e-9);
+        const int j0 = int(g);
+        const float fy = float(g - std::floor(g));
+        const glm::vec3* r0 = &grid[std::size_t(j0) * std::size_t(nodes)];
+        const glm::vec3* r1 = r0 + nodes;
+        Rgbm* out = &s.colour[std::size_t(y) * std::size_t(side)];
+        for (int x = 0; x < side; ++x) {
+            const int i = i0[std::size_t(x)];
+            const float f = fx[std::size_t(x)];
+            const glm::vec3 a = r0[i] + (r0[i + 1] - r0[i]) * f;
+            const glm::vec3 b = r1[i] + (r1[i + 1] - r1[i]) * f;
+            out[x] = Rgbm(a + (b - a) * fy, 0.0f);
+        }
+    }
+}
+
+// --- Curves ------------------------------------------------------------------------------------
+
+struct Segment {
+    Vec2 p0, p1;
+    double u0 = 0.0, u1 = 0.0;
+};
+
+std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a) {
+    std::vector<Segment> out;
+    for (const ClippedCurve& run : pieces) {
+        Vec2 prev{};
+        double prevU = 0.0;
+        std::size_t k = 0;
+        for (const Vertex& vx : run.vertices) {
+            if (!vx.onCurve) continue;
+            const double u = data ? data->u(l, a, run.s[k]) : 0.0;
+            if (k > 0) out.push_back({prev, vx.p, prevU, u});
+            prev = vx.p;
+            prevU = u;
+            ++k;
+        }
+    }
+    return out;
+}
+
+// Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
+// and u of the nearest segment, within `reach` metres of the polyline.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
+    Scratch& s = canvas.scratch();
+    for (const Segment& sg : segments) {
+        const Vec2 seg = sg.p1 - sg.p0;
+        const double len2 = glm::dot(seg, seg);
+        canvas.capsule(sg.p0, sg.p1, reach, [&](std::size_t k, int x, int y) {
+            const Vec2 q = canvas.world(x, y);
+            const Vec2 r = q - sg.p0;
+            const double t = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+            const double d = glm::length(r - seg * t);
+            if (float(d) < s.dist[k]) {
+                s.dist[k] = float(d);
+                s.v[k] = float(seg.x * r.y - seg.y * r.x >= 0.0 ? d : -d);
+                s.u[k] = float(sg.u0 + (sg.u1 - sg.u0) * t);
+            }
+            canvas.touch(k);
+        });
+    }
+}
+
+float smoothFall(double d, double width) {  // 1 at d <= 0, 0 at d >= width
+    if (width <= 0.0 || d >= width) return 0.0f;
+    if (d <= 0.0) return 1.0f;
+    const double t = 1.0 - d / width;
+    return float(t * t * (3.0 - 2.0 * t));
+}
+
+// Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
+// rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
+void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w), hwf = std::max(hw, 0.5 * double(c.wf));
+    distanceField(canvas, segments, hwf);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    for (std::uint32_t k : s.touched) {
+        const float d = s.dist[k];
+        const float cov = bandCoverage(d / px, float(hw) / px);
+        canvas.over(k, riverBankColour(), 0.0f, (1.0f - cov) * smoothFall(double(d) - hw, hwf - hw));
+    }
+    canvas.clearTouched();
+}
+
+void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    const glm::vec3 water = glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0));
+    for (std::uint32_t k : s.touched) canvas.over(k, water, 1.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
+    canvas.clearTouched();
+}
+
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    for (std::uint32_t k : s.touched) canvas.over(k, roadColour(c.cls), 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
+    canvas.clearTouched();
+}
+
+// What a road's markings need to know about its ends, from the ancestor graph.
+struct RoadEnds {
+    double length = 0.0;
+    double startRadius = 0.0, endRadius = 0.0;  // junction radius, 0 if not a junction
+    bool startStop = false, endStop = false;
+};
+
+void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
+    const MarkingGeometry g;
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const double px = canvas.pixelSize();
+    const float halfLine = float(0.5 * g.lineWidth / px);
+    const float sideAxis = float((hw - g.sideInset - 0.5 * g.lineWidth) / px);
+    const double laneHalf = 0.5 * (hw - g.sideInset);
+    for (std::uint32_t k : s.touched) {
+        const double d = s.dist[k], v = s.v[k], u = s.u[k];
+        if (d > hw) continue;
+        // Side lines and the dashed centre line, stopping at junctions.
+        float m = bandCoverage(float(d / px) - sideAxis, halfLine);  // d = |v|: both sides at once
+        double phase = u - g.dashPeriod * std::floor(u / g.dashPeriod);  // [0, period)
+        const double dashCentre = 0.5 * g.dashLength;
+        const double along = std::min(std::abs(phase - dashCentre), std::abs(phase - dashCentre - g.dashPeriod));
+        m = std::max(m, bandCoverage(float(v / px), halfLine) * bandCoverage(float(along / px), float(dashCentre / px)));
+        if (ends.startRadius > 0.0) m *= edgeCoverage(float((u - ends.startRadius) / px));
+        if (ends.endRadius > 0.0) m *= edgeCoverage(float((ends.length - ends.endRadius - u) / px));
+        // Stop lines across the lane that enters the junction (traffic on the right).
+        const auto stopLine = [&](double fromNode, double radius, double laneSide) {
+            const double centre = radius + g.stopLineGap + 0.5 * g.stopLineWidth;
+            return bandCoverage(float((fromNode - centre) / px), float(0.5 * g.stopLineWidth / px)) *
+                   bandCoverage(float((laneSide * v - laneHalf) / px), float(laneHalf / px));
+        };
+        if (ends.startStop) m = std::max(m, stopLine(u, ends.startRadius, 1.0));
+        if (ends.endStop) m = std::max(m, stopLine(ends.length - u, ends.endRadius, -1.0));
+        canvas.over(k, markingColour(), 0.0f, m);
+    }
+    canvas.clearTouched();
+}
+
+// --- Areas -------------------------------------------------------------------------------------
+
+void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, const SurfaceShade& shade, double wf,
+              AppearanceCounters* counters) {
+    Scratch& s = canvas.scratch();
+    if (area.coversQuad) {
+        for (int y = 0; y < canvas.side(); ++y)
+            for (int x = 0; x < canvas.side(); ++x) {
+                const Rgbm c = surfaceColour(shade, canvas.world(x, y), t.delta);
+                canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
+            }
+        return;
+    }
+    std::vector<std::vector<Vec2>> loops;
+    std::vector<Segment> border;  // the real border, not the closing paths
+    for (const ClippedLoop& loop : area.loops) {
+        std::vector<Vec2> pts;
+        bool closing = false;
+        for (const Vertex& vx : loop.vertices) {
+            if (!vx.onCurve) continue;
+            if (!pts.empty() && !closing) border.push_back({pts.back(), vx.p});
+            pts.push_back(vx.p);
+            closing = vx.closing;
+        }
+        loops.push_back(std::move(pts));
+    }
+    std::vector<Triangle> triangles;
+    triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
+    if (counters) counters->triangles += triangles.size();
+    for (const Triangle& tri : triangles)
+        canvas.triangle(tri, [&](std::size_t k, int, int) {
+            canvas.touch(k);
+            s.flags[k] |= kInside;
+        });
+    const double px = canvas.pixelSize();
+    for (const Segment& sg : border) {
+        const Vec2 seg = sg.p1 - sg.p0;
+        const double len2 = glm::dot(seg, seg);
+        canvas.capsule(sg.p0, sg.p1, wf + px, [&](std::size_t k, int x, int y) {
+            const Vec2 r = canvas.world(x, y) - sg.p0;
+            const double tt = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+            s.dist[k] = std::min(s.dist[k], float(glm::length(r - seg * tt)));
+            canvas.touch(k);
+        });
+    }
+    const glm::vec3 strip = borderStripColour(shade.surface);
+    for (std::uint32_t k : s.touched) {
+        const bool inside = (s.flags[k] & kInside) != 0;
+        const float d = s.dist[k];  // may be infinite: no real border near
+        const float cov = inside ? edgeCoverage(d / float(px)) : edgeCoverage(-d / float(px));
+        canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
+        if (cov > 0.0f) {
+            const std::size_t side = std::size_t(canvas.side());
+            const Rgbm c = surfaceColour(shade, canvas.world(int(k % side), int(k / side)), t.delta);
+            canvas.over(k, glm::vec3(c), c.a, cov);
+        }
+    }
+    canvas.clearTouched();
+}
+
+// --- Drawing order and uniform quads ------------------------------------------------------------
+
+struct DrawItem {
+    LayerId layer;
+    bool area;
+    ElementId id;
+};
+
+int rank(LayerKind kind) {
+    switch (kind) {
+        case LayerKind::Lakes: return 1;
+        case LayerKind::Rivers: return 2;
+        case LayerKind::Roads: return 3;
+        default: return 0;
+    }
+}
+
+template <class Map>
+std::vector<ElementId> sortedKeys(const Map& m) {
+    std::vector<ElementId> ids;
+    ids.reserve(m.size());
+    for (const auto& [id, pieces] : m) ids.push_back(id);
+    std::sort(ids.begin(), ids.end());
+    return ids;
+}
+
+std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene) {
+    std::vector<LayerId> layers(quad.layers.size());
+    for (LayerId l = 0; l < layers.size(); ++l) layers[l] = l;
+    std::stable_sort(layers.begin(), layers.end(),
+                     [&](LayerId a, LayerId b) { return rank(scene.layers[a].kind) < rank(scene.layers[b].kind); });
+    std::vector<DrawItem> items;
+    for (LayerId l : layers) {
+        const LayerKind kind = scene.layers[l].kind;
+        if (surfaceOf(kind) != Surface::None)
+            for (ElementId id : sortedKeys(quad.layers[l].areas)) items.push_back({l, true, id});
+        if (kind == LayerKind::Roads || kind == LayerKind::Rivers)
+            for (ElementId id : sortedKeys(quad.layers[l].curves)) items.push_back({l, false, id});
+    }
+    return items;
+}
+
+// The shade of the last item when it covers the whole tile (border texels included).
+std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, const AppearanceTile& t, const DrawItem& last) {
+    const Scene& scene = qt.scene();
+    const LayerKind kind = scene.layers[last.layer].kind;
+    if (last.area) {
+        const auto& pieces = quad.layers[last.layer].areas.at(last.id);
+        if (pieces.size() == 1 && pieces.front().coversQuad)
+            return SurfaceShade{surfaceOf(kind), scene.layers[last.layer].areas[last.id].cls, last.id};
+        return std::nullopt;
+    }
+    if (kind != LayerKind::Rivers) return std::nullopt;
+    const Curve& c = qt.ancestorCurve(last.layer, last.id);
+    const double limit = 0.5 * double(c.w) - t.delta / double(t.samples);
+    if (limit <= 0.0) return std::nullopt;
+    const Box box = t.bounds.dilated(double(t.border) * t.delta);
+    const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
+    for (const Segment& sg : segmentsOf(quad.layers[last.layer].curves.at(last.id), nullptr, last.layer, last.id)) {
+        const Vec2 seg = sg.p1 - sg.p0;
+        const double len2 = glm::dot(seg, seg);
+        const bool holds = std::all_of(std::begin(corners), std::end(corners), [&](Vec2 q) {
+            const double tt = len2 > 0.0 ? std::clamp(glm::dot(q - sg.p0, seg) / len2, 0.0, 1.0) : 0.0;
+            return glm::length(q - (sg.p0 + seg * tt)) <= limit;  // a capsule is convex
+        });
+        if (holds) return SurfaceShade{Surface::Water, 0, last.id};
+    }
+    return std::nullopt;
+}
+
+std::uint8_t quantize(float c) { return std::uint8_t(std::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
+
+// Box-filters the canvas down to the tile's texels.
+void resolve(const Canvas& canvas, const Scratch& s, const AppearanceTile& t, std::vector<std::uint8_t>& out) {
+    const int n = t.samples, side = canvas.side();
+    out.resize(std::size_t(t.stride) * std::size_t(t.stride) * 4);
+    const float norm = 1.0f / float(n * n);
+    for (int j = 0; j < t.stride; ++j)
+        for (int i = 0; i < t.stride; ++i) {
+            Rgbm sum(0.0f);
+            for (int b = 0; b < n; ++b)
+                for (int a = 0; a < n; ++a) sum += s.colour[std::size_t(j * n + b) * std::size_t(side) + std::size_t(i * n + a)];
+            sum *= norm;
+            std::uint8_t* o = &out[4 * (std::size_t(j) * std::size_t(t.stride) + std::size_t(i))];
+            for (int c = 0; c < 4; ++c) o[c] = quantize(sum[c]);
+        }
+}
+
+Scratch& threadScratch() {
+    thread_local Scratch scratch;
+    return scratch;
+}
+
+}  // namespace
+
+AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
+                                 const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters) {
+    const int n = quadtree.params().resolution;
+    if (n <= 0 || params.border < 0 || params.samples < 1 || params.samples > 8 || params.groundCells < 1)
+        throw std::invalid_argument("produceAppearance(): resolution > 0, border >= 0, 1 <= samples <= 8 and groundCells >= 1 required");
+    AppearanceTile t;
+    t.bounds = quad.bounds;
+    t.resolution = n;
+    t.border = params.border;
+    t.stride = n + 2 * params.border;
+    t.samples = params.samples;
+    t.delta = quad.bounds.size().x / double(n);
+    if (counters) ++counters->tiles;
+
+    const Scene& scene = quadtree.scene();
+    const std::vector<DrawItem> items = drawList(quad, scene);
+    if (params.detectUniform && !items.empty())
+        if (const auto shade = coveringShade(quad, quadtree, t, items.back())) {
+            t.uniform = true;
+            t.shade = *shade;
+            if (counters) {
+                ++counters->uniformTiles;
+                if (shade->surface == Surface::Water) counters->waterTexels += std::size_t(t.stride) * std::size_t(t.stride);
+            }
+            return t;
+        }
+
+    Canvas canvas(t, threadScratch());
+    drawGround(canvas, t, dem, params.groundCells);
+    const MarkingGeometry marking;
+    const bool markingsShow = marking.lineWidth >= params.markingMinTexels * t.delta;
+    for (std::size_t i = 0; i < items.size(); ++i) {
+        const DrawItem& it = items[i];
+        const Layer& layer = scene.layers[it.layer];
+        if (it.area) {
+            const Area& a = layer.areas[it.id];
+            const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.id};
+            for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.id)) {
+                drawArea(canvas, t, piece, shade, double(a.wf), counters);
+                if (counters) ++counters->areaPieces;
+            }
+            continue;
+        }
+        // The curves of one layer are consecutive items: draw them together, in two passes.
+        std::size_t last = i;
+        while (last + 1 < items.size() && !items[last + 1].area && items[last + 1].layer == it.layer) ++last;
+        const auto& curves = quad.layers[it.layer].curves;
+        if (counters) counters->curvesDrawn += last - i + 1;
+        for (std::size_t r = i; r <= last; ++r) {
+            const Curve& c = quadtree.ancestorCurve(it.layer, items[r].id);
+            const auto segments = segmentsOf(curves.at(items[r].id), nullptr, it.layer, items[r].id);
+            if (layer.kind == LayerKind::Rivers) drawRiverBanks(canvas, segments, c);
+            else drawRoadSurface(canvas, segments, c);
+        }
+        for (std::size_t r = i; r <= last; ++r) {
+            const ElementId id = items[r].id;
+            const Curve& c = quadtree.ancestorCurve(it.layer, id);
+            if (layer.kind == LayerKind::Rivers) {
+                drawRiverWater(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
+                continue;
+            }
+            if (!roadHasMarkings(c.cls)) continue;
+            if (!markingsShow) {
+                if (counters) ++counters->markingsBelowTexel;
+                continue;
+            }
+            RoadEnds ends;
+            ends.length = curveData.length(it.layer, id);
+            ends.startRadius = junctionRadius(layer, c.start);
+            ends.endRadius = junctionRadius(layer, c.end);
+            ends.startStop = hasStopLine(layer, c.start, id);
+            ends.endStop = hasStopLine(layer, c.end, id);
+            drawMarkings(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c, ends);
+            if (counters) ++counters->curvesWithMarkings;
+        }
+        i = last;
+    }
+    resolve(canvas, canvas.scratch(), t, t.rgbm);
+    if (counters) {
+        std::size_t water = 0;
+        for (std::size_t k = 3; k < t.rgbm.size(); k += 4) water += t.rgbm[k] > 0;
+        counters->waterTexels += water;
+    }
+    return t;
+}
+
+std::vector<std::uint8_t> tileTexels(const AppearanceTile& tile) {
+    if (!tile.uniform) return tile.rgbm;
+    Canvas canvas(tile, threadScratch());
+    std::fill(canvas.scratch().colour.begin(), canvas.scratch().colour.end(), Rgbm(0.0f));
+    for (int y = 0; y < canvas.side(); ++y)
+        for (int x = 0; x < canvas.side(); ++x) {
+            const Rgbm c = surfaceColour(tile.shade, canvas.world(x, y), tile.delta);
+            canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
+        }
+    std::vector<std::uint8_t> out;
+    resolve(canvas, canvas.scratch(), tile, out);
+    return out;
+}
+
+}  // namespace lacet

@@ -1,0 +1,51 @@
+#pragma once
+// Shading functions of the appearance producer (§5.1), one per class of surface: the colour
+// (linear RGB in [0, 1]) and the water mask at a point of the scene. Every function depends only
+// on the point (scene metres), the element's parameters and the texel size of the level, never on
+// the quad, so adjacent tiles agree and a uniform quad can be shaded from its SurfaceShade alone.
+//
+// The texel size fades out patterns finer than a few texels (furrows, forest canopy) instead of
+// letting them alias.
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "model/graph.h"
+#include "raster/appearance_tile.h"
+
+namespace lacet {
+
+// rgb + water mask.
+using Rgbm = glm::vec4;
+
+// Ground by altitude (m) and slope (|gradient|, m/m): grass, alpine meadow, rock, snow.
+glm::vec3 groundColour(double z, double slope);
+
+// Water (mask 1), fields (crop colour with a per-field tint and furrows along a per-field
+// direction), forests (canopy noise), other areas.
+Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel);
+
+// The strip of width wf outside an area's border: banks of lakes, field margins, forest edges.
+glm::vec3 borderStripColour(Surface surface);
+// River banks (between w/2 and wf/2 of the axis).
+glm::vec3 riverBankColour();
+
+// Roads: asphalt by class (0 primary, 1 secondary, 2 track), and markings.
+glm::vec3 roadColour(std::uint16_t cls);
+glm::vec3 markingColour();
+bool roadHasMarkings(std::uint16_t cls);
+
+// Road marking geometry (metres).
+struct MarkingGeometry {
+    double lineWidth = 0.15;      // side and centre lines
+    double sideInset = 0.3;       // from the road edge to the outer edge of a side line
+    double dashLength = 4.0;      // centre line: dashes of dashLength every dashPeriod
+    double dashPeriod = 12.0;
+    double stopLineWidth = 0.5;   // along the road
+    double stopLineGap = 0.5;     // between the junction and the stop line
+};
+
+// Surface kind of an area layer.
+Surface surfaceOf(LayerKind kind);
+
+}  // namespace lacet
