@@ -15,4 +15,16 @@ void writeImage8(const std::string& path, int width, int height, int channels, c
         throw ImageFileError(path + ": write failed (" + out->geterror() + ")");
 }
 
+Image8 readImage8(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw ImageFileError(path + ": cannot read (" + OIIO::geterror() + ")");
+    const OIIO::ImageSpec& spec = in->spec();
+    Image8 image{spec.width, spec.height, spec.nchannels, {}};
+    image.pixels.resize(std::size_t(spec.width) * std::size_t(spec.height) * std::size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, image.pixels.data()))
+        throw ImageFileError(path + ": read failed (" + in->geterror() + ")");
+    in->close();
+    return image;
+}
+
 }  // namespace lacet

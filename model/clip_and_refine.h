@@ -17,6 +17,7 @@
 // vanishes (it does not surround the quad) or becomes the quad border. An area that surrounds
 // the quad with no piece near it is flagged `coversQuad`.
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -35,15 +36,21 @@ struct RefineParams {
     // (delta = quad size / elevationResolution): the sqrt(2) delta widening of §5.2 plus the
     // samples of the tile border. Clipping keeps elements that far outside the quad too, so that
     // adjacent tiles see the same elements at their shared and border samples. A curve narrower
-    // than 2 delta leaves no footprint at that level and gets no extra margin.
+    // than 2 delta leaves no footprint at that level and gets no extra margin from it.
     int elevationResolution = 24;     // samples per quad side, even
     double footprintReach = 3.5;      // elevation samples, >= sqrt(2) + the tile border (2)
     double elevationDelta(double quadSize) const { return quadSize / double(elevationResolution); }  // metres
+    // The appearance producer draws `appearanceBorder` texels outside the quad (its tile border,
+    // AppearanceParams::border <= this); one more texel covers the anti-aliasing ramp.
+    int appearanceBorder = 2;  // texels
+    double appearanceReach(double quadSize) const { return double(appearanceBorder + 1) * quadSize / double(resolution); }  // metres
     double curveMargin(double w, double wf, double quadSize) const {
         const double delta = elevationDelta(quadSize);
-        return 0.5 * wf + (w >= 2.0 * delta ? footprintReach * delta : 0.0);
+        return 0.5 * wf + std::max(w >= 2.0 * delta ? footprintReach * delta : 0.0, appearanceReach(quadSize));
     }
-    double areaMargin(double wf, double quadSize) const { return wf + footprintReach * elevationDelta(quadSize); }
+    double areaMargin(double wf, double quadSize) const {
+        return wf + std::max(footprintReach * elevationDelta(quadSize), appearanceReach(quadSize));
+    }
 };
 
 struct ClippedCurve {

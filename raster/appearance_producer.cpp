@@ -430,6 +430,8 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
     const int n = quadtree.params().resolution;
     if (n <= 0 || params.border < 0 || params.samples < 1 || params.samples > 8 || params.groundCells < 1)
         throw std::invalid_argument("produceAppearance(): resolution > 0, border >= 0, 1 <= samples <= 8 and groundCells >= 1 required");
+    if (params.border > quadtree.params().appearanceBorder)
+        throw std::invalid_argument("produceAppearance(): the tile border is wider than the quadtree clips for (RefineParams::appearanceBorder)");
     AppearanceTile t;
     t.bounds = quad.bounds;
     t.resolution = n;

@@ -1,0 +1,292 @@
+// The appearance producer (§5.1): seams, geometry at hairpins and sharp turns, uniform quads,
+// incremental regeneration equal to production from scratch, independence from the thread
+// count, and no work a scene does not call for.
+#include "raster/appearance_producer.h"
+
+#include <map>
+#include <random>
+#include <tuple>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include "model/random_edits.h"
+#include "model/synthetic_scene.h"
+#include "raster/appearance_shading.h"
+#include "raster/dem_height_field.h"
+#include "raster/elevation_producer.h"
+#include "raster/parallel_producers.h"
+#include "raster/synthetic_dem.h"
+#include "tests/raster/hand_render.h"
+#include "tests/raster/hand_scenes.h"
+
+namespace lacet {
+namespace {
+
+struct World {
+    Scene scene;
+    Dem dem;
+    DemHeightField heights;
+    World(std::uint64_t seed, std::size_t curves)
+        : scene(makeSyntheticScene({seed, curves})), dem(makeSyntheticDem(scene, {seed, 1000})), heights(dem) {}
+};
+
+using Key = std::tuple<int, std::uint32_t, std::uint32_t>;
+Key keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
+
+std::vector<const Quad*> quadsFrom(const Quadtree& qt, int minLevel) {
+    std::vector<const Quad*> out;
+    qt.forEachQuad([&](const Quad& q) {
+        if (q.level >= minLevel) out.push_back(&q);
+    });
+    return out;
+}
+
+TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
+    World w(2, 3000);
+    Quadtree qt(w.scene, RefineParams{.resolution = 128});
+    // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
+    const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
+    qt.refineForViewer({junction.x, junction.y, 20.0}, 2.8, 9);
+    DemHeightField heights(w.dem);
+    CurveDataCache data(qt, heights);
+    AppearanceCounters counters;
+    const auto quads = quadsFrom(qt, 4);
+    const auto tiles = produceAppearanceTiles(quads, qt, data, w.dem, {}, &counters);
+    std::map<Key, std::vector<std::uint8_t>> texels;
+    std::map<Key, const AppearanceTile*> byKey;
+    for (std::size_t k = 0; k < quads.size(); ++k) {
+        texels[keyOf(*quads[k])] = tileTexels(tiles[k]);
+        byKey[keyOf(*quads[k])] = &tiles[k];
+    }
+    std::size_t compared = 0, differing = 0;
+    int worst = 0;
+    for (const auto& [k, t] : byKey) {
+        const auto [level, tx, ty] = k;
+        const int n = t->resolution, b = t->border;
+        const auto& a = texels[k];
+        // The neighbour's first `b` columns (rows) are this tile's border texels beyond the edge.
+        for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{0, 1}}) {
+            const auto it = texels.find({level, tx + std::uint32_t(dx), ty + std::uint32_t(dy)});
+            if (it == texels.end()) continue;
+            for (int s = -b; s < n + b; ++s)
+                for (int o = 0; o < b; ++o) {
+                    const std::size_t ia = dx ? t->index(n + o, s) : t->index(s, n + o);
+                    const std::size_t ib = dx ? t->index(o, s) : t->index(s, o);
+                    int d = 0;
+                    for (int c = 0; c < 4; ++c) d = std::max(d, std::abs(int(a[ia + std::size_t(c)]) - int(it->second[ib + std::size_t(c)])));
+                    worst = std::max(worst, d);
+                    differing += d > 0;
+                    ++compared;
+                }
+        }
+    }
+    EXPECT_GT(compared, 5000u);
+    EXPECT_GT(counters.curvesWithMarkings, 0u) << "the seams must cross road markings";
+    EXPECT_LE(worst, 1) << "of 255; " << differing << " of " << compared << " texels differ";
+    EXPECT_LT(double(differing), 1e-3 * double(compared));
+}
+
+// Every texel whose centre is well inside a road is asphalt, every texel well outside is not:
+// the hairpin (narrower than its road) and the sharp V turn have no gap and no spike.
+TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
+    const Scene scene = test::hairpinScene();
+    AppearanceParams params;
+    params.markingMinTexels = 1e9;  // no markings: inside is plain asphalt
+    const std::vector<std::uint8_t> image = test::renderHandScene(scene, params);
+    const int side = 256;
+    const double texel = 64.0 / side;
+    std::vector<Vec2> axis;
+    for (const Curve& c : scene.layers[kRoadsLayer].curves)
+        forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t) {
+            for (int i = 0; i <= 4000; ++i) axis.push_back(evaluate(b, i / 4000.0));
+        });
+    const glm::vec3 asphalt = roadColour(1);
+    auto isAsphalt = [&](const std::uint8_t* p) {
+        for (int c = 0; c < 3; ++c)
+            if (std::abs(int(p[c]) - int(asphalt[c] * 255.0f + 0.5f)) > 1) return false;
+        return true;
+    };
+    std::size_t inside = 0, outside = 0, wrongInside = 0, wrongOutside = 0;
+    const double hw = 2.5, slack = 1.0 * texel + 0.5 * texel;  // a texel of coverage ramp, half a texel of refinement
+    for (int row = 0; row < side; ++row)
+        for (int x = 0; x < side; ++x) {
+            const Vec2 p((x + 0.5) * texel, (side - 1 - row + 0.5) * texel);
+            double d = 1e300;
+            for (const Vec2& q : axis) d = std::min(d, glm::length(p - q));
+            const std::uint8_t* px = &image[(std::size_t(row) * side + std::size_t(x)) * 3];
+            if (d < hw - slack) {
+                ++inside;
+                wrongInside += !isAsphalt(px);
+            } else if (d > hw + slack) {
+                ++outside;
+                wrongOutside += isAsphalt(px);
+            }
+        }
+    EXPECT_GT(inside, 3000u);
+    EXPECT_EQ(wrongInside, 0u) << "gaps in the road";
+    EXPECT_EQ(wrongOutside, 0u) << "spikes out of the road";
+}
+
+TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraws) {
+    World w(3, 3000);
+    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    qt.refineForViewer({0.0, 0.0, 1.0}, 1e12, 6);  // every quad down to level 6 (110 m)
+    DemHeightField heights(w.dem);
+    CurveDataCache data(qt, heights);
+    AppearanceParams full;
+    full.detectUniform = false;
+    AppearanceCounters counters;
+    std::size_t uniform = 0;
+    for (const Quad* q : quadsFrom(qt, 6)) {
+        const AppearanceTile t = produceAppearance(*q, qt, data, w.dem, {}, &counters);
+        if (!t.uniform) continue;
+        ++uniform;
+        EXPECT_TRUE(t.rgbm.empty());
+        const AppearanceTile drawn = produceAppearance(*q, qt, data, w.dem, full);
+        ASSERT_FALSE(drawn.uniform);
+        EXPECT_TRUE(tileTexels(t) == drawn.rgbm) << "quad " << q->tx << "," << q->ty;
+    }
+    EXPECT_EQ(counters.uniformTiles, uniform);
+    EXPECT_GT(uniform, 20u);
+}
+
+TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
+    test::SceneBuilder b(64.0);
+    const ElementId a = b.node(kRiversLayer, {0, 30}), c = b.node(kRiversLayer, {64, 34});
+    b.curve(kRiversLayer, a, c, {}, 40.0f, 50.0f);
+    const Scene scene = std::move(b.scene());
+    const Dem dem = test::gentleSlope(scene.extent);
+    Quadtree qt(scene, RefineParams{.resolution = 64});
+    qt.refineForViewer({0.0, 0.0, 1.0}, 1e12, 3);
+    DemHeightField heights(dem);
+    CurveDataCache data(qt, heights);
+    AppearanceParams full;
+    full.detectUniform = false;
+    std::size_t uniform = 0;
+    for (const Quad* q : quadsFrom(qt, 3)) {
+        const AppearanceTile t = produceAppearance(*q, qt, data, dem, {});
+        if (!t.uniform) continue;
+        ++uniform;
+        EXPECT_EQ(t.shade.surface, Surface::Water);
+        EXPECT_TRUE(tileTexels(t) == produceAppearance(*q, qt, data, dem, full).rgbm);
+    }
+    EXPECT_GE(uniform, 8u);  // the quads of 8 m well inside the 40 m wide river
+}
+
+TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
+    World w(6, 1500);
+    const RefineParams rp{.resolution = 32};
+    Quadtree qt(w.scene, rp);
+    const Vec2 c = w.scene.extent.center();
+    qt.refineForViewer({c.x, c.y, 30.0}, 2.8, 9);
+    CurveDataCache data(qt, w.heights);
+    auto produceAll = [&](const Quadtree& tree, const CurveDataCache& cache) {
+        std::map<Key, std::pair<AppearanceTile, ElevationTile>> tiles;
+        tree.forEachQuad([&](const Quad& q) {
+            if (q.level >= 1)
+                tiles.emplace(keyOf(q), std::pair{produceAppearance(q, tree, cache, w.dem, {}), produceElevation(q, tree, cache, w.dem, {})});
+        });
+        return tiles;
+    };
+    auto tiles = produceAll(qt, data);
+    std::mt19937_64 rng(16);
+    std::size_t regenerated = 0, edits = 0;
+    for (int e = 0; e < 30; ++e) {
+        const RandomEdit edit = applyRandomEdit(w.scene, rng, 0.02 * w.scene.extent.size().x);
+        if (edit.changeset.empty()) continue;
+        ++edits;
+        data.invalidate(edit.changeset);
+        const UpdateStats st = qt.update(edit.changeset);
+        for (const Quad* q : st.changedQuads)
+            tiles[keyOf(*q)] = {produceAppearance(*q, qt, data, w.dem, {}), produceElevation(*q, qt, data, w.dem, {})};
+        regenerated += st.changedQuads.size();
+        Quadtree fresh(w.scene, rp);
+        fresh.copyStructureOf(qt);
+        CurveDataCache freshData(fresh, w.heights);
+        const auto expected = produceAll(fresh, freshData);
+        ASSERT_EQ(expected.size(), tiles.size());
+        for (const auto& [k, t] : expected) {
+            EXPECT_TRUE(tiles.at(k).first == t.first) << "appearance, edit " << e << " (" << toString(edit.kind) << ")";
+            EXPECT_TRUE(tiles.at(k).second == t.second) << "elevation, edit " << e << " (" << toString(edit.kind) << ")";
+        }
+    }
+    EXPECT_GT(edits, 15u);
+    EXPECT_LT(regenerated, edits * tiles.size() / 4) << "only the quads whose graph changed are regenerated";
+    std::cout << "[ figures  ] " << edits << " edits regenerated " << regenerated << " of " << edits * tiles.size()
+              << " tile pairs\n";
+}
+
+TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
+    World w(5, 2000);
+    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    const Vec2 c = w.scene.extent.center();
+    qt.refineForViewer({c.x, c.y, 50.0}, 2.8, 8);
+    const auto quads = quadsFrom(qt, 0);
+    auto run = [&](int threads) {
+        CurveDataCache data(qt, w.heights);
+        tbb::task_arena arena(threads);
+        std::vector<AppearanceTile> tiles;
+        arena.execute([&] { tiles = produceAppearanceTiles(quads, qt, data, w.dem, {}); });
+        return tiles;
+    };
+    EXPECT_TRUE(run(1) == run(2));
+}
+
+TEST(AppearanceProducer, MarkingsBelowATexelCostNoCurvilinearCoordinate) {
+    World w(8, 3000);
+    Quadtree qt(w.scene);
+    qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 2);  // texels of 7 m: no marking shows
+    CurveDataCache data(qt, w.heights);
+    AppearanceCounters counters;
+    for (const Quad* q : quadsFrom(qt, 2)) produceAppearance(*q, qt, data, w.dem, {}, &counters);
+    EXPECT_EQ(counters.tiles, 16u);
+    EXPECT_GT(counters.markingsBelowTexel, 20u);
+    EXPECT_EQ(counters.curvesWithMarkings, 0u);
+    EXPECT_EQ(data.counters().arcLengthTables, 0u);
+    EXPECT_EQ(data.counters().zProfiles, 0u);
+}
+
+TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
+    World w(9, 2000);
+    AppearanceCounters withWater, without;
+    {
+        Quadtree qt(w.scene, RefineParams{.resolution = 64});
+        qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 3);
+        CurveDataCache data(qt, w.heights);
+        for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &withWater);
+    }
+    for (LayerId l : {kRiversLayer, kLakesLayer}) {
+        w.scene.layers[l].nodes.clear();
+        w.scene.layers[l].curves.clear();
+        w.scene.layers[l].areas.clear();
+    }
+    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 3);
+    CurveDataCache data(qt, w.heights);
+    for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &without);
+    EXPECT_GT(withWater.waterTexels, 1000u);
+    EXPECT_EQ(without.waterTexels, 0u);
+    EXPECT_EQ(without.tiles, withWater.tiles);
+}
+
+TEST(AppearanceProducer, JunctionSceneDrawsStopLinesWhereTheRuleSaysOnly) {
+    // The T's through road has no stop line at the T: the texels across its lane just outside
+    // the junction are asphalt; the stem's are marking-white.
+    const std::vector<std::uint8_t> image = test::renderHandScene(test::junctionsScene());
+    const double texel = 64.0 / 256.0;
+    auto at = [&](Vec2 p) { return &image[(std::size_t(255 - int(p.y / texel)) * 256 + std::size_t(p.x / texel)) * 3]; };
+    const MarkingGeometry g;
+    const double stop = 3.5 + g.stopLineGap + 0.5 * g.stopLineWidth;  // from the node: junction radius 3.5 m
+    // Stem (curve 5, from T node (46, 34) downwards, starting at the node): its incoming lane is
+    // on the left of its direction of travel away from the node (v > 0), i.e. east of it.
+    EXPECT_GT(int(at({46.0 + 1.2, 34.0 - stop})[0]), 200) << "stop line on the stem";
+    // Through road east of the T (curve 2 from the T to the east): no stop line.
+    EXPECT_LT(int(at({46.0 + stop, 34.0 + 1.2})[0]), 120) << "no stop line on the through road";
+    // 4-way crossing: the road from the west ends there (incoming lane on its right, v < 0).
+    EXPECT_GT(int(at({20.0 - stop, 34.0 - 1.8})[0]), 200) << "stop line at the 4-way crossing";
+}
+
+}  // namespace
+}  // namespace lacet
