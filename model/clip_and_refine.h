@@ -33,20 +33,24 @@ struct RefineParams {
     double tolerance(double quadSize) const { return toleranceTexels * quadSize / double(resolution); }  // metres
 
     // How far beyond an element's footprint the elevation producer reads it, in elevation samples
-    // (delta = quad size / elevationResolution): the sqrt(2) delta widening of §5.2 plus the
+    // (delta = quad size / elevationResolution): the 2 sqrt(2) delta widening of its footprints plus the
     // samples of the tile border. Clipping keeps elements that far outside the quad too, so that
-    // adjacent tiles see the same elements at their shared and border samples. A curve narrower
-    // than 2 delta leaves no footprint at that level and gets no extra margin from it.
+    // adjacent tiles see the same elements at their shared and border samples.
     int elevationResolution = 24;     // samples per quad side, even
-    double footprintReach = 3.5;      // elevation samples, >= sqrt(2) + the tile border (2)
+    double footprintReach = 5.0;      // elevation samples, >= 2 sqrt(2) + the tile border (2)
     double elevationDelta(double quadSize) const { return quadSize / double(elevationResolution); }  // metres
     // The appearance producer draws `appearanceBorder` texels outside the quad (its tile border,
     // AppearanceParams::border <= this); one more texel covers the anti-aliasing ramp.
     int appearanceBorder = 2;  // texels
     double appearanceReach(double quadSize) const { return double(appearanceBorder + 1) * quadSize / double(resolution); }  // metres
+    // A curve's margin must not grow with depth (a child only sees what its parent kept), so a
+    // curve too thin for a footprint at this level still gets the reach of the first deeper level
+    // where it has one (the largest delta / 2^k <= w / 2).
     double curveMargin(double w, double wf, double quadSize) const {
-        const double delta = elevationDelta(quadSize);
-        return 0.5 * wf + std::max(w >= 2.0 * delta ? footprintReach * delta : 0.0, appearanceReach(quadSize));
+        double delta = elevationDelta(quadSize);
+        if (w <= 0.0) delta = 0.0;
+        while (delta > 0.0 && w < 2.0 * delta) delta *= 0.5;
+        return 0.5 * wf + std::max(footprintReach * delta, appearanceReach(quadSize));
     }
     double areaMargin(double wf, double quadSize) const {
         return wf + std::max(footprintReach * elevationDelta(quadSize), appearanceReach(quadSize));

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -24,15 +25,19 @@ float blend(double d, double inner, double outer) {
 
 class FootprintCanvas {
 public:
-    FootprintCanvas(ElevationTile& tile) : t_(tile) {}
+    FootprintCanvas(ElevationTile& tile) : t_(tile), d_(tile.b.size(), std::numeric_limits<float>::infinity()) {}
 
-    // MAX combination: the larger b wins and brings its z_e; equal b keep the lower z_e, so the
-    // result does not depend on the drawing order.
-    void put(std::size_t k, float b, float z) {
+    // MAX combination: the larger b wins and brings its z_e; for equal b the nearer axis (or
+    // border) wins, then the lower z_e. A total order, so the result does not depend on the
+    // drawing order; and inside one curve, where every segment near a sample gives b = 1, the
+    // nearest segment's z_e is kept, which is z at the nearest point of the polyline (a lower
+    // z from the round end cap of the next segment would make steps along sloping roads).
+    void put(std::size_t k, float b, float z, float d) {
         if (b <= 0.0f) return;
-        if (b > t_.b[k] || (b == t_.b[k] && z < t_.ze[k])) {
+        if (b > t_.b[k] || (b == t_.b[k] && (d < d_[k] || (d == d_[k] && z < t_.ze[k])))) {
             t_.b[k] = b;
             t_.ze[k] = z;
+            d_[k] = d;
         }
     }
 
@@ -64,12 +69,16 @@ public:
 
 private:
     ElevationTile& t_;
+    std::vector<float> d_;  // distance to the axis or border of the element that gave b and z_e
 };
 
 void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, ElementId a,
                const std::vector<ClippedCurve>& pieces, const Curve& c, const CurveDataCache& data) {
-    const double inner = 0.5 * double(c.w) + kSqrt2 * tile.delta;
-    const double outer = std::max(inner, 0.5 * double(c.wf) + kSqrt2 * tile.delta);
+    // b = 1 within w/2 + 2 sqrt(2) delta: the sqrt(2) delta of §5.2 (bilinear interpolation of the
+    // samples), plus sqrt(2) delta for the 3x3 filter, which reads one more sample out; so z_m
+    // inside the road's width is the filtered z_e alone and the road stays level across.
+    const double inner = 0.5 * double(c.w) + 2.0 * kSqrt2 * tile.delta;
+    const double outer = std::max(inner, 0.5 * double(c.wf) + 2.0 * kSqrt2 * tile.delta);
     const ZProfile& profile = data.zProfile(l, a);
     std::vector<Vec2> pts;
     std::vector<double> us;
@@ -90,7 +99,7 @@ void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, El
                 const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
                 const double d = glm::length(q - (p0 + seg * t));
                 const float b = blend(d, inner, outer);
-                if (b > 0.0f) canvas.put(idx, b, float(profile.at(us[i] + (us[i + 1] - us[i]) * t)));
+                if (b > 0.0f) canvas.put(idx, b, float(profile.at(us[i] + (us[i + 1] - us[i]) * t)), float(d));
             });
         }
     }
@@ -118,7 +127,7 @@ void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<Cl
         // Inside: every sample of the tile is tested (tiles are small: 25 x 25 plus border).
         for (int j = -tile.border; j <= tile.resolution + tile.border; ++j)
             for (int i = -tile.border; i <= tile.resolution + tile.border; ++i)
-                if (area.coversQuad || insideLoops(area.loops, tile.position(i, j))) canvas.put(tile.index(i, j), 1.0f, level);
+                if (area.coversQuad || insideLoops(area.loops, tile.position(i, j))) canvas.put(tile.index(i, j), 1.0f, level, 0.0f);
         if (area.coversQuad) continue;
         // Banks: outside the real border, down to 0 at wf.
         for (const ClippedLoop& loop : area.loops) {
@@ -132,7 +141,8 @@ void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<Cl
                     const double len2 = glm::dot(seg, seg);
                     canvas.capsule(p0, v.p, reach, [&](std::size_t idx, Vec2 q) {
                         const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
-                        canvas.put(idx, blend(glm::length(q - (p0 + seg * t)), kSqrt2 * tile.delta, reach), level);
+                        const double d = glm::length(q - (p0 + seg * t));
+                        canvas.put(idx, blend(d, kSqrt2 * tile.delta, reach), level, float(d));
                     });
                 }
                 prev = v.p;

@@ -1,12 +1,15 @@
 #pragma once
 // The elevation producer (§5.2): for one quad, the DEM resampled on the tile grid (z_o), the
 // footprint of its roads, rivers and lakes (z_e, b), combined with MAX so overlaps stay
-// continuous (z_e follows the larger b), the modified height z_m = b z_e + (1 - b) z_o filtered
-// by a 3x3 Gaussian where b > 0, and the height at half resolution z_c for level transitions.
+// continuous (z_e follows the larger b; for equal b, the nearer axis), the modified height
+// z_m = b z_e + (1 - b) z_o filtered by a 3x3 Gaussian where b > 0, and the height at half
+// resolution z_c for level transitions.
 //
 // Footprints: a curve of a Roads or Rivers layer narrower than 2 delta is skipped (it would not
-// show after filtering, Fig. 8); the others are drawn with b = 1 within w/2 + sqrt(2) delta of
-// their axis, falling smoothly to 0 at wf/2 + sqrt(2) delta, and z_e = z(u) from the ancestor's
+// show after filtering, Fig. 8); the others are drawn with b = 1 within w/2 + 2 sqrt(2) delta of
+// their axis (the paper's sqrt(2) delta for bilinear interpolation, and as much again for the 3x3
+// filter, so the road's own width is never mixed with the terrain: roads stay level across),
+// falling smoothly to 0 at wf/2 + 2 sqrt(2) delta, and z_e = z(u) from the ancestor's
 // z-profile. Each refined segment is drawn as a capsule (its rectangle and the discs at its
 // ends), whose footprint is evaluated exactly from the distance to the segment: the union over
 // a polyline is the footprint of the distance to the polyline, so sharp turns and hairpins wider
