@@ -1,4 +1,4 @@
-// `lacet bench update|accuracy`: benchmark tasks printing their figures as JSON.
+// `lacet bench update|accuracy|producers`: benchmark tasks printing their figures as JSON.
 #include <iostream>
 
 #include "app/commands.h"
@@ -39,6 +39,19 @@ void addBenchCommand(CLI::App& app) {
     accuracy->add_option("--seed", a->seed, "Random seed");
     accuracy->add_flag("--json", a->json, "Print JSON (the only format)");
     accuracy->callback([a] { std::cout << bench::benchAccuracy(a->tolerances, a->curves, a->seed).dump(2) << "\n"; });
+
+    auto p = std::make_shared<bench::ProducerBenchOptions>();
+    auto pJson = std::make_shared<bool>(true);
+    CLI::App* producers = bench->add_subcommand("producers", "Time per quad of the appearance and elevation producers; 2 threads against 1");
+    producers->add_option("--curves", p->curves, "Curves of the synthetic scene (600000: the paper's scale)");
+    producers->add_option("--seed", p->seed, "Random seed");
+    producers->add_option("--dem-resolution", p->demResolution, "DEM samples per 100 km");
+    producers->add_option("--views", p->views, "Views above random roads");
+    producers->add_option("--altitude", p->altitude, "Viewer height above the road (m)");
+    producers->add_option("--max-level", p->maxLevel, "Deepest quadtree level");
+    producers->add_option("--deep-level", p->deepLevel, "Quads of this level and deeper make the headline figures");
+    producers->add_flag("--json", *pJson, "Print JSON (the only format)");
+    producers->callback([p] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });
 }
 
 }  // namespace lacet::app

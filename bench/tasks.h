@@ -18,4 +18,21 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
 // polyline and the exact curve, by dense sampling), for tolerances in texels.
 nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::size_t curves, std::uint64_t seed);
 
+// Producer speed (§8): per-quad time of the appearance (256 x 256) and elevation (25 x 25)
+// producers, one thread, at the deepest levels of `views` views `altitude` metres above roads
+// (K as in the paper), cold (curve data computed on demand) and warm; and the throughput of two
+// threads against one over the same quads.
+struct ProducerBenchOptions {
+    std::size_t curves = 600000;
+    std::uint64_t seed = 1;
+    int demResolution = 5000;  // DEM samples per 100 km (the paper: 5000 x 5000 over 100 km)
+    int views = 8;
+    double altitude = 5.0;     // metres above the road
+    double K = 2.8;
+    int maxLevel = 16;
+    int minLevel = 8;          // quads timed
+    int deepLevel = 12;        // "deepest levels": quads of this level and deeper
+};
+nlohmann::json benchProducers(const ProducerBenchOptions& options);
+
 }  // namespace lacet::bench

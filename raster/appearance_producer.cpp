@@ -43,6 +43,8 @@ public:
     }
 
     int side() const { return side_; }
+    // What the canvas covers (the tile and its border), metres.
+    Box box() const { return t_.bounds.dilated(double(t_.border) * t_.delta); }
     double pixelSize() const { return pixel_; }  // metres
     Scratch& scratch() { return s_; }
     Vec2 world(int x, int y) const {
@@ -167,11 +169,39 @@ std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const C
     return out;
 }
 
+double segmentDistance(const Segment& sg, Vec2 q) {
+    const Vec2 seg = sg.p1 - sg.p0;
+    const double len2 = glm::dot(seg, seg);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(q - sg.p0, seg) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(q - (sg.p0 + seg * t));
+}
+
+// Lower bound of the distance from any point of `box` to the segment: the distance from the
+// segment's bounding box to `box`.
+double lowerBound(const Segment& sg, const Box& box) {
+    const Vec2 lo = glm::min(sg.p0, sg.p1), hi = glm::max(sg.p0, sg.p1);
+    const Vec2 gap = glm::max(glm::max(box.min - hi, lo - box.max), Vec2(0.0));
+    return glm::length(gap);
+}
+
 // Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
-// and u of the nearest segment, within `reach` metres of the polyline.
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
+// and u of the nearest segment, within `reach` metres of the polyline, over the canvas `box`.
+// A segment that is farther from every point of the box than some other segment is from the
+// farthest point (distance to a segment is convex, so its maximum over the box is at a corner)
+// is nearest nowhere and skipped: wide roads seen from close would otherwise compute every
+// segment of their margin at every texel.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, const Box& box) {
     Scratch& s = canvas.scratch();
+    const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
+    double upper = std::numeric_limits<double>::infinity();
     for (const Segment& sg : segments) {
+        double farthest = 0.0;
+        for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(sg, c));
+        upper = std::min(upper, farthest);
+    }
+    for (const Segment& sg : segments) {
+        const double lower = lowerBound(sg, box);
+        if (lower > reach + canvas.pixelSize() || lower > upper) continue;
         const Vec2 seg = sg.p1 - sg.p0;
         const double len2 = glm::dot(seg, seg);
         canvas.capsule(sg.p0, sg.p1, reach, [&](std::size_t k, int x, int y) {
@@ -200,7 +230,7 @@ float smoothFall(double d, double width) {  // 1 at d <= 0, 0 at d >= width
 // rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w), hwf = std::max(hw, 0.5 * double(c.wf));
-    distanceField(canvas, segments, hwf);
+    distanceField(canvas, segments, hwf, canvas.box());
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     for (std::uint32_t k : s.touched) {
@@ -213,7 +243,7 @@ void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const 
 
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
+    distanceField(canvas, segments, hw, canvas.box());
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     const glm::vec3 water = glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0));
@@ -223,7 +253,7 @@ void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const 
 
 void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
+    distanceField(canvas, segments, hw, canvas.box());
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     for (std::uint32_t k : s.touched) canvas.over(k, roadColour(c.cls), 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
@@ -240,7 +270,7 @@ struct RoadEnds {
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
     const MarkingGeometry g;
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
+    distanceField(canvas, segments, hw, canvas.box());
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const float halfLine = float(0.5 * g.lineWidth / px);
@@ -275,10 +305,12 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
 void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, const SurfaceShade& shade, double wf,
               AppearanceCounters* counters) {
     Scratch& s = canvas.scratch();
+    SurfaceShader shader(shade, t.delta);
+    shader.prepare(canvas.box());
     if (area.coversQuad) {
         for (int y = 0; y < canvas.side(); ++y)
             for (int x = 0; x < canvas.side(); ++x) {
-                const Rgbm c = surfaceColour(shade, canvas.world(x, y), t.delta);
+                const Rgbm c = shader.at(canvas.world(x, y));
                 canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
             }
         return;
@@ -323,7 +355,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
         canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
         if (cov > 0.0f) {
             const std::size_t side = std::size_t(canvas.side());
-            const Rgbm c = surfaceColour(shade, canvas.world(int(k % side), int(k / side)), t.delta);
+            const Rgbm c = shader.at(canvas.world(int(k % side), int(k / side)));
             canvas.over(k, glm::vec3(c), c.a, cov);
         }
     }
@@ -517,9 +549,11 @@ std::vector<std::uint8_t> tileTexels(const AppearanceTile& tile) {
     if (!tile.uniform) return tile.rgbm;
     Canvas canvas(tile, threadScratch());
     std::fill(canvas.scratch().colour.begin(), canvas.scratch().colour.end(), Rgbm(0.0f));
+    SurfaceShader shader(tile.shade, tile.delta);
+    shader.prepare(canvas.box());
     for (int y = 0; y < canvas.side(); ++y)
         for (int x = 0; x < canvas.side(); ++x) {
-            const Rgbm c = surfaceColour(tile.shade, canvas.world(x, y), tile.delta);
+            const Rgbm c = shader.at(canvas.world(x, y));
             canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
         }
     std::vector<std::uint8_t> out;

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include <glm/geometric.hpp>
+
 namespace lacet {
 namespace {
 
@@ -25,18 +27,27 @@ std::uint32_t hash32(std::uint32_t x) {
 }
 double unit(std::uint32_t h) { return double(h >> 8) / double(1u << 24); }  // [0, 1)
 
-// Value noise in [0, 1] with cells of `cell` metres, smooth (C1) between cell corners.
-double valueNoise(Vec2 p, double cell, std::uint32_t seed) {
+double latticeValue(std::int64_t x, std::int64_t y, std::uint32_t seed) {
+    return unit(hash32(std::uint32_t(x) * 0x9e3779b9U ^ hash32(std::uint32_t(y) ^ seed)));
+}
+
+// Value noise in [0, 1] with cells of `cell` metres, smooth (C1) between cell corners. The
+// corner values come from `lattice` when it holds them (the same values, so the same result).
+double valueNoise(Vec2 p, double cell, std::uint32_t seed, const NoiseLattice* lattice = nullptr) {
     const Vec2 q = p / cell;
     const double fx = std::floor(q.x), fy = std::floor(q.y);
-    const auto corner = [&](double x, double y) {
-        const auto ix = std::uint32_t(std::int64_t(x)), iy = std::uint32_t(std::int64_t(y));
-        return unit(hash32(ix * 0x9e3779b9U ^ hash32(iy ^ seed)));
-    };
+    const auto ix = std::int64_t(fx), iy = std::int64_t(fy);
+    double a, b, c, d;
+    if (lattice && lattice->holds(ix, iy)) {
+        const double* row = &lattice->values[std::size_t(iy - lattice->y0) * std::size_t(lattice->nx) + std::size_t(ix - lattice->x0)];
+        a = row[0], b = row[1], c = row[lattice->nx], d = row[lattice->nx + 1];
+    } else {
+        a = latticeValue(ix, iy, seed), b = latticeValue(ix + 1, iy, seed);
+        c = latticeValue(ix, iy + 1, seed), d = latticeValue(ix + 1, iy + 1, seed);
+    }
     double tx = q.x - fx, ty = q.y - fy;
     tx = tx * tx * (3.0 - 2.0 * tx);
     ty = ty * ty * (3.0 - 2.0 * ty);
-    const double a = corner(fx, fy), b = corner(fx + 1.0, fy), c = corner(fx, fy + 1.0), d = corner(fx + 1.0, fy + 1.0);
     return (a + (b - a) * tx) + ((c + (d - c) * tx) - (a + (b - a) * tx)) * ty;
 }
 
@@ -50,6 +61,7 @@ constexpr glm::vec3 kCrops[6] = {{0.78f, 0.70f, 0.38f}, {0.42f, 0.58f, 0.25f}, {
 constexpr double kFurrowSpacing = 3.0;   // m
 constexpr double kCanopyCell = 12.0;     // m
 constexpr double kCanopyDetail = 4.0;    // m
+constexpr std::uint32_t kCanopySeeds[2] = {0x51f15eedU, 0x2545f491U};
 
 }  // namespace
 
@@ -60,31 +72,69 @@ glm::vec3 groundColour(double z, double slope) {
     return mix(c, rock, (slope - 0.6) / 0.4);
 }
 
-Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel) {
+SurfaceShader::SurfaceShader(const SurfaceShade& shade, double texel) : shade_(shade) {
     switch (shade.surface) {
         case Surface::Water:
-            return Rgbm(kWater, 1.0f);
+            base_ = kWater;
+            mask_ = 1.0f;
+            break;
         case Surface::Field: {
             const std::uint32_t h = hash32(shade.seed * 2654435761U + 17U);
-            const glm::vec3 base = kCrops[shade.cls % 6] * float(0.88 + 0.24 * unit(h));
+            base_ = kCrops[shade.cls % 6] * float(0.88 + 0.24 * unit(h));
             const double angle = std::numbers::pi * unit(hash32(h));
-            const double along = p.x * std::cos(angle) + p.y * std::sin(angle);
-            const double furrow = std::cos(2.0 * std::numbers::pi * along / kFurrowSpacing);
-            return Rgbm(base * float(1.0 + 0.12 * furrow * patternWeight(kFurrowSpacing, texel)), 0.0f);
+            direction_ = Vec2(std::cos(angle), std::sin(angle)) * (2.0 * std::numbers::pi / kFurrowSpacing);
+            weight_[0] = 0.12 * patternWeight(kFurrowSpacing, texel);
+            break;
         }
-        case Surface::Forest: {
-            const double coarse = valueNoise(p, kCanopyCell, 0x51f15eedU) - 0.5;
-            const double fine = valueNoise(p, kCanopyDetail, 0x2545f491U) - 0.5;
-            const double n = coarse * patternWeight(kCanopyCell, texel) + 0.6 * fine * patternWeight(kCanopyDetail, texel);
-            return Rgbm(glm::vec3(0.16f, 0.30f, 0.14f) * float(1.0 + 0.6 * n), 0.0f);
-        }
+        case Surface::Forest:
+            base_ = glm::vec3(0.16f, 0.30f, 0.14f);
+            weight_[0] = 0.6 * patternWeight(kCanopyCell, texel);
+            weight_[1] = 0.36 * patternWeight(kCanopyDetail, texel);
+            break;
         case Surface::Other:
-            return Rgbm(0.60f, 0.58f, 0.52f, 0.0f);
+            base_ = glm::vec3(0.60f, 0.58f, 0.52f);
+            break;
         case Surface::None:
             break;
     }
-    return Rgbm(0.0f);
 }
+
+void SurfaceShader::prepare(const Box& box) {
+    if (shade_.surface != Surface::Forest) return;
+    const double cells[2] = {kCanopyCell, kCanopyDetail};
+    for (int o = 0; o < 2; ++o) {
+        NoiseLattice& l = lattice_[o];
+        l.x0 = std::int64_t(std::floor(box.min.x / cells[o])) - 1;
+        l.y0 = std::int64_t(std::floor(box.min.y / cells[o])) - 1;
+        l.nx = int(std::int64_t(std::floor(box.max.x / cells[o])) - l.x0 + 3);
+        l.ny = int(std::int64_t(std::floor(box.max.y / cells[o])) - l.y0 + 3);
+        if (weight_[o] == 0.0 || std::int64_t(l.nx) * l.ny > 1 << 20) {
+            l.nx = l.ny = 0;
+            continue;
+        }
+        l.values.resize(std::size_t(l.nx) * std::size_t(l.ny));
+        for (int j = 0; j < l.ny; ++j)
+            for (int i = 0; i < l.nx; ++i) l.values[std::size_t(j) * std::size_t(l.nx) + std::size_t(i)] = latticeValue(l.x0 + i, l.y0 + j, kCanopySeeds[o]);
+    }
+}
+
+Rgbm SurfaceShader::at(Vec2 p) const {
+    switch (shade_.surface) {
+        case Surface::Field:
+            if (weight_[0] == 0.0) return Rgbm(base_, 0.0f);
+            return Rgbm(base_ * float(1.0 + weight_[0] * std::cos(glm::dot(p, direction_))), 0.0f);
+        case Surface::Forest: {
+            double n = 0.0;
+            if (weight_[0] > 0.0) n += weight_[0] * (valueNoise(p, kCanopyCell, kCanopySeeds[0], &lattice_[0]) - 0.5);
+            if (weight_[1] > 0.0) n += weight_[1] * (valueNoise(p, kCanopyDetail, kCanopySeeds[1], &lattice_[1]) - 0.5);
+            return Rgbm(base_ * float(1.0 + n), 0.0f);
+        }
+        default:
+            return Rgbm(base_, mask_);
+    }
+}
+
+Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel) { return SurfaceShader(shade, texel).at(p); }
 
 glm::vec3 borderStripColour(Surface surface) {
     switch (surface) {

@@ -10,6 +10,9 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <cstdint>
+#include <vector>
+
 #include "model/graph.h"
 #include "raster/appearance_tile.h"
 
@@ -22,7 +25,32 @@ using Rgbm = glm::vec4;
 glm::vec3 groundColour(double z, double slope);
 
 // Water (mask 1), fields (crop colour with a per-field tint and furrows along a per-field
-// direction), forests (canopy noise), other areas.
+// direction), forests (canopy noise), other areas. The shader computes what does not depend on
+// the point once per element.
+// Corner values of a value noise over a box, computed once (tables give the same values as
+// computing them at each point, so results do not depend on the box).
+struct NoiseLattice {
+    std::int64_t x0 = 0, y0 = 0;
+    int nx = 0, ny = 0;
+    std::vector<double> values;
+    bool holds(std::int64_t x, std::int64_t y) const { return x >= x0 && y >= y0 && x + 1 < x0 + nx && y + 1 < y0 + ny; }
+};
+
+class SurfaceShader {
+public:
+    SurfaceShader(const SurfaceShade& shade, double texel);
+    // Optional: tables for the points of `box` (metres), so at() costs less there.
+    void prepare(const Box& box);
+    Rgbm at(Vec2 p) const;
+
+private:
+    SurfaceShade shade_;
+    glm::vec3 base_{0.0f};
+    float mask_ = 0.0f;
+    Vec2 direction_{0.0};        // fields: furrow phase gradient (radians per metre)
+    double weight_[2] = {0.0, 0.0};  // pattern amplitudes after fading by texel size
+    NoiseLattice lattice_[2];        // forests: the two octaves of canopy noise
+};
 Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel);
 
 // The strip of width wf outside an area's border: banks of lakes, field margins, forest edges.
