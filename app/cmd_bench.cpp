@@ -1,4 +1,4 @@
-// `lacet bench update|accuracy|producers`: benchmark tasks printing their figures as JSON.
+// `lacet bench update|accuracy|producers|texture-accuracy`: benchmark tasks printing their figures as JSON.
 #include <iostream>
 
 #include "app/commands.h"
@@ -52,6 +52,20 @@ void addBenchCommand(CLI::App& app) {
     producers->add_option("--deep-level", p->deepLevel, "Quads of this level and deeper make the headline figures");
     producers->add_flag("--json", *pJson, "Print JSON (the only format)");
     producers->callback([p] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });
+
+    struct TextureAccuracyOptions {
+        std::size_t curves = 10000;
+        std::uint64_t seed = 1;
+        int views = 2;
+        bool json = true;
+    };
+    auto ta = std::make_shared<TextureAccuracyOptions>();
+    CLI::App* texture = bench->add_subcommand("texture-accuracy", "Producer accuracy knobs: time and error left");
+    texture->add_option("--curves", ta->curves, "Curves of the synthetic scene");
+    texture->add_option("--seed", ta->seed, "Random seed");
+    texture->add_option("--views", ta->views, "Views above roads whose quads are measured");
+    texture->add_flag("--json", ta->json, "Print JSON (the only format)");
+    texture->callback([ta] { std::cout << bench::benchTextureAccuracy(ta->curves, ta->seed, ta->views).dump(2) << "\n"; });
 }
 
 }  // namespace lacet::app

@@ -35,4 +35,9 @@ struct ProducerBenchOptions {
 };
 nlohmann::json benchProducers(const ProducerBenchOptions& options);
 
+// The producers' accuracy knobs: anti-aliasing samples and appearance resolution (time per
+// tile, PSNR against a high-accuracy reference), z-profile sample spacing (time, max z_m error
+// against 0.5 m) and kernel radius (time, how far roads depart from the DEM).
+nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int views);
+
 }  // namespace lacet::bench
