@@ -97,10 +97,11 @@ TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
     const std::vector<std::uint8_t> image = test::renderHandScene(scene, params);
     const int side = 256;
     const double texel = 64.0 / side;
-    std::vector<Vec2> axis;
+    // The exact axes as fine polylines (chords of 1/400 of a piece: their sag is far below a texel).
+    std::vector<std::pair<Vec2, Vec2>> axis;
     for (const Curve& c : scene.layers[kRoadsLayer].curves)
         forEachPiece(c.vertices, [&](const BezierPiece& b, std::size_t) {
-            for (int i = 0; i <= 4000; ++i) axis.push_back(evaluate(b, i / 4000.0));
+            for (int i = 0; i < 400; ++i) axis.push_back({evaluate(b, i / 400.0), evaluate(b, (i + 1) / 400.0)});
         });
     const glm::vec3 asphalt = roadColour(1);
     auto isAsphalt = [&](const std::uint8_t* p) {
@@ -114,7 +115,7 @@ TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
         for (int x = 0; x < side; ++x) {
             const Vec2 p((x + 0.5) * texel, (side - 1 - row + 0.5) * texel);
             double d = 1e300;
-            for (const Vec2& q : axis) d = std::min(d, glm::length(p - q));
+            for (const auto& [a, b] : axis) d = std::min(d, distanceToSegment(p, a, b));
             const std::uint8_t* px = &image[(std::size_t(row) * side + std::size_t(x)) * 3];
             if (d < hw - slack) {
                 ++inside;
