@@ -86,6 +86,8 @@ TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
     EXPECT_GT(counters.curvesWithMarkings, 0u) << "the seams must cross road markings";
     EXPECT_LE(worst, 1) << "of 255; " << differing << " of " << compared << " texels differ";
     EXPECT_LT(double(differing), 1e-3 * double(compared));
+    std::cout << "[ figures  ] appearance seams: " << compared << " border texels compared, " << differing
+              << " differ, by at most " << worst << " of 255\n";
 }
 
 // Every texel whose centre is well inside a road is asphalt, every texel well outside is not:
