@@ -7,6 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtbb-dev libopenimageio-dev pkg-config
+  libgdal-dev gdal-bin libgeographiclib-dev libsqlite3-dev
 )
 missing=()
 for p in "${packages[@]}"; do
