@@ -1,11 +1,13 @@
-// `lacet render`: produces the tiles of a region at one level of a synthetic scene and writes
-// them as one mosaic image (the appearance colour, elevation as a hillshade, or the footprint).
+// `lacet render`: produces the tiles of a region at one level of a scene (a scene file, or a
+// synthetic scene) and writes them as one mosaic image (the appearance colour, elevation as a
+// hillshade, or the footprint).
 #include <iostream>
 #include <sstream>
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
 #include "io/image_file.h"
+#include "io/scene_file.h"
 #include "model/synthetic_scene.h"
 #include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
@@ -23,6 +25,7 @@ struct RenderOptions {
     std::string layer = "elevation";
     std::string out = "render.png";
     int demResolution = 5000;
+    std::string scene;  // a scene file instead of the synthetic scene
 };
 
 // Subdivides every quad meeting `region` down to `level`; collects the quads of that level.
@@ -39,8 +42,16 @@ void refineRegion(Quadtree& qt, Quad& q, const Box& region, int level, std::vect
 void run(const RenderOptions& o) {
     using namespace lacet::bench;
     auto t0 = Clock::now();
-    const Scene scene = makeSyntheticScene({o.seed, o.curves});
-    const Dem dem = makeSyntheticDem(scene, {o.seed, o.demResolution});
+    SceneDocument doc;
+    if (!o.scene.empty()) {
+        doc = loadScene(o.scene);
+        if (!doc.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
+    } else {
+        doc.scene = makeSyntheticScene({o.seed, o.curves});
+        doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
+    }
+    const Scene& scene = doc.scene;
+    const Dem& dem = *doc.dem;
     const double prepareMs = msSince(t0);
     Box region = scene.extent;
     if (!o.region.empty()) {
@@ -105,6 +116,7 @@ void run(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Produce the tiles of a region at one level and write them as one image");
+    cmd->add_option("--scene", o->scene, "Scene file (GeoPackage from lacet import) instead of a synthetic scene");
     cmd->add_option("--seed", o->seed, "Random seed of the synthetic scene and DEM");
     cmd->add_option("--curves", o->curves, "Target number of curves of the synthetic scene");
     cmd->add_option("--region", o->region, "X0,Y0,X1,Y1 in metres (default: the whole scene)")->delimiter(',');

@@ -9,5 +9,6 @@ void addSynthCommand(CLI::App& app);
 void addCheckCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addImportCommand(CLI::App& app);
 
 }  // namespace lacet::app

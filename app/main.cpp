@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
     lacet::app::addCheckCommand(app);
     lacet::app::addBenchCommand(app);
     lacet::app::addRenderCommand(app);
+    lacet::app::addImportCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

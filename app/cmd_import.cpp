@@ -1,0 +1,80 @@
+// `lacet import`: a DEM and GIS vector files into one scene file (GeoPackage), with a progress
+// line per stage on stderr and the report at the end; `lacet info`: what a scene file holds.
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "io/scene_import.h"
+
+namespace lacet::app {
+namespace {
+
+struct ImportCli {
+    ImportOptions options;
+    std::string out;
+    bool json = false;
+};
+
+void printSummary(const ImportReport& r, const std::string& out) {
+    const nlohmann::json j = r.json();
+    std::cout << "Imported into " << out << " in " << r.ms / 1000.0 << " s: " << r.featuresRead << " features read, "
+              << r.unmapped << " not mapped, " << r.problems.size() << " problems\n";
+    for (const auto& l : j["layers"])
+        std::cout << "  " << l["name"].get<std::string>() << ": curves by class " << l["curves_by_class"].dump() << ", areas by class "
+                  << l["areas_by_class"].dump() << ", nodes " << l["nodes"] << ", junctions " << l["junctions"] << ", bridges "
+                  << l["bridges"] << "\n";
+    std::cout << "  fit: " << j["fit"].dump() << "\n  dem: " << j["dem"].dump() << "\n  crs: " << j["crs"].dump()
+              << "\n  river nodes below their surroundings: " << r.riverNodesBelowSurroundings * 100.0 << " % of "
+              << r.riverNodesChecked << "\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
+}
+
+nlohmann::json sceneInfo(const SceneDocument& doc, const std::string& path) {
+    nlohmann::json layers = nlohmann::json::array();
+    for (const Layer& l : doc.scene.layers) {
+        std::size_t nodes = 0, curves = 0, areas = 0, vertices = 0;
+        for (const Node& n : l.nodes) nodes += n.alive;
+        for (const Curve& c : l.curves)
+            if (c.alive) ++curves, vertices += c.vertices.size();
+        for (const Area& a : l.areas) areas += a.alive;
+        layers.push_back({{"name", l.name}, {"kind", std::string(toString(l.kind))}, {"nodes", nodes}, {"curves", curves},
+                          {"areas", areas}, {"vertices", vertices}});
+    }
+    nlohmann::json j = {{"file", path},
+                        {"extent_m", {doc.scene.extent.min.x, doc.scene.extent.min.y, doc.scene.extent.max.x, doc.scene.extent.max.y}},
+                        {"layers", layers}};
+    if (doc.georeference.valid) j["crs"] = {{"lon0", doc.georeference.lon0}, {"lat0", doc.georeference.lat0}, {"wkt", doc.georeference.crsWkt}};
+    if (doc.dem) j["dem"] = {{"width", doc.dem->width()}, {"height", doc.dem->height()}, {"cell_m", doc.dem->cellSize().x}};
+    return j;
+}
+
+}  // namespace
+
+void addImportCommand(CLI::App& app) {
+    auto o = std::make_shared<ImportCli>();
+    CLI::App* cmd = app.add_subcommand("import", "Import a DEM and GIS vector layers into a scene file");
+    cmd->add_option("--dem", o->options.dem, "DEM (GeoTIFF, SRTM .hgt, /vsizip/...: anything GDAL reads)")->required();
+    cmd->add_option("--vectors", o->options.vectors, "Vector files (OSM PBF/XML, Shapefile, GeoJSON, GeoPackage)")->required();
+    cmd->add_option("--mapping", o->options.mapping, "Mapping file (JSON; default: OSM roads, rivers, lakes, fields, forests)");
+    cmd->add_option("--tolerance", o->options.fitTolerance, "Spline fitting tolerance (m)");
+    cmd->add_option("--dem-cell", o->options.demCell, "Scene DEM cell (m; default: the source's resolution)");
+    cmd->add_option("--out", o->out, "Scene file to write (GeoPackage)")->required();
+    cmd->add_flag("--json", o->json, "Print the report as JSON");
+    cmd->callback([o] {
+        ImportReport report;
+        const SceneDocument doc = importScene(o->options, report, [](const std::string& stage) { std::cerr << "[import] " << stage << "\n"; });
+        std::cerr << "[import] saving " << o->out << "\n";
+        saveScene(o->out, doc);
+        if (o->json) std::cout << report.json().dump(2) << "\n";
+        else printSummary(report, o->out);
+    });
+
+    auto path = std::make_shared<std::string>();
+    auto json = std::make_shared<bool>(false);
+    CLI::App* info = app.add_subcommand("info", "What a scene file holds");
+    info->add_option("scene", *path, "Scene file (GeoPackage)")->required();
+    info->add_flag("--json", *json, "Print JSON (the only format)");
+    info->callback([path] { std::cout << sceneInfo(loadScene(*path), *path).dump(2) << "\n"; });
+}
+
+}  // namespace lacet::app

@@ -1,0 +1,238 @@
+#include "io/network_builder.h"
+
+#include <bit>
+#include <memory>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace lacet {
+namespace {
+
+struct PointKey {
+    std::uint64_t x, y;
+    explicit PointKey(Vec2 p) : x(std::bit_cast<std::uint64_t>(p.x)), y(std::bit_cast<std::uint64_t>(p.y)) {}
+    friend bool operator==(const PointKey&, const PointKey&) = default;
+};
+struct PointHash {
+    std::size_t operator()(const PointKey& k) const { return std::hash<std::uint64_t>()(k.x * 0x9e3779b97f4a7c15ULL ^ k.y); }
+};
+
+// A piece of a way between two nodes, in scene metres.
+struct Piece {
+    std::vector<Vec2> points;
+    std::size_t rule;
+    std::uint16_t flags;
+    std::size_t a, b;  // end node indices
+    bool alive = true;
+};
+
+std::vector<Vec2> project(const SceneFrame& frame, const std::vector<glm::dvec2>& lonLat) {
+    std::vector<Vec2> out;
+    out.reserve(lonLat.size());
+    for (const glm::dvec2& p : lonLat) {
+        const Vec2 q = frame.forward(p);
+        if (out.empty() || out.back() != q) out.push_back(q);
+    }
+    return out;
+}
+
+class LayerBuilder {
+public:
+    LayerBuilder(Layer& layer, LayerSummary& summary, const FeatureMapping& mapping, const SplineFitParams& fit, NetworkReport& report)
+        : layer_(layer), summary_(summary), mapping_(mapping), fit_(fit), report_(report) {}
+
+    void addWay(std::vector<Vec2> points, std::size_t rule, std::uint16_t flags) { ways_.push_back({std::move(points), rule, flags, 0, 0}); }
+
+    void buildCurves() {
+        // Nodes: way ends and shared points.
+        std::unordered_map<PointKey, int, PointHash> uses;
+        for (const Piece& w : ways_)
+            for (std::size_t i = 0; i < w.points.size(); ++i) uses[PointKey(w.points[i])] += (i == 0 || i + 1 == w.points.size()) ? 2 : 1;
+        std::vector<Piece> pieces;
+        for (const Piece& w : ways_) {
+            Piece cur{{w.points.front()}, w.rule, w.flags, node(w.points.front()), 0};
+            for (std::size_t i = 1; i < w.points.size(); ++i) {
+                cur.points.push_back(w.points[i]);
+                if (uses[PointKey(w.points[i])] >= 2) {
+                    cur.b = node(w.points[i]);
+                    pieces.push_back(cur);
+                    cur = Piece{{w.points[i]}, w.rule, w.flags, cur.b, 0};
+                }
+            }
+        }
+        mergeChains(pieces);
+        for (const Piece& p : pieces) {
+            if (!p.alive) continue;
+            SplineFitResult r;
+            try {
+                r = fitSpline(p.points, fit_);
+            } catch (const std::invalid_argument&) {
+                continue;  // a piece of one repeated point: nothing to draw
+            }
+            report_.outputVertices += r.vertices.size();
+            report_.maxFitError = std::max(report_.maxFitError, r.maxError);
+            const MappingRule& rule = mapping_.rules[p.rule];
+            Curve c;
+            c.vertices = std::move(r.vertices);
+            c.start = nodeId(p.a);
+            c.end = nodeId(p.b);
+            c.w = rule.w;
+            c.wf = rule.wf;
+            c.cls = rule.cls;
+            c.flags = p.flags;
+            layer_.addCurve(std::move(c));
+            ++summary_.curvesByClass[rule.cls];
+            if (p.flags & kBridge) ++summary_.bridges;
+            if (p.flags & kTunnel) ++summary_.tunnels;
+        }
+        for (const Node& n : layer_.nodes) summary_.junctions += n.curves.size() >= 3;
+        summary_.nodes = layer_.nodes.size();
+    }
+
+    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule) {
+        const MappingRule& r = mapping_.rules[rule];
+        Area area;
+        area.wf = r.wf;
+        area.cls = r.cls;
+        for (const std::vector<Vec2>& ring : rings) {
+            SplineFitResult fit = fitSpline(ring, fit_);
+            report_.outputVertices += fit.vertices.size();
+            report_.maxFitError = std::max(report_.maxFitError, fit.maxError);
+            const ElementId n = layer_.addNode(ring.front());
+            Curve c;
+            c.vertices = std::move(fit.vertices);
+            c.start = c.end = n;
+            c.wf = r.wf;
+            const ElementId id = layer_.addCurve(std::move(c));
+            area.loops.push_back({{id, false}});
+        }
+        summary_.holes += area.loops.size() - 1;
+        layer_.addArea(std::move(area));
+        ++summary_.areasByClass[r.cls];
+        summary_.nodes = layer_.nodes.size();
+    }
+
+private:
+    std::size_t node(Vec2 p) {
+        const auto [it, added] = nodeIndex_.try_emplace(PointKey(p), nodePoints_.size());
+        if (added) nodePoints_.push_back(p);
+        return it->second;
+    }
+    ElementId nodeId(std::size_t n) {
+        if (nodeIds_.size() <= n) nodeIds_.resize(n + 1, kNoElement);
+        if (nodeIds_[n] == kNoElement) nodeIds_[n] = layer_.addNode(nodePoints_[n]);
+        return nodeIds_[n];
+    }
+
+    // Merges pieces through nodes where exactly two pieces of the same rule and flags meet (for
+    // rivers: one ending and one starting there).
+    void mergeChains(std::vector<Piece>& pieces) {
+        std::vector<std::vector<std::size_t>> at(nodePoints_.size());
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            at[pieces[i].a].push_back(i);
+            at[pieces[i].b].push_back(i);
+        }
+        const bool rivers = layer_.kind == LayerKind::Rivers;
+        for (std::size_t n = 0; n < at.size(); ++n) {
+            std::vector<std::size_t> live;
+            for (std::size_t i : at[n])
+                if (pieces[i].alive) live.push_back(i);
+            if (live.size() != 2 || live[0] == live[1]) continue;
+            Piece& p = pieces[live[0]];
+            Piece& q = pieces[live[1]];
+            if (p.rule != q.rule || p.flags != q.flags) continue;
+            // Orient so that p ends at n and q starts at n.
+            Piece* first = &p;
+            Piece* second = &q;
+            if (p.b != n) std::swap(first, second);
+            if (first->b != n || second->a != n) {
+                if (rivers) continue;  // flows that meet head to head or tail to tail stay apart
+                if (first->b != n) {
+                    std::reverse(first->points.begin(), first->points.end());
+                    std::swap(first->a, first->b);
+                }
+                if (second->a != n) {
+                    std::reverse(second->points.begin(), second->points.end());
+                    std::swap(second->a, second->b);
+                }
+            }
+            if (first->b != n || second->a != n) continue;
+            first->points.insert(first->points.end(), second->points.begin() + 1, second->points.end());
+            first->b = second->b;
+            second->alive = false;
+            ++report_.chainsMerged;
+            // The merged piece now ends where `second` ended: update that node's list.
+            for (std::size_t& i : at[first->b])
+                if (&pieces[i] == second) i = std::size_t(first - pieces.data());
+        }
+    }
+
+    Layer& layer_;
+    LayerSummary& summary_;
+    const FeatureMapping& mapping_;
+    const SplineFitParams& fit_;
+    NetworkReport& report_;
+    std::vector<Piece> ways_;
+    std::unordered_map<PointKey, std::size_t, PointHash> nodeIndex_;
+    std::vector<Vec2> nodePoints_;
+    std::vector<ElementId> nodeIds_;
+};
+
+}  // namespace
+
+Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
+                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report) {
+    Scene scene;
+    scene.extent = extent;
+    report = {};
+    for (const MappingLayer& ml : mapping.layers) {
+        scene.layers.emplace_back();
+        scene.layers.back().name = ml.name;
+        scene.layers.back().kind = ml.kind;
+        report.layers.push_back({ml.name, ml.kind, {}, {}, 0, 0, 0, 0, 0});
+    }
+    auto outside = [&](const std::vector<glm::dvec2>& pts) {
+        if (!insideDem) return false;
+        for (const glm::dvec2& p : pts)
+            if (!insideDem(p)) return true;
+        return false;
+    };
+    std::vector<std::unique_ptr<LayerBuilder>> builders;
+    for (std::size_t l = 0; l < scene.layers.size(); ++l)
+        builders.push_back(std::make_unique<LayerBuilder>(scene.layers[l], report.layers[l], mapping, fit, report));
+    for (const RawLine& line : data.lines) {
+        if (outside(line.lonLat)) {
+            report.problems.push_back({line.source, "outside the DEM", true});
+            continue;
+        }
+        std::vector<Vec2> pts = project(frame, line.lonLat);
+        if (pts.size() < 2) continue;
+        report.inputPoints += pts.size();
+        builders[mapping.rules[line.rule].layer]->addWay(std::move(pts), line.rule, line.flags);
+    }
+    for (auto& b : builders) b->buildCurves();
+    for (const RawArea& area : data.areas) {
+        bool out = false;
+        for (const auto& ring : area.rings) out = out || outside(ring);
+        if (out) {
+            report.problems.push_back({area.source, "outside the DEM", true});
+            continue;
+        }
+        std::vector<std::vector<Vec2>> rings;
+        for (const auto& ring : area.rings) {
+            rings.push_back(project(frame, ring));
+            if (rings.back().back() != rings.back().front()) rings.back().push_back(rings.back().front());
+            report.inputPoints += rings.back().size() - 1;
+        }
+        bool degenerate = false;
+        for (const auto& ring : rings) degenerate = degenerate || ring.size() < 4;
+        if (degenerate) {
+            report.problems.push_back({area.source, "degenerate ring after projection", true});
+            continue;
+        }
+        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule);
+    }
+    return scene;
+}
+
+}  // namespace lacet

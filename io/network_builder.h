@@ -1,0 +1,44 @@
+#pragma once
+// Topology and splines (§4.1) from imported GIS features: projected lines become the nodes and
+// curves of their layers, polygons the areas.
+//
+// Lines (roads, rivers): a node wherever a way ends and wherever ways share a point (an OSM node
+// shared by two ways, or a way passing twice through one), exactly; ways are split at nodes; then
+// chains through nodes where exactly two pieces of the same rule and flags meet end to end are
+// merged into one curve (for rivers only in the flow direction). Each curve is a spline fitted
+// to its points within the tolerance (io/spline_fit.h) whose ends are its nodes, exactly.
+// Polygons (lakes, fields, forests): each ring becomes one closed curve from a node to itself,
+// fitted the same way; the outer ring and the holes make the area's loops. Borders shared between
+// neighbouring polygons are not merged into shared curves (each polygon keeps its own).
+// Features with a point outside the DEM are skipped and reported.
+
+#include <functional>
+
+#include "io/scene_frame.h"
+#include "io/spline_fit.h"
+#include "io/vector_import.h"
+
+namespace lacet {
+
+struct LayerSummary {
+    std::string name;
+    LayerKind kind = LayerKind::Other;
+    std::map<std::uint16_t, std::size_t> curvesByClass;  // roads and rivers
+    std::map<std::uint16_t, std::size_t> areasByClass;   // area layers
+    std::size_t nodes = 0, junctions = 0, bridges = 0, tunnels = 0, holes = 0;
+};
+
+struct NetworkReport {
+    std::vector<LayerSummary> layers;
+    std::size_t inputPoints = 0;     // distinct points of the kept features
+    std::size_t outputVertices = 0;  // on-curve and control vertices of the fitted curves
+    double maxFitError = 0.0;        // metres, measured
+    std::size_t chainsMerged = 0;
+    std::vector<FeatureProblem> problems;
+};
+
+// `insideDem(lonLat)`: whether the DEM covers a point (null: no DEM check).
+Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
+                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report);
+
+}  // namespace lacet

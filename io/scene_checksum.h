@@ -1,0 +1,16 @@
+#pragma once
+// A 64-bit checksum of a scene document's values, stored in the scene file: SQLite checks the file's
+// structure, not the values inside it; the checksum catches damaged coordinates, heights and ids
+// that would otherwise load silently. Every field counts, dead slots included, floats and doubles
+// by their bits (so -0.0 and NaN payloads too).
+
+#include <string>
+
+#include "io/scene_file.h"
+
+namespace lacet {
+
+// 16 lowercase hex digits; the same document always gives the same text, on any host.
+std::string sceneChecksumText(const SceneDocument& doc);
+
+}  // namespace lacet

@@ -1,0 +1,67 @@
+#pragma once
+// The scene file: a scene, its georeference and its DEM in one GeoPackage (OGC GPKG 1.2, an SQLite
+// database), so that `ogrinfo` and `gdalinfo` open it and GIS tools can look inside.
+//
+// Contents (format version 1):
+//   dem           the DEM as a GPKG 2D gridded coverage raster, Float32 in lossless TIFF tiles, written
+//                 through GDAL (io/gpkg_dem.h). Absent when the document has no DEM: the file is then
+//                 a vector-only GeoPackage, which `gdalinfo` refuses ("not recognized") though
+//                 `ogrinfo` opens it.
+//   lacet_meta    key/value text: format, format_version, the extent, the georeference, crs_wkt and the
+//                 DEM's grid (dem, dem_width, dem_height, dem_extent_*), and a 64-bit checksum of
+//                 the whole document's values (checksum, 16 hex digits). Doubles are C hex floats
+//                 ("0x1.f4p+9", exact; a NaN as "nan:" and its 16 hex digits of bits).
+//   lacet_layers  id, name, kind (toString(LayerKind)).
+//   lacet_nodes   layer, id, x, y, alive, curves (BLOB, u32 ids).
+//   lacet_curves  layer, id, start, end, w, wf, cls, flags, alive, vertices (BLOB: every x, y as
+//                 f64, then one flag byte per vertex: bit 0 on-curve, bit 1 closing), areas (BLOB, u32).
+//   lacet_areas   layer, id, wf, cls, axial, alive, loops (BLOB: u32 loop count, then per loop a u32
+//                 edge count and per edge a u32 curve id and a u8 reversed flag).
+// All binary values are little-endian. Every slot is stored, deleted ones too (alive = 0), so ids
+// survive. The lacet_* tables are 'attributes' entries of gpkg_contents. Doubles and floats in REAL
+// columns are exact (SQLite REAL is a 64-bit double), except the two values SQLite cannot keep in a
+// REAL column, -0.0 (kept as 0) and NaN (kept as NULL): a row with one of those also carries the exact
+// bytes of its REAL fields in its `exact` BLOB column (x, y as f64; w, wf or wf as f32), NULL otherwise.
+// The file is for Lacet to write: a GIS tool may read it, but a value edited outside Lacet no longer
+// matches the checksum, and the file is refused as corrupt.
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "io/georeference.h"
+#include "model/graph.h"
+#include "raster/dem.h"
+
+namespace lacet {
+
+class SceneFileError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct SceneDocument {
+    Scene scene;
+    Georeference georeference;
+    std::optional<Dem> dem;
+};
+
+// Current version of the format above; loadScene refuses files of a later version.
+constexpr int kSceneFormatVersion = 1;
+
+// Saves atomically: writes `path` + ".tmp" (removing a stale one and its SQLite journal), fsyncs
+// it, then renames it over `path` and fsyncs the directory; a crash or an exception at any point
+// leaves a previous file at `path` intact (after an exception, the temporary file is removed).
+// The SQLite part (everything but the DEM raster) is written in one transaction. Refuses a scene
+// that fails validate() (it could not be loaded back) and one with more than 65536 layers. Throws
+// SceneFileError naming the file and the reason.
+void saveScene(const std::string& path, const SceneDocument& doc);
+
+// Loads what saveScene wrote: the same model bit for bit (every layer, node, curve, area, dead slots
+// included, every double exact; the DEM's heights exact). Throws SceneFileError naming the file and
+// the reason for a missing, empty, truncated or corrupt file (SQLite's page count and quick_check
+// first, then every value read is checked, then the checksum), a file that is not a Lacet scene or
+// is of a later format version, or one whose model fails validate() (model/validate.h).
+SceneDocument loadScene(const std::string& path);
+
+}  // namespace lacet

@@ -1,0 +1,226 @@
+#include "io/vector_import.h"
+
+#include <cmath>
+#include <memory>
+
+#include <cpl_error.h>
+#include <gdal_priv.h>
+#include <ogr_geometry.h>
+#include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
+
+namespace lacet {
+namespace {
+
+struct GdalClose {
+    void operator()(GDALDataset* d) const { GDALClose(d); }
+};
+
+// Points of a line string as lon/lat, consecutive duplicates removed. Returns false on a
+// non-finite coordinate; `duplicates` counts the removed points.
+bool points(const OGRSimpleCurve& c, OGRCoordinateTransformation* ct, std::vector<glm::dvec2>& out, std::size_t& duplicates) {
+    out.clear();
+    const int n = c.getNumPoints();
+    std::vector<double> xs(std::size_t(std::max(n, 0))), ys(xs.size());
+    for (int i = 0; i < n; ++i) xs[std::size_t(i)] = c.getX(i), ys[std::size_t(i)] = c.getY(i);
+    for (std::size_t i = 0; i < xs.size(); ++i)
+        if (!std::isfinite(xs[i]) || !std::isfinite(ys[i])) return false;
+    if (ct && n > 0 && !ct->Transform(std::size_t(n), xs.data(), ys.data())) return false;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+        const glm::dvec2 p(xs[i], ys[i]);
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || std::abs(p.x) > 180.0 || std::abs(p.y) > 90.0) return false;
+        if (!out.empty() && out.back() == p) {
+            ++duplicates;
+            continue;
+        }
+        out.push_back(p);
+    }
+    return true;
+}
+
+class Reader {
+public:
+    Reader(const std::string& path, const FeatureMapping& mapping, VectorData& out) : path_(path), mapping_(mapping), out_(out) {}
+
+    void feature(OGRLayer& layer, OGRFeature& f, OGRCoordinateTransformation* ct) {
+        ++out_.featuresRead;
+        const SourceRef src{path_, layer.GetName(), f.GetFID()};
+        std::map<std::string, std::string> attributes;
+        for (int i = 0; i < f.GetFieldCount(); ++i) {
+            if (!f.IsFieldSetAndNotNull(i)) continue;
+            const std::string name = f.GetFieldDefnRef(i)->GetNameRef();
+            if (name == "other_tags") parseOtherTags(f.GetFieldAsString(i), attributes);
+            else attributes[name] = f.GetFieldAsString(i);
+        }
+        const OGRGeometry* g = f.GetGeometryRef();
+        if (!g) {
+            // Attributes alone: not a problem unless a rule would have taken it.
+            if (mapping_.match(attributes, GeometryKind::Line) || mapping_.match(attributes, GeometryKind::Area))
+                problem(src, "no geometry");
+            else ++out_.unmapped;
+            return;
+        }
+        const OGRwkbGeometryType type = wkbFlatten(g->getGeometryType());
+        const bool line = type == wkbLineString || type == wkbMultiLineString;
+        const bool area = type == wkbPolygon || type == wkbMultiPolygon;
+        if (!line && !area) {
+            ++out_.unmapped;
+            return;
+        }
+        const auto rule = mapping_.match(attributes, line ? GeometryKind::Line : GeometryKind::Area);
+        if (!rule) {
+            ++out_.unmapped;
+            return;
+        }
+        std::map<std::string, std::string> kept;
+        for (const std::string& k : mapping_.keep)
+            if (attributes.count(k)) kept[k] = attributes[k];
+        if (line) lines(*g, type, *rule, attributes, kept, src, ct);
+        else areas(*g, type, *rule, kept, src, ct);
+    }
+
+    void problem(const SourceRef& src, std::string reason, bool skipped = true) {
+        out_.problems.push_back({src, std::move(reason), skipped});
+    }
+
+private:
+    void lines(const OGRGeometry& g, OGRwkbGeometryType type, std::size_t rule, const std::map<std::string, std::string>& attributes,
+               const std::map<std::string, std::string>& kept, const SourceRef& src, OGRCoordinateTransformation* ct) {
+        std::vector<const OGRLineString*> parts;
+        if (type == wkbLineString) parts.push_back(g.toLineString());
+        else
+            for (const OGRLineString* l : *g.toMultiLineString()) parts.push_back(l);
+        for (const OGRLineString* part : parts) {
+            RawLine l;
+            l.rule = rule;
+            l.source = src;
+            l.kept = kept;
+            std::size_t duplicates = 0;
+            if (!points(*part, ct, l.lonLat, duplicates)) {
+                problem(src, "non-finite or out-of-range coordinate");
+                continue;
+            }
+            if (l.lonLat.size() < 2) {
+                problem(src, "zero-length way (fewer than 2 distinct points)");
+                continue;
+            }
+            if (duplicates > 0) problem(src, "duplicate consecutive points (removed)", false);
+            const auto is = [&](const char* k, const char* v) {
+                const auto it = attributes.find(k);
+                return it != attributes.end() && it->second == v;
+            };
+            if (is("bridge", "yes") || is("bridge", "viaduct")) l.flags |= kBridge;
+            if (is("tunnel", "yes")) l.flags |= kTunnel;
+            out_.lines.push_back(std::move(l));
+        }
+    }
+
+    void areas(const OGRGeometry& g, OGRwkbGeometryType type, std::size_t rule, const std::map<std::string, std::string>& kept,
+               const SourceRef& src, OGRCoordinateTransformation* ct) {
+        std::vector<const OGRPolygon*> polygons;
+        if (type == wkbPolygon) polygons.push_back(g.toPolygon());
+        else
+            for (const OGRPolygon* p : *g.toMultiPolygon()) polygons.push_back(p);
+        for (const OGRPolygon* polygon : polygons) {
+            RawArea a;
+            a.rule = rule;
+            a.source = src;
+            a.kept = kept;
+            bool ok = true;
+            std::size_t duplicates = 0;
+            for (int r = -1; ok && r < polygon->getNumInteriorRings(); ++r) {
+                const OGRLinearRing* ring = r < 0 ? polygon->getExteriorRing() : polygon->getInteriorRing(r);
+                if (!ring || ring->getNumPoints() == 0) {
+                    problem(src, "empty ring");
+                    ok = false;
+                    break;
+                }
+                if (ring->getX(0) != ring->getX(ring->getNumPoints() - 1) || ring->getY(0) != ring->getY(ring->getNumPoints() - 1)) {
+                    problem(src, "unclosed ring");
+                    ok = false;
+                    break;
+                }
+                std::vector<glm::dvec2> pts;
+                if (!points(*ring, ct, pts, duplicates)) {
+                    problem(src, "non-finite or out-of-range coordinate");
+                    ok = false;
+                    break;
+                }
+                if (pts.size() < 4) {
+                    problem(src, "degenerate ring (fewer than 3 distinct points)");
+                    ok = false;
+                    break;
+                }
+                a.rings.push_back(std::move(pts));
+            }
+            if (!ok) continue;
+            if (OGRGeometryFactory::haveGEOS()) {
+                CPLPushErrorHandler(CPLQuietErrorHandler);
+                const bool valid = polygon->IsValid();
+                CPLPopErrorHandler();
+                if (!valid) {
+                    problem(src, "self-intersecting or invalid polygon");
+                    continue;
+                }
+            }
+            if (duplicates > 0) problem(src, "duplicate consecutive points (removed)", false);
+            out_.areas.push_back(std::move(a));
+        }
+    }
+
+    std::string path_;
+    const FeatureMapping& mapping_;
+    VectorData& out_;
+};
+
+}  // namespace
+
+void readVectors(const std::string& path, const FeatureMapping& mapping, VectorData& out) {
+    GDALAllRegister();
+    CPLErrorReset();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    std::unique_ptr<GDALDataset, GdalClose> ds(GDALDataset::Open(path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY));
+    CPLPopErrorHandler();
+    if (!ds) {
+        const std::string why = CPLGetLastErrorMsg();
+        throw VectorImportError(path + ": cannot open as vector data" + (why.empty() ? std::string() : " (" + why + ")"));
+    }
+    Reader reader(path, mapping, out);
+    OGRSpatialReference wgs84;
+    wgs84.SetWellKnownGeogCS("WGS84");
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::map<OGRLayer*, std::unique_ptr<OGRCoordinateTransformation>> transforms;
+    std::map<OGRLayer*, bool> unknownCrs;
+    const std::size_t before = out.featuresRead;
+    // Dataset-level iteration: the order OGR's OSM driver needs, and layer by layer elsewhere.
+    ds->ResetReading();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    for (;;) {
+        OGRLayer* layer = nullptr;
+        OGRFeatureUniquePtr f(ds->GetNextFeature(&layer, nullptr, nullptr, nullptr));
+        if (!f || !layer) break;
+        if (!transforms.count(layer)) {
+            const OGRSpatialReference* srs = layer->GetSpatialRef();
+            unknownCrs[layer] = srs == nullptr;
+            if (srs) {
+                OGRSpatialReference source(*srs);
+                source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+                if (!(source.IsGeographic() && source.IsSame(&wgs84)))
+                    transforms[layer].reset(OGRCreateCoordinateTransformation(&source, &wgs84));
+                else transforms[layer] = nullptr;
+            } else transforms[layer] = nullptr;
+            if (unknownCrs[layer]) reader.problem({path, layer->GetName(), -1}, "unknown CRS (the layer has none): its features are skipped");
+        }
+        if (unknownCrs[layer]) {
+            ++out.featuresRead;
+            continue;
+        }
+        reader.feature(*layer, *f, transforms[layer].get());
+    }
+    CPLPopErrorHandler();
+    const std::string err = CPLGetLastErrorType() >= CE_Failure ? CPLGetLastErrorMsg() : "";
+    if (!err.empty()) reader.problem({path, "", -1}, "read error (" + err + "): the rest of the file was skipped");
+    if (out.featuresRead == before) reader.problem({path, "", -1}, "no features (empty file or empty layers)");
+}
+
+}  // namespace lacet

@@ -1,0 +1,67 @@
+#pragma once
+// Vector import through OGR (OSM PBF and XML, Shapefile, GeoJSON, GeoPackage: anything OGR reads):
+// every feature the mapping (io/feature_mapping.h) accepts, as lon/lat lines and areas, with a
+// per-feature problem report. A bad feature is skipped and the rest imports.
+//
+// Per-feature problems (file, layer, feature id, reason): no geometry; a non-finite coordinate; a
+// way of fewer than 2 distinct points (zero length); a ring that is not closed, or has fewer than
+// 3 distinct points; a self-intersecting or otherwise invalid polygon (GEOS, when GDAL has it);
+// a layer with no CRS (its features are skipped: the CRS is unknown). Consecutive duplicate
+// points are removed and reported, and the feature is kept. An empty file is a problem too.
+// A file OGR cannot open throws VectorImportError naming the file and the reason.
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "io/feature_mapping.h"
+
+namespace lacet {
+
+class VectorImportError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct SourceRef {
+    std::string file, layer;
+    std::int64_t fid = -1;
+    std::string str() const { return file + (layer.empty() ? "" : " layer '" + layer + "'") + (fid >= 0 ? " feature " + std::to_string(fid) : ""); }
+};
+
+struct FeatureProblem {
+    SourceRef source;
+    std::string reason;
+    bool skipped = true;  // false: repaired and kept (duplicate points)
+};
+
+struct RawLine {
+    std::size_t rule = 0;
+    std::vector<glm::dvec2> lonLat;
+    std::uint16_t flags = 0;  // CurveFlag
+    std::map<std::string, std::string> kept;
+    SourceRef source;
+};
+
+struct RawArea {
+    std::size_t rule = 0;
+    std::vector<std::vector<glm::dvec2>> rings;  // [0] outer, others holes; closed (first == last)
+    std::map<std::string, std::string> kept;
+    SourceRef source;
+};
+
+struct VectorData {
+    std::vector<RawLine> lines;
+    std::vector<RawArea> areas;
+    std::vector<FeatureProblem> problems;
+    std::size_t featuresRead = 0;
+    std::size_t unmapped = 0;  // features no rule matched (not problems)
+};
+
+// Appends the features of one file.
+void readVectors(const std::string& path, const FeatureMapping& mapping, VectorData& out);
+
+}  // namespace lacet

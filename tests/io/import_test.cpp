@@ -1,0 +1,232 @@
+// GIS import: the mapping, the vector reader's per-feature report on a corpus of faults, the DEM
+// import (voids, reprojection, outside), the scene frame, topology and splines, end to end.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "io/dem_import.h"
+#include "io/scene_import.h"
+#include "model/validate.h"
+#include "tests/io/gis_fixtures.h"
+
+namespace lacet {
+namespace {
+
+std::map<std::string, std::vector<std::int64_t>> byReason(const std::vector<FeatureProblem>& problems) {
+    std::map<std::string, std::vector<std::int64_t>> out;
+    for (const FeatureProblem& p : problems) out[p.reason].push_back(p.source.fid);
+    return out;
+}
+
+TEST(FeatureMapping, DefaultMappingAndOtherTags) {
+    const FeatureMapping m = defaultMapping();
+    std::map<std::string, std::string> a;
+    parseOtherTags(R"("bridge"=>"yes","name"=>"Pont \"vell\"","layer"=>"1")", a);
+    EXPECT_EQ(a.at("bridge"), "yes");
+    EXPECT_EQ(a.at("name"), "Pont \"vell\"");
+    EXPECT_EQ(a.at("layer"), "1");
+    a["highway"] = "primary";
+    const auto rule = m.match(a, GeometryKind::Line);
+    ASSERT_TRUE(rule);
+    EXPECT_EQ(m.layers[m.rules[*rule].layer].kind, LayerKind::Roads);
+    EXPECT_EQ(m.rules[*rule].cls, 0);
+    EXPECT_FALSE(m.match({{"highway", "footway"}}, GeometryKind::Line));
+    EXPECT_FALSE(m.match({{"highway", "primary"}}, GeometryKind::Area));
+    EXPECT_TRUE(m.match({{"natural", "wood"}}, GeometryKind::Area));
+}
+
+TEST(FeatureMapping, BadMappingFilesNameTheFileAndTheReason) {
+    try {
+        loadMapping(test::vectorData("bad_mapping.json"));
+        FAIL();
+    } catch (const MappingError& e) {
+        EXPECT_NE(std::string(e.what()).find("bad_mapping.json"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("unknown layer kind 'motorways'"), std::string::npos);
+    }
+    EXPECT_THROW(parseMapping("{", "inline"), MappingError);
+    EXPECT_THROW(parseMapping(R"({"layers":[{"name":"r","kind":"roads"}],"rules":[{"geometry":"line","match":{"a":["b"]},"layer":"x"}]})", "inline"),
+                 MappingError);
+    EXPECT_THROW(parseMapping(R"({"layers":[{"name":"r","kind":"roads"}],"rules":[{"geometry":"area","match":{"a":["b"]},"layer":"r"}]})", "inline"),
+                 MappingError);
+    EXPECT_THROW(loadMapping("/nonexistent/mapping.json"), MappingError);
+}
+
+TEST(VectorImport, EachGeometryFaultGetsItsExactReportAndTheRestImports) {
+    VectorData d;
+    readVectors(test::vectorData("faults.geojson"), defaultMapping(), d);
+    const auto r = byReason(d.problems);
+    EXPECT_EQ(r.at("zero-length way (fewer than 2 distinct points)"), (std::vector<std::int64_t>{10}));
+    EXPECT_EQ(r.at("duplicate consecutive points (removed)"), (std::vector<std::int64_t>{11}));
+    EXPECT_EQ(r.at("self-intersecting or invalid polygon"), (std::vector<std::int64_t>{12}));
+    EXPECT_EQ(r.at("unclosed ring"), (std::vector<std::int64_t>{13}));
+    EXPECT_EQ(r.at("non-finite or out-of-range coordinate"), (std::vector<std::int64_t>{14}));
+    EXPECT_EQ(r.at("no geometry"), (std::vector<std::int64_t>{16}));
+    EXPECT_EQ(r.at("degenerate ring (fewer than 3 distinct points)"), (std::vector<std::int64_t>{17}));
+    EXPECT_EQ(d.problems.size(), 7u);
+    for (const FeatureProblem& p : d.problems) EXPECT_NE(p.source.str().find("faults.geojson"), std::string::npos);
+    // Kept: 11 (repaired), 15 (outside any DEM: decided later), 18.
+    EXPECT_EQ(d.lines.size(), 3u);
+    EXPECT_EQ(d.areas.size(), 0u);
+    EXPECT_EQ(d.featuresRead, 9u);
+}
+
+TEST(VectorImport, MissingTruncatedAndEmptyFiles) {
+    VectorData d;
+    try {
+        readVectors(test::vectorData("missing.geojson"), defaultMapping(), d);
+        FAIL();
+    } catch (const VectorImportError& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.geojson: cannot open as vector data"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(readVectors(test::vectorData("truncated.geojson"), defaultMapping(), d), VectorImportError);
+    readVectors(test::vectorData("empty.geojson"), defaultMapping(), d);
+    ASSERT_EQ(d.problems.size(), 1u);
+    EXPECT_EQ(d.problems[0].reason, "no features (empty file or empty layers)");
+}
+
+TEST(VectorImport, TruncatedOsmPbfNeverCrashes) {
+    const std::string source = std::string(LACET_SOURCE_DIR) + "/../shared/data/andorra/andorra-2021-04-14.osm.pbf";
+    if (!std::filesystem::exists(source)) GTEST_SKIP() << "no Andorra data";
+    const auto dir = test::scratchDir("pbf");
+    for (std::size_t bytes : {std::size_t(0), std::size_t(100), std::size_t(5000), std::size_t(300000)}) {
+        const std::string cut = (dir / ("cut" + std::to_string(bytes) + ".osm.pbf")).string();
+        {
+            std::ifstream in(source, std::ios::binary);
+            std::ofstream out(cut, std::ios::binary);
+            std::vector<char> buf(bytes);
+            in.read(buf.data(), std::streamsize(bytes));
+            out.write(buf.data(), std::streamsize(bytes));
+        }
+        VectorData d;
+        try {
+            readVectors(cut, defaultMapping(), d);
+            // Opened: whatever was read is reported, with a problem saying the rest was not.
+            EXPECT_FALSE(d.problems.empty()) << bytes << " bytes";
+        } catch (const VectorImportError& e) {
+            EXPECT_NE(std::string(e.what()).find(cut), std::string::npos);
+        }
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(DemImport, VoidsAreFilledAndCountedAndHeightsLandWhereTheyBelong) {
+    const auto dir = test::scratchDir("dem");
+    const std::string path = test::writeFixtureDem(dir);
+    SceneFrame frame(1.525, 42.525);
+    const Vec2 a = frame.forward({1.505, 42.505}), b = frame.forward({1.545, 42.545});
+    frame.setOriginShift(-a);
+    const Box extent{{0, 0}, {b.x - a.x, b.x - a.x}};
+    DemImportReport r;
+    const Dem dem = importDem(path, frame, extent, 20.0, r);
+    EXPECT_EQ(r.voids, 36u);
+    EXPECT_EQ(r.sourceWidth, 100);
+    EXPECT_LT(r.outsideFraction, 0.05);
+    // Away from the voids and the valley's kink, the bilinear resampling of a plane is exact to
+    // float precision; the geographic position of every scene cell comes back through the frame.
+    double worst = 0.0;
+    for (int j = 0; j < dem.height(); j += 7)
+        for (int i = 0; i < dem.width(); i += 7) {
+            const glm::dvec2 ll = frame.reverse(dem.samplePosition(i, j));
+            const bool nearKink = std::abs(ll.x - 1.53) < 0.0065;  // the valley's kinks at 1.525, 1.53, 1.535
+            const bool nearVoid = ll.x > 1.5185 && ll.x < 1.5245 && ll.y > 42.5155 && ll.y < 42.5215;
+            if (nearKink || nearVoid || ll.y > 42.5495 || ll.x > 1.5495) continue;
+            worst = std::max(worst, std::abs(double(dem.at(i, j)) - test::fixtureHeight(ll.x, ll.y)));
+        }
+    EXPECT_LT(worst, 0.05) << "metres";
+    // The void block (lon 1.520-1.523, lat 42.517-42.520) is filled between its neighbours.
+    const Vec2 inVoid = frame.forward({1.5215, 42.5185});
+    EXPECT_NEAR(dem.sample(inVoid), test::fixtureHeight(1.5215, 42.5185), 15.0);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(DemImport, BadRastersGetClearErrors) {
+    const auto dir = test::scratchDir("dembad");
+    SceneFrame frame(1.5, 42.5);
+    DemImportReport r;
+    try {
+        importDem((dir / "missing.tif").string(), frame, {{0, 0}, {100, 100}}, 10.0, r);
+        FAIL();
+    } catch (const DemImportError& e) {
+        EXPECT_NE(std::string(e.what()).find("missing.tif: cannot open as a raster"), std::string::npos) << e.what();
+    }
+    const std::string garbage = (dir / "garbage.tif").string();
+    std::ofstream(garbage) << "not a tiff at all";
+    EXPECT_THROW(importDem(garbage, frame, {{0, 0}, {100, 100}}, 10.0, r), DemImportError);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(DemImport, SrtmInsideAZipThroughVsizip) {
+    const std::string zip = std::string(LACET_SOURCE_DIR) + "/../shared/data/andorra/N42E001.hgt.zip";
+    if (!std::filesystem::exists(zip)) GTEST_SKIP() << "no Andorra data";
+    const std::string path = "/vsizip/" + zip + "/N42E001.hgt";
+    const DemSourceInfo info = demSourceInfo(path);
+    EXPECT_EQ(info.width, 1201);
+    SceneFrame frame(1.55, 42.55);
+    frame.setOriginShift({5000.0, 5000.0});
+    DemImportReport r;
+    const Dem dem = importDem(path, frame, {{0, 0}, {10000, 10000}}, 90.0, r);
+    EXPECT_GT(r.voids, 0u) << "SRTM voids on the peaks";
+    EXPECT_EQ(r.outsideFraction, 0.0);
+    EXPECT_GT(r.minHeight, 300.0);
+    EXPECT_LT(r.maxHeight, 3200.0);
+}
+
+TEST(SceneFrame, ProjectionRoundTripsAndItsScaleErrorIsSmallNearTheCentre) {
+    SceneFrame f(1.6, 42.55);
+    f.setOriginShift({16000.0, 16000.0});
+    for (const glm::dvec2 ll : {glm::dvec2(1.6, 42.55), glm::dvec2(1.42, 42.43), glm::dvec2(1.79, 42.66)}) {
+        const glm::dvec2 back = f.reverse(f.forward(ll));
+        EXPECT_NEAR(back.x, ll.x, 1e-10);
+        EXPECT_NEAR(back.y, ll.y, 1e-10);
+    }
+    EXPECT_NEAR(f.forward({1.6, 42.55}).x, 16000.0, 1e-6);
+    // 1 km north is 1 km of scene y on the central meridian (within the ellipsoid's meridian arc).
+    EXPECT_NEAR(f.forward({1.6, 42.55 + 1.0 / 111.1}).y - 16000.0, 1000.0, 3.0);
+    const double e = f.largestScaleError({{0, 0}, {32000, 32000}});
+    EXPECT_GT(e, 0.0);
+    EXPECT_LT(e, 1e-5);  // 16 km from the central meridian: (16/6371)^2 / 2 = 3.2e-6
+    EXPECT_NE(f.georeference().crsWkt.find("Transverse_Mercator"), std::string::npos);
+}
+
+TEST(SceneImport, GeoJsonAndDemIntoAValidSceneWithJunctionsBridgesAndHoles) {
+    const auto dir = test::scratchDir("import");
+    ImportOptions o;
+    o.dem = test::writeFixtureDem(dir);
+    o.vectors = {test::vectorData("good.geojson"), test::vectorData("faults.geojson")};
+    ImportReport r;
+    const SceneDocument doc = importScene(o, r);
+    EXPECT_TRUE(validate(doc.scene).empty());
+    const Layer& roads = doc.scene.layers[0];
+    const Layer& rivers = doc.scene.layers[1];
+    const Layer& lakes = doc.scene.layers[2];
+    // Roads: 1 and 2 meet end to end (same rule: merged), 3 leaves 1 at a shared interior point,
+    // 4 (a bridge) leaves 2 at a shared interior point: 2 junctions of degree 3.
+    std::size_t junctions = 0;
+    for (const Node& n : roads.nodes) junctions += n.curves.size() >= 3;
+    EXPECT_EQ(junctions, 2u);
+    std::size_t bridges = 0;
+    for (const Curve& c : roads.curves) bridges += (c.flags & kBridge) != 0;
+    EXPECT_EQ(bridges, 1u);
+    EXPECT_EQ(rivers.curves.size(), 1u);
+    ASSERT_EQ(lakes.areas.size(), 1u);
+    EXPECT_EQ(lakes.areas[0].loops.size(), 2u) << "the lake keeps its island";
+    // Fault corpus: the feature outside the DEM is reported, the repaired one imported.
+    const auto reasons = byReason(r.problems);
+    EXPECT_EQ(reasons.at("outside the DEM"), (std::vector<std::int64_t>{15}));
+    EXPECT_LE(r.network.maxFitError, o.fitTolerance + 1e-9);
+    EXPECT_GT(r.network.inputPoints, 0u);
+    // Junction positions are exact: every road node is the projection of an input point.
+    SceneFrame frame(doc.georeference);
+    const Vec2 shared = frame.forward({1.515, 42.521});
+    bool found = false;
+    for (const Node& n : roads.nodes) found = found || n.p == shared;
+    EXPECT_TRUE(found);
+    EXPECT_LT(r.largestScaleError, 1e-5);
+    const nlohmann::json j = r.json();
+    EXPECT_EQ(j["layers"][0]["junctions"], 2);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
