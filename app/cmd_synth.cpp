@@ -1,5 +1,6 @@
 // `lacet synth`: generates a synthetic scene, optionally its view-refined quadtree, and prints
 // a summary (text, or JSON with --json).
+#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -10,6 +11,8 @@
 #include "model/quadtree.h"
 #include "model/synthetic_scene.h"
 #include "model/validate.h"
+#include "io/scene_file.h"
+#include "raster/synthetic_dem.h"
 
 namespace lacet::app {
 namespace {
@@ -18,6 +21,8 @@ struct SynthOptions {
     std::uint64_t seed = 1;
     std::size_t curves = 10000;
     bool json = false;
+    std::string out;         // a scene file to write (with the synthetic DEM)
+    int demResolution = 5000;
     double altitude = 0.0;  // > 0: build the quadtree for a viewer this high above the centre
     double K = 2.8;
     int maxLevel = 24;
@@ -73,6 +78,22 @@ void run(const SynthOptions& o) {
         out["quadtree"] = {{"viewer_altitude_m", o.altitude}, {"K", o.K}, {"quads", qt.quadCount()},
                            {"depth", qt.depth()}, {"build_ms", buildMs}, {"levels", levels}};
     }
+    if (!o.out.empty()) {
+        SceneDocument doc;
+        doc.scene = s;
+        t0 = Clock::now();
+        doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});
+        const double demMs = msSince(t0);
+        t0 = Clock::now();
+        saveScene(o.out, doc);
+        const double saveMs = msSince(t0);
+        t0 = Clock::now();
+        const SceneDocument back = loadScene(o.out);
+        const double loadMs = msSince(t0);
+        out["scene_file"] = {{"path", o.out}, {"bytes", std::filesystem::file_size(o.out)}, {"dem_ms", demMs},
+                             {"dem_samples", {doc.dem->width(), doc.dem->height()}}, {"save_ms", saveMs}, {"load_ms", loadMs},
+                             {"curves_loaded", count(back.scene).curves}};
+    }
     out["peak_rss_mib"] = peakRssMiB();
     if (o.json) {
         std::cout << out.dump(2) << "\n";
@@ -91,6 +112,7 @@ void run(const SynthOptions& o) {
         for (const auto& l : q["levels"])
             std::cout << "  level " << l["level"] << ": " << l["quads"] << " quads, " << l["ancestor_buckets"] << " clipped elements\n";
     }
+    if (out.contains("scene_file")) std::cout << "Scene file: " << out["scene_file"].dump() << "\n";
     std::cout << "Peak memory: " << out["peak_rss_mib"] << " MiB\n";
 }
 
@@ -105,6 +127,8 @@ void addSynthCommand(CLI::App& app) {
     cmd->add_option("--K", o->K, "Subdivision factor: split quads closer than K times their size");
     cmd->add_option("--max-level", o->maxLevel, "Deepest quadtree level");
     cmd->add_flag("--json", o->json, "Print JSON");
+    cmd->add_option("--out", o->out, "Also save the scene and its synthetic DEM as a scene file (GeoPackage), then load it back");
+    cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (with --out)");
     cmd->callback([o] { run(*o); });
 }
 

@@ -70,6 +70,7 @@ public:
                 continue;  // a piece of one repeated point: nothing to draw
             }
             report_.outputVertices += r.vertices.size();
+            for (const Vertex& v : r.vertices) report_.onCurveVertices += v.onCurve;
             report_.maxFitError = std::max(report_.maxFitError, r.maxError);
             const MappingRule& rule = mapping_.rules[p.rule];
             Curve c;
@@ -97,6 +98,7 @@ public:
         for (const std::vector<Vec2>& ring : rings) {
             SplineFitResult fit = fitSpline(ring, fit_);
             report_.outputVertices += fit.vertices.size();
+            for (const Vertex& v : fit.vertices) report_.onCurveVertices += v.onCurve;
             report_.maxFitError = std::max(report_.maxFitError, fit.maxError);
             const ElementId n = layer_.addNode(ring.front());
             Curve c;

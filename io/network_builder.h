@@ -32,6 +32,7 @@ struct NetworkReport {
     std::vector<LayerSummary> layers;
     std::size_t inputPoints = 0;     // distinct points of the kept features
     std::size_t outputVertices = 0;  // on-curve and control vertices of the fitted curves
+    std::size_t onCurveVertices = 0; // of which on-curve
     double maxFitError = 0.0;        // metres, measured
     std::size_t chainsMerged = 0;
     std::vector<FeatureProblem> problems;

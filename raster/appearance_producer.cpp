@@ -17,7 +17,7 @@ namespace lacet {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr std::uint8_t kTouched = 1, kInside = 2;
+constexpr std::uint8_t kTouched = 1, kInside = 2, kCap = 4;  // kCap: nearest to a curve's end node, beyond it
 
 // Per-thread buffers of one tile, on the supersampled canvas.
 struct Scratch {
@@ -149,6 +149,7 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
 struct Segment {
     Vec2 p0, p1;
     double u0 = 0.0, u1 = 0.0;
+    bool startCap = false, endCap = false;  // p0 (p1) is the ancestor's start (end) node
 };
 
 std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a) {
@@ -157,6 +158,7 @@ std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const C
         Vec2 prev{};
         double prevU = 0.0;
         std::size_t k = 0;
+        const std::size_t first = out.size();
         for (const Vertex& vx : run.vertices) {
             if (!vx.onCurve) continue;
             const double u = data ? data->u(l, a, run.s[k]) : 0.0;
@@ -164,6 +166,10 @@ std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const C
             prev = vx.p;
             prevU = u;
             ++k;
+        }
+        if (out.size() > first) {
+            out[first].startCap = run.startsAtNode;
+            out.back().endCap = run.endsAtNode;
         }
     }
     return out;
@@ -213,6 +219,8 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
                 s.dist[k] = float(d);
                 s.v[k] = float(seg.x * r.y - seg.y * r.x >= 0.0 ? d : -d);
                 s.u[k] = float(sg.u0 + (sg.u1 - sg.u0) * t);
+                const bool cap = (t == 0.0 && sg.startCap) || (t == 1.0 && sg.endCap);
+                s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
             }
             canvas.touch(k);
         });
@@ -278,7 +286,7 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
     const double laneHalf = 0.5 * (hw - g.sideInset);
     for (std::uint32_t k : s.touched) {
         const double d = s.dist[k], v = s.v[k], u = s.u[k];
-        if (d > hw) continue;
+        if (d > hw || (s.flags[k] & kCap)) continue;  // no side line around the round end caps
         // Side lines and the dashed centre line, stopping at junctions.
         float m = bandCoverage(float(d / px) - sideAxis, halfLine);  // d = |v|: both sides at once
         double phase = u - g.dashPeriod * std::floor(u / g.dashPeriod);  // [0, period)

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -148,6 +149,8 @@ struct NamedScene {
     std::string name;
     Scene (*make)();
 };
+// GoogleTest prints a parameter with this instead of its bytes.
+inline void PrintTo(const NamedScene& s, std::ostream* os) { *os << s.name; }
 inline const std::vector<NamedScene>& handScenes() {
     static const std::vector<NamedScene> scenes = {{"junctions", junctionsScene},
                                                    {"river_under_road", riverUnderRoadScene},
