@@ -3,6 +3,7 @@
 #include <sqlite3.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <bit>
@@ -18,6 +19,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -674,6 +676,40 @@ TEST_F(SceneFile, OverwrittenBytesAreRefusedWithoutACrash) {
     }
     std::printf("[ figures ] overwritten pages: %d refused, %d loaded\n", refused, loaded);
     EXPECT_GT(refused, 0);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// A child process saves over the file in a loop and is killed (SIGKILL) at varying moments: the
+// file at the path always opens and holds one of the two scenes, whole.
+TEST_F(SceneFile, KillingTheProcessDuringASaveLeavesAWholeScene) {
+    const SceneDocument& big = syntheticDocument();
+    const SceneDocument small = handDocument(true);
+    const std::string path = file("killed.gpkg");
+    saveScene(path, small);
+    int sawOld = 0, sawNew = 0;
+    for (int delayMs : {1, 5, 12, 25, 50, 100, 200}) {
+        const pid_t child = ::fork();
+        ASSERT_GE(child, 0);
+        if (child == 0) {
+            for (;;) saveScene(path, big);  // killed from outside
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(delayMs));
+        ::kill(child, SIGKILL);
+        int status = 0;
+        ::waitpid(child, &status, 0);
+        ASSERT_TRUE(WIFSIGNALED(status));
+        const SceneDocument loaded = loadScene(path);
+        const bool isOld = identical(loaded, small), isNew = identical(loaded, big);
+        EXPECT_TRUE(isOld || isNew) << "after a kill at " << delayMs << " ms";
+        sawOld += isOld;
+        sawNew += isNew;
+    }
+    std::printf("[ figures ] killed saves: %d left the old scene, %d the new one, 0 a broken file\n", sawOld, sawNew);
 }
 
 }  // namespace
