@@ -43,6 +43,7 @@ void addBenchCommand(CLI::App& app) {
     auto p = std::make_shared<bench::ProducerBenchOptions>();
     auto pJson = std::make_shared<bool>(true);
     CLI::App* producers = bench->add_subcommand("producers", "Time per quad of the appearance and elevation producers; 2 threads against 1");
+    producers->add_option("--scene", p->scene, "Scene file (lacet import) instead of the synthetic scene");
     producers->add_option("--curves", p->curves, "Curves of the synthetic scene (600000: the paper's scale)");
     producers->add_option("--seed", p->seed, "Random seed");
     producers->add_option("--dem-resolution", p->demResolution, "DEM samples per 100 km");

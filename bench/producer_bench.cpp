@@ -9,6 +9,7 @@
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "io/scene_file.h"
 #include "model/random_edits.h"
 #include "model/synthetic_scene.h"
 #include "raster/dem_height_field.h"
@@ -39,10 +40,15 @@ std::vector<glm::dvec3> roadViews(const Scene& s, int count, double altitude, st
 
 nlohmann::json benchProducers(const ProducerBenchOptions& o) {
     auto t0 = Clock::now();
-    const Scene scene = makeSyntheticScene({o.seed, o.curves});
+    SceneDocument doc;
+    if (!o.scene.empty()) doc = loadScene(o.scene);
+    else doc.scene = makeSyntheticScene({o.seed, o.curves});
+    if (!doc.dem && !o.scene.empty()) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
+    const Scene& scene = doc.scene;
     const double synthMs = msSince(t0);
     t0 = Clock::now();
-    const Dem dem = makeSyntheticDem(scene, {o.seed, o.demResolution});
+    if (!doc.dem) doc.dem = makeSyntheticDem(scene, {o.seed, o.demResolution});
+    const Dem& dem = *doc.dem;
     const double demMs = msSince(t0);
     const DemHeightField heights(dem);
     Quadtree qt(scene);
@@ -115,7 +121,7 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
                            {"elevation_warm", stats(elevationWarm[level])},
                            {"elevation_cold", stats(elevationCold[level])}});
     const SceneCounts c = count(scene);
-    return {{"scene", {{"curves", c.curves}, {"areas", c.areas}, {"extent_km", scene.extent.size().x / 1000.0},
+    return {{"scene", {{"file", o.scene}, {"curves", c.curves}, {"areas", c.areas}, {"extent_km", scene.extent.size().x / 1000.0},
                        {"synth_ms", synthMs}, {"dem_samples_per_side", dem.width()}, {"dem_ms", demMs}}},
             {"views", o.views},
             {"viewer_altitude_m", o.altitude},

@@ -2,6 +2,7 @@
 // Benchmark tasks behind `lacet bench ...`: each runs and returns its figures as JSON.
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -23,6 +24,7 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
 // (K as in the paper), cold (curve data computed on demand) and warm; and the throughput of two
 // threads against one over the same quads.
 struct ProducerBenchOptions {
+    std::string scene;         // a scene file (lacet import) instead of the synthetic scene
     std::size_t curves = 600000;
     std::uint64_t seed = 1;
     int demResolution = 5000;  // DEM samples per 100 km (the paper: 5000 x 5000 over 100 km)

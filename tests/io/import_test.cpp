@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <ogrsf_frmts.h>
 
 #include "io/dem_import.h"
 #include "io/scene_import.h"
@@ -225,6 +226,51 @@ TEST(SceneImport, GeoJsonAndDemIntoAValidSceneWithJunctionsBridgesAndHoles) {
     EXPECT_LT(r.largestScaleError, 1e-5);
     const nlohmann::json j = r.json();
     EXPECT_EQ(j["layers"][0]["junctions"], 2);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// Writes a line Shapefile with one primary road, with or without a CRS (.prj).
+std::string writeShapefile(const std::filesystem::path& dir, bool withCrs) {
+    GDALAllRegister();
+    const std::string path = (dir / (withCrs ? "roads.shp" : "roads_nocrs.shp")).string();
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("ESRI Shapefile");
+    GDALDataset* ds = drv->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
+    OGRSpatialReference utm;
+    utm.importFromEPSG(32631);  // UTM 31N, a projected CRS the reader must transform from
+    OGRLayer* layer = ds->CreateLayer("roads", withCrs ? &utm : nullptr, wkbLineString, nullptr);
+    OGRFieldDefn field("highway", OFTString);
+    layer->CreateField(&field);
+    OGRFeature* f = OGRFeature::CreateFeature(layer->GetLayerDefn());
+    f->SetField("highway", "primary");
+    OGRLineString line;
+    line.addPoint(376000.0, 4708000.0);  // about lon 1.51, lat 42.52
+    line.addPoint(377000.0, 4708500.0);
+    f->SetGeometry(&line);
+    if (layer->CreateFeature(f) != OGRERR_NONE) std::abort();
+    OGRFeature::DestroyFeature(f);
+    GDALClose(ds);
+    return path;
+}
+
+TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreReported) {
+    const auto dir = test::scratchDir("shp");
+    VectorData d;
+    readVectors(writeShapefile(dir, true), defaultMapping(), d);
+    ASSERT_EQ(d.lines.size(), 1u);
+    EXPECT_NEAR(d.lines[0].lonLat[0].x, 1.51, 0.02);
+    EXPECT_NEAR(d.lines[0].lonLat[0].y, 42.52, 0.02);
+    VectorData e;
+    readVectors(writeShapefile(dir, false), defaultMapping(), e);
+    EXPECT_TRUE(e.lines.empty());
+    ASSERT_EQ(e.problems.size(), 1u);
+    EXPECT_EQ(e.problems[0].reason, "unknown CRS (the layer has none): its features are skipped");
+    EXPECT_NE(e.problems[0].source.str().find("roads_nocrs.shp"), std::string::npos);
     std::filesystem::remove_all(dir);
 }
 
