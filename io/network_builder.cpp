@@ -23,6 +23,7 @@ struct Piece {
     std::size_t rule;
     std::uint16_t flags;
     std::size_t a, b;  // end node indices
+    const std::map<std::string, std::string>* kept = nullptr;
     bool alive = true;
 };
 
@@ -38,10 +39,13 @@ std::vector<Vec2> project(const SceneFrame& frame, const std::vector<glm::dvec2>
 
 class LayerBuilder {
 public:
-    LayerBuilder(Layer& layer, LayerSummary& summary, const FeatureMapping& mapping, const SplineFitParams& fit, NetworkReport& report)
-        : layer_(layer), summary_(summary), mapping_(mapping), fit_(fit), report_(report) {}
+    LayerBuilder(Layer& layer, LayerId id, LayerSummary& summary, const FeatureMapping& mapping, const SplineFitParams& fit,
+                 NetworkReport& report, std::vector<ElementAttribute>* attributes)
+        : layer_(layer), id_(id), summary_(summary), mapping_(mapping), fit_(fit), report_(report), attributes_(attributes) {}
 
-    void addWay(std::vector<Vec2> points, std::size_t rule, std::uint16_t flags) { ways_.push_back({std::move(points), rule, flags, 0, 0}); }
+    void addWay(std::vector<Vec2> points, std::size_t rule, std::uint16_t flags, const std::map<std::string, std::string>& kept) {
+        ways_.push_back({std::move(points), rule, flags, 0, 0, &kept});
+    }
 
     void buildCurves() {
         // Nodes: way ends and shared points.
@@ -50,13 +54,13 @@ public:
             for (std::size_t i = 0; i < w.points.size(); ++i) uses[PointKey(w.points[i])] += (i == 0 || i + 1 == w.points.size()) ? 2 : 1;
         std::vector<Piece> pieces;
         for (const Piece& w : ways_) {
-            Piece cur{{w.points.front()}, w.rule, w.flags, node(w.points.front()), 0};
+            Piece cur{{w.points.front()}, w.rule, w.flags, node(w.points.front()), 0, w.kept};
             for (std::size_t i = 1; i < w.points.size(); ++i) {
                 cur.points.push_back(w.points[i]);
                 if (uses[PointKey(w.points[i])] >= 2) {
                     cur.b = node(w.points[i]);
                     pieces.push_back(cur);
-                    cur = Piece{{w.points[i]}, w.rule, w.flags, cur.b, 0};
+                    cur = Piece{{w.points[i]}, w.rule, w.flags, cur.b, 0, w.kept};
                 }
             }
         }
@@ -81,7 +85,7 @@ public:
             c.wf = rule.wf;
             c.cls = rule.cls;
             c.flags = p.flags;
-            layer_.addCurve(std::move(c));
+            keep(ElementKind::Curve, layer_.addCurve(std::move(c)), *p.kept);
             ++summary_.curvesByClass[rule.cls];
             if (p.flags & kBridge) ++summary_.bridges;
             if (p.flags & kTunnel) ++summary_.tunnels;
@@ -90,7 +94,7 @@ public:
         summary_.nodes = layer_.nodes.size();
     }
 
-    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule) {
+    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule, const std::map<std::string, std::string>& kept) {
         const MappingRule& r = mapping_.rules[rule];
         Area area;
         area.wf = r.wf;
@@ -109,12 +113,17 @@ public:
             area.loops.push_back({{id, false}});
         }
         summary_.holes += area.loops.size() - 1;
-        layer_.addArea(std::move(area));
+        keep(ElementKind::Area, layer_.addArea(std::move(area)), kept);
         ++summary_.areasByClass[r.cls];
         summary_.nodes = layer_.nodes.size();
     }
 
 private:
+    void keep(ElementKind kind, ElementId id, const std::map<std::string, std::string>& kept) {
+        if (!attributes_) return;
+        for (const auto& [k, v] : kept) attributes_->push_back({id_, kind, id, k, v});
+    }
+
     std::size_t node(Vec2 p) {
         const auto [it, added] = nodeIndex_.try_emplace(PointKey(p), nodePoints_.size());
         if (added) nodePoints_.push_back(p);
@@ -142,7 +151,7 @@ private:
             if (live.size() != 2 || live[0] == live[1]) continue;
             Piece& p = pieces[live[0]];
             Piece& q = pieces[live[1]];
-            if (p.rule != q.rule || p.flags != q.flags) continue;
+            if (p.rule != q.rule || p.flags != q.flags || *p.kept != *q.kept) continue;
             // Orient so that p ends at n and q starts at n.
             Piece* first = &p;
             Piece* second = &q;
@@ -170,10 +179,12 @@ private:
     }
 
     Layer& layer_;
+    LayerId id_;
     LayerSummary& summary_;
     const FeatureMapping& mapping_;
     const SplineFitParams& fit_;
     NetworkReport& report_;
+    std::vector<ElementAttribute>* attributes_;
     std::vector<Piece> ways_;
     std::unordered_map<PointKey, std::size_t, PointHash> nodeIndex_;
     std::vector<Vec2> nodePoints_;
@@ -183,7 +194,8 @@ private:
 }  // namespace
 
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
-                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report) {
+                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
+                 std::vector<ElementAttribute>* attributes) {
     Scene scene;
     scene.extent = extent;
     report = {};
@@ -201,7 +213,7 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
     };
     std::vector<std::unique_ptr<LayerBuilder>> builders;
     for (std::size_t l = 0; l < scene.layers.size(); ++l)
-        builders.push_back(std::make_unique<LayerBuilder>(scene.layers[l], report.layers[l], mapping, fit, report));
+        builders.push_back(std::make_unique<LayerBuilder>(scene.layers[l], LayerId(l), report.layers[l], mapping, fit, report, attributes));
     for (const RawLine& line : data.lines) {
         if (outside(line.lonLat)) {
             report.problems.push_back({line.source, "outside the DEM", true});
@@ -210,7 +222,7 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
         std::vector<Vec2> pts = project(frame, line.lonLat);
         if (pts.size() < 2) continue;
         report.inputPoints += pts.size();
-        builders[mapping.rules[line.rule].layer]->addWay(std::move(pts), line.rule, line.flags);
+        builders[mapping.rules[line.rule].layer]->addWay(std::move(pts), line.rule, line.flags, line.kept);
     }
     for (auto& b : builders) b->buildCurves();
     for (const RawArea& area : data.areas) {
@@ -232,7 +244,7 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
             report.problems.push_back({area.source, "degenerate ring after projection", true});
             continue;
         }
-        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule);
+        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule, area.kept);
     }
     return scene;
 }

@@ -10,10 +10,13 @@
 // Polygons (lakes, fields, forests): each ring becomes one closed curve from a node to itself,
 // fitted the same way; the outer ring and the holes make the area's loops. Borders shared between
 // neighbouring polygons are not merged into shared curves (each polygon keeps its own).
-// Features with a point outside the DEM are skipped and reported.
+// Features with a point outside the DEM are skipped and reported. The attributes the mapping keeps
+// (names, bridge, tunnel, layer...) go to `attributes`, per curve or area; chains merge only
+// where they agree.
 
 #include <functional>
 
+#include "io/scene_file.h"
 #include "io/scene_frame.h"
 #include "io/spline_fit.h"
 #include "io/vector_import.h"
@@ -40,6 +43,7 @@ struct NetworkReport {
 
 // `insideDem(lonLat)`: whether the DEM covers a point (null: no DEM check).
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
-                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report);
+                 const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
+                 std::vector<ElementAttribute>* attributes = nullptr);
 
 }  // namespace lacet

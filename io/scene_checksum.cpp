@@ -89,6 +89,12 @@ std::string sceneChecksumText(const SceneDocument& doc) {
             }
         }
     }
+    c.word(doc.attributes.size());
+    for (const ElementAttribute& a : doc.attributes) {
+        c.word(std::uint64_t(a.layer) << 40 | std::uint64_t(a.kind) << 32 | std::uint64_t(a.id));
+        c.text(a.key);
+        c.text(a.value);
+    }
     const Georeference& g = doc.georeference;
     c.word(g.valid);
     for (double v : {g.lon0, g.lat0, g.originShift.x, g.originShift.y}) c.real(v);

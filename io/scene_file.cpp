@@ -97,6 +97,9 @@ CREATE TABLE lacet_areas (
   fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
   wf FLOAT, cls INTEGER NOT NULL, axial INTEGER NOT NULL, alive BOOLEAN NOT NULL, loops BLOB NOT NULL,
   exact BLOB, UNIQUE (layer, id));
+CREATE TABLE lacet_attributes (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, kind INTEGER NOT NULL,
+  id INTEGER NOT NULL, key TEXT NOT NULL, value TEXT NOT NULL);
 )sql";
 
 struct TableInfo {
@@ -109,6 +112,7 @@ constexpr TableInfo kTables[] = {
     {"lacet_nodes", "Lacet scene: nodes of the spline networks (scene CRS metres)"},
     {"lacet_curves", "Lacet scene: Bezier curves (vertices: little-endian f64 x, y then flag bytes)"},
     {"lacet_areas", "Lacet scene: areas (loops of curves)"},
+    {"lacet_attributes", "Lacet scene: attributes kept from the source data (kind 0 node, 1 curve, 2 area)"},
 };
 
 // True when SQLite cannot keep `v` in a REAL column: it stores -0.0 as the integer 0 and a NaN as NULL.
@@ -272,6 +276,19 @@ void writeAreas(SqliteDb& db, const Scene& scene) {
     }
 }
 
+void writeAttributes(SqliteDb& db, const SceneDocument& doc) {
+    auto s = db.prepare("INSERT INTO lacet_attributes (layer, kind, id, key, value) VALUES (?, ?, ?, ?, ?)");
+    for (const ElementAttribute& a : doc.attributes) {
+        s.bind(1, std::int64_t(a.layer));
+        s.bind(2, std::int64_t(a.kind));
+        s.bind(3, std::int64_t(a.id));
+        s.bindText(4, a.key);
+        s.bindText(5, a.value);
+        s.step();
+        s.reset();
+    }
+}
+
 // Adds the lacet_* tables to the GeoPackage at `path`, in one transaction.
 void writeTables(const std::string& path, const SceneDocument& doc) {
     SqliteDb db(path, SqliteDb::Mode::ReadWrite);
@@ -294,6 +311,7 @@ void writeTables(const std::string& path, const SceneDocument& doc) {
     writeNodes(db, doc.scene);
     writeCurves(db, doc.scene);
     writeAreas(db, doc.scene);
+    writeAttributes(db, doc);
     // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
     db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
     db.exec("COMMIT");
@@ -579,6 +597,27 @@ void readAreas(SqliteDb& db, Scene& scene) {
     }
 }
 
+// Attributes must name an existing element slot.
+void readAttributes(SqliteDb& db, SceneDocument& doc) {
+    auto s = db.prepare("SELECT layer, kind, id, key, value FROM lacet_attributes ORDER BY fid");
+    while (s.step()) {
+        Row row{"lacet_attributes"};
+        ElementAttribute a;
+        const std::int64_t layer = integerColumn(s, 0, 0, std::int64_t(doc.scene.layers.size()) - 1, "layer", row);
+        row.layer = layer;
+        a.layer = LayerId(layer);
+        a.kind = ElementKind(integerColumn(s, 1, 0, 2, "kind", row));
+        const Layer& l = doc.scene.layers[a.layer];
+        const std::size_t count = a.kind == ElementKind::Node ? l.nodes.size() : a.kind == ElementKind::Curve ? l.curves.size() : l.areas.size();
+        if (count == 0) row.fail("names an element of an empty kind");
+        a.id = ElementId(integerColumn(s, 2, 0, std::int64_t(count) - 1, "id", row));
+        if (s.type(3) != SQLITE_TEXT || s.type(4) != SQLITE_TEXT) row.fail("key and value must be text");
+        a.key = s.text(3);
+        a.value = s.text(4);
+        doc.attributes.push_back(std::move(a));
+    }
+}
+
 // saveScene writes every tile of the DEM raster (io/gpkg_dem.h), but GDAL reads a missing tile as
 // zeros: count the tiles of the finest zoom level. GDAL anchors the raster at the top left corner of
 // its tile matrix set (which it may extend to a square), so ceil(width / tile width) x
@@ -688,6 +727,7 @@ SceneDocument loadScene(const std::string& path) {
         readNodes(db, doc.scene);
         readCurves(db, doc.scene);
         readAreas(db, doc.scene);
+        readAttributes(db, doc);
         const std::string& dem = metaValue(meta, "dem");
         std::int64_t demWidth = 0, demHeight = 0;
         if (dem == kDemRasterTable) {

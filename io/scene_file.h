@@ -17,6 +17,8 @@
 //                 f64, then one flag byte per vertex: bit 0 on-curve, bit 1 closing), areas (BLOB, u32).
 //   lacet_areas   layer, id, wf, cls, axial, alive, loops (BLOB: u32 loop count, then per loop a u32
 //                 edge count and per edge a u32 curve id and a u8 reversed flag).
+//   lacet_attributes  layer, kind (0 node, 1 curve, 2 area), id, key, value: attributes kept from the
+//                 source data (names, bridge, tunnel, layer...), in the document's order.
 // All binary values are little-endian. Every slot is stored, deleted ones too (alive = 0), so ids
 // survive. The lacet_* tables are 'attributes' entries of gpkg_contents. Doubles and floats in REAL
 // columns are exact (SQLite REAL is a 64-bit double), except the two values SQLite cannot keep in a
@@ -28,6 +30,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "io/georeference.h"
 #include "model/graph.h"
@@ -40,10 +43,20 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// An attribute kept from the source data on a root element (a road's name, its OSM layer...).
+struct ElementAttribute {
+    LayerId layer = 0;
+    ElementKind kind = ElementKind::Curve;
+    ElementId id = 0;
+    std::string key, value;
+    friend bool operator==(const ElementAttribute&, const ElementAttribute&) = default;
+};
+
 struct SceneDocument {
     Scene scene;
     Georeference georeference;
     std::optional<Dem> dem;
+    std::vector<ElementAttribute> attributes;  // each names an existing element slot
 };
 
 // Current version of the format above; loadScene refuses files of a later version.

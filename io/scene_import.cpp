@@ -98,7 +98,8 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, const st
     SceneDocument doc;
     doc.dem = importDem(o.dem, frame, report.extent, cell, report.dem);
     say("building the network and fitting splines");
-    doc.scene = buildScene(data, mapping, frame, report.extent, insideDem, SplineFitParams{o.fitTolerance}, report.network);
+    doc.scene = buildScene(data, mapping, frame, report.extent, insideDem, SplineFitParams{o.fitTolerance}, report.network,
+                           &doc.attributes);
     report.problems.insert(report.problems.end(), report.network.problems.begin(), report.network.problems.end());
     report.linesKept = data.lines.size();
     report.areasKept = data.areas.size();

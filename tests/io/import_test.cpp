@@ -209,6 +209,13 @@ TEST(SceneImport, GeoJsonAndDemIntoAValidSceneWithJunctionsBridgesAndHoles) {
     std::size_t bridges = 0;
     for (const Curve& c : roads.curves) bridges += (c.flags & kBridge) != 0;
     EXPECT_EQ(bridges, 1u);
+    // Kept attributes: the road's name, the bridge's OSM layer and bridge tag, the river's name.
+    std::map<std::string, std::string> kept;
+    for (const ElementAttribute& a : doc.attributes) kept[std::to_string(a.layer) + "/" + a.key + "=" + a.value] = "";
+    EXPECT_TRUE(kept.count("0/name=Main road"));
+    EXPECT_TRUE(kept.count("0/layer=1"));
+    EXPECT_TRUE(kept.count("0/bridge=yes"));
+    EXPECT_TRUE(kept.count("1/name=Riu"));
     EXPECT_EQ(rivers.curves.size(), 1u);
     ASSERT_EQ(lakes.areas.size(), 1u);
     EXPECT_EQ(lakes.areas[0].loops.size(), 2u) << "the lake keeps its island";

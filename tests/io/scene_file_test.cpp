@@ -326,7 +326,7 @@ std::string dumpQuery(const std::string& path, const std::string& query) {
 
 std::string dumpTables(const std::string& path) {
     std::string out;
-    for (const char* table : {"lacet_meta", "lacet_layers", "lacet_nodes", "lacet_curves", "lacet_areas", "dem",
+    for (const char* table : {"lacet_meta", "lacet_layers", "lacet_nodes", "lacet_curves", "lacet_areas", "lacet_attributes", "dem",
                               "gpkg_tile_matrix_set", "gpkg_tile_matrix", "gpkg_2d_gridded_coverage_ancillary",
                               "gpkg_2d_gridded_tile_ancillary", "gpkg_spatial_ref_sys"})
         out += std::string("== ") + table + "\n" + dumpQuery(path, std::string("SELECT * FROM ") + table + " ORDER BY 1");
@@ -441,8 +441,9 @@ TEST_F(SceneFile, IsAGeoPackage12WithAttributeTablesAndAGriddedCoverage) {
     EXPECT_EQ(dumpQuery(path, "PRAGMA application_id"), "1:1196444487|\n");  // 0x47504B47 'GPKG'
     EXPECT_EQ(dumpQuery(path, "PRAGMA user_version"), "1:10200|\n");
     EXPECT_EQ(dumpQuery(path, "SELECT table_name, data_type FROM gpkg_contents ORDER BY table_name"),
-              "3:dem|3:2d-gridded-coverage|\n3:lacet_areas|3:attributes|\n3:lacet_curves|3:attributes|\n"
-              "3:lacet_layers|3:attributes|\n3:lacet_meta|3:attributes|\n3:lacet_nodes|3:attributes|\n");
+              "3:dem|3:2d-gridded-coverage|\n3:lacet_areas|3:attributes|\n3:lacet_attributes|3:attributes|\n"
+              "3:lacet_curves|3:attributes|\n3:lacet_layers|3:attributes|\n3:lacet_meta|3:attributes|\n"
+              "3:lacet_nodes|3:attributes|\n");
     EXPECT_EQ(dumpQuery(path, "SELECT datatype FROM gpkg_2d_gridded_coverage_ancillary"), "3:float|\n");
     // -0.0 and NaN, which a REAL column cannot keep, have their exact bytes beside.
     EXPECT_EQ(dumpQuery(path, "SELECT layer, id FROM lacet_nodes WHERE exact IS NOT NULL ORDER BY layer, id"),
@@ -710,6 +711,33 @@ TEST_F(SceneFile, KillingTheProcessDuringASaveLeavesAWholeScene) {
         sawNew += isNew;
     }
     std::printf("[ figures ] killed saves: %d left the old scene, %d the new one, 0 a broken file\n", sawOld, sawNew);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+TEST_F(SceneFile, KeptAttributesRoundTripAndMustNameAnElement) {
+    SceneDocument doc = handDocument(false);
+    doc.attributes = {{0, ElementKind::Curve, 0, "name", "Carretera General 2"},
+                      {0, ElementKind::Curve, 0, "bridge", "yes"},
+                      {0, ElementKind::Node, 1, "name", "Coll d'Ordino \xc3\xa0"},
+                      {0, ElementKind::Curve, 1, "layer", "-1"}};
+    const std::string path = file("attributes.gpkg");
+    saveScene(path, doc);
+    const SceneDocument loaded = loadScene(path);
+    EXPECT_TRUE(identical(loaded, doc));
+    EXPECT_EQ(loaded.attributes, doc.attributes);
+    // An attribute naming a slot that does not exist makes the file corrupt.
+    {
+        sqlite3* db = nullptr;
+        ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+        ASSERT_EQ(sqlite3_exec(db, "UPDATE lacet_attributes SET id = 999999 WHERE fid = 1", nullptr, nullptr, nullptr), SQLITE_OK);
+        sqlite3_close(db);
+    }
+    expectSceneFileError([&] { loadScene(path); }, path, "lacet_attributes row (layer 0): id = 999999 is out of range");
 }
 
 }  // namespace
