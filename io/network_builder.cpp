@@ -3,7 +3,6 @@
 #include <bit>
 #include <memory>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace lacet {
 namespace {
