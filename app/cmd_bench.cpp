@@ -52,7 +52,7 @@ void addBenchCommand(CLI::App& app) {
     producers->add_option("--max-level", p->maxLevel, "Deepest quadtree level");
     producers->add_option("--deep-level", p->deepLevel, "Quads of this level and deeper make the headline figures");
     producers->add_flag("--json", *pJson, "Print JSON (the only format)");
-    producers->callback([p] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });
+    producers->callback([p, pJson] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });
 
     struct TextureAccuracyOptions {
         std::size_t curves = 10000;

@@ -47,6 +47,8 @@ Source readSource(const std::string& path) {
     s.height = ds->GetRasterYSize();
     if (ds->GetGeoTransform(s.gt) != CE_None) throw DemImportError(path + ": no geotransform (the raster is not georeferenced)");
     if (s.gt[2] != 0.0 || s.gt[4] != 0.0) throw DemImportError(path + ": rotated or sheared rasters are not supported");
+    for (double g : s.gt)
+        if (!std::isfinite(g)) throw DemImportError(path + ": non-finite value in the geotransform");
     if (s.gt[1] == 0.0 || s.gt[5] == 0.0) throw DemImportError(path + ": zero pixel size in the geotransform");
     const OGRSpatialReference* srs = ds->GetSpatialRef();
     if (!srs) throw DemImportError(path + ": no coordinate reference system");
@@ -113,16 +115,18 @@ DemSourceInfo demSourceInfo(const std::string& path) {
     if (ds->GetGeoTransform(gt) != CE_None) throw DemImportError(path + ": no geotransform (the raster is not georeferenced)");
     const double x0 = gt[0], x1 = gt[0] + gt[1] * ds->GetRasterXSize();
     const double y0 = gt[3], y1 = gt[3] + gt[5] * ds->GetRasterYSize();
+    for (double g : gt)
+        if (!std::isfinite(g)) throw DemImportError(path + ": non-finite value in the geotransform");
     const OGRSpatialReference* srs = ds->GetSpatialRef();
     if (!srs) throw DemImportError(path + ": no coordinate reference system");
-    if (srs->IsGeographic()) {
-        info.lonLat = {{std::min(x0, x1), std::min(y0, y1)}, {std::max(x0, x1), std::max(y0, y1)}};
-        return info;
-    }
     OGRSpatialReference wgs84, source(*srs);
     wgs84.SetWellKnownGeogCS("WGS84");
     wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
     source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    if (source.IsGeographic() && source.IsSame(&wgs84)) {  // the same test as readSource()
+        info.lonLat = {{std::min(x0, x1), std::min(y0, y1)}, {std::max(x0, x1), std::max(y0, y1)}};
+        return info;
+    }
     std::unique_ptr<OGRCoordinateTransformation> t(OGRCreateCoordinateTransformation(&source, &wgs84));
     if (!t) throw DemImportError(path + ": no transformation from the raster's CRS to WGS84");
     double xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
@@ -143,6 +147,9 @@ Dem importDem(const std::string& path, const SceneFrame& frame, const Box& exten
     report.sourceHeight = s.height;
     report.voids = fillVoids(s, path);
 
+    constexpr double kMaxSide = 16384.0;  // samples per side of the scene grid
+    if (extent.size().x / cellSize > kMaxSide || extent.size().y / cellSize > kMaxSide)
+        throw DemImportError(path + ": a " + std::to_string(cellSize) + " m cell over this extent would make more than 16384 samples a side");
     const int width = std::max(1, int(std::lround(extent.size().x / cellSize)));
     const int height = std::max(1, int(std::lround(extent.size().y / cellSize)));
     const Vec2 cell = extent.size() / Vec2(width, height);
@@ -162,7 +169,8 @@ Dem importDem(const std::string& path, const SceneFrame& frame, const Box& exten
             const double fi = (xs[std::size_t(i)] - s.gt[0]) / s.gt[1] - 0.5;
             const double fj = (ys[std::size_t(i)] - s.gt[3]) / s.gt[5] - 0.5;
             if (fi < -0.5 || fj < -0.5 || fi > s.width - 0.5 || fj > s.height - 0.5 || !std::isfinite(fi) || !std::isfinite(fj)) ++outside;
-            const double ci = std::clamp(fi, 0.0, double(s.width - 1)), cj = std::clamp(fj, 0.0, double(s.height - 1));
+            const double ci = std::isfinite(fi) ? std::clamp(fi, 0.0, double(s.width - 1)) : 0.0;
+            const double cj = std::isfinite(fj) ? std::clamp(fj, 0.0, double(s.height - 1)) : 0.0;
             const int i0 = std::min(int(ci), s.width - 1), j0 = std::min(int(cj), s.height - 1);
             const int i1 = std::min(i0 + 1, s.width - 1), j1 = std::min(j0 + 1, s.height - 1);
             const double a = ci - i0, b = cj - j0;

@@ -95,10 +95,15 @@ FeatureMapping parseMapping(const std::string& text, const std::string& source) 
             const auto it = std::find_if(m.layers.begin(), m.layers.end(), [&](const MappingLayer& ml) { return ml.name == layer; });
             if (it == m.layers.end()) throw MappingError(where + ": unknown layer '" + layer + "'");
             rule.layer = std::size_t(it - m.layers.begin());
-            rule.cls = jr.value("class", std::uint16_t(0));
-            rule.w = jr.value("w", 0.0f);
-            rule.wf = jr.value("wf", rule.w);
-            if (!(rule.w >= 0.0f) || !(rule.wf >= rule.w)) throw MappingError(where + ": widths must satisfy 0 <= w <= wf");
+            const std::int64_t cls = jr.value("class", std::int64_t(0));
+            if (cls < 0 || cls > 0xffff) throw MappingError(where + ": class must be in 0..65535");
+            rule.cls = std::uint16_t(cls);
+            const double w = jr.value("w", 0.0), wf = jr.value("wf", w);
+            constexpr double kMaxWidth = 10000.0;  // metres
+            if (!(w >= 0.0) || !(wf >= w) || !(wf <= kMaxWidth))
+                throw MappingError(where + ": widths must satisfy 0 <= w <= wf <= 10000 m");
+            rule.w = float(w);
+            rule.wf = float(wf);
             const LayerKind kind = m.layers[rule.layer].kind;
             const bool curveLayer = kind == LayerKind::Roads || kind == LayerKind::Rivers;
             if (curveLayer != (rule.geometry == GeometryKind::Line))

@@ -66,12 +66,9 @@ public:
         mergeChains(pieces);
         for (const Piece& p : pieces) {
             if (!p.alive) continue;
-            SplineFitResult r;
-            try {
-                r = fitSpline(p.points, fit_);
-            } catch (const std::invalid_argument&) {
-                continue;  // a piece of one repeated point: nothing to draw
-            }
+            // Pieces have >= 2 points, no consecutive duplicates and finite coordinates (the reader
+            // checked them), and importScene checked the tolerance: the fit cannot refuse them.
+            SplineFitResult r = fitSpline(p.points, fit_);
             report_.outputVertices += r.vertices.size();
             for (const Vertex& v : r.vertices) report_.onCurveVertices += v.onCurve;
             report_.maxFitError = std::max(report_.maxFitError, r.maxError);

@@ -52,6 +52,11 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, const st
         if (progress) progress(s);
     };
     report = {};
+    if (!std::isfinite(o.fitTolerance) || o.fitTolerance < 0.0)
+        throw std::invalid_argument("the spline fitting tolerance must be a finite number of metres >= 0");
+    if (!std::isfinite(o.demCell) || o.demCell < 0.0)
+        throw std::invalid_argument("the DEM cell must be a finite number of metres >= 0 (0: the source's resolution)");
+    if (!std::isfinite(o.margin) || o.margin < 0.0) throw std::invalid_argument("the margin must be a finite number of metres >= 0");
     const FeatureMapping mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
     VectorData data;
     for (std::size_t i = 0; i < o.vectors.size(); ++i) {

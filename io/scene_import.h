@@ -38,8 +38,8 @@ struct ImportReport {
     nlohmann::json json() const;
 };
 
-// Throws DemImportError, VectorImportError, MappingError or ValidationError (file-level
-// problems); per-feature problems go to the report.
+// Throws std::invalid_argument for bad options, DemImportError, VectorImportError, MappingError
+// or ValidationError (file-level problems); per-feature problems go to the report.
 SceneDocument importScene(const ImportOptions& options, ImportReport& report,
                           const std::function<void(const std::string& stage)>& progress = {});
 

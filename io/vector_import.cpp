@@ -16,6 +16,14 @@ struct GdalClose {
     void operator()(GDALDataset* d) const { GDALClose(d); }
 };
 
+// GDAL's messages go to the report, not to stderr, while this lives (exception-safe).
+struct QuietGdal {
+    QuietGdal() { CPLPushErrorHandler(CPLQuietErrorHandler); }
+    ~QuietGdal() { CPLPopErrorHandler(); }
+    QuietGdal(const QuietGdal&) = delete;
+    QuietGdal& operator=(const QuietGdal&) = delete;
+};
+
 // Points of a line string as lon/lat, consecutive duplicates removed. Returns false on a
 // non-finite coordinate; `duplicates` counts the removed points.
 bool points(const OGRSimpleCurve& c, OGRCoordinateTransformation* ct, std::vector<glm::dvec2>& out, std::size_t& duplicates) {
@@ -189,27 +197,43 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
     OGRSpatialReference wgs84;
     wgs84.SetWellKnownGeogCS("WGS84");
     wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-    std::map<OGRLayer*, std::unique_ptr<OGRCoordinateTransformation>> transforms;
+    struct DestroyCt {
+        void operator()(OGRCoordinateTransformation* ct) const { OGRCoordinateTransformation::DestroyCT(ct); }
+    };
+    std::map<OGRLayer*, std::unique_ptr<OGRCoordinateTransformation, DestroyCt>> transforms;
     std::map<OGRLayer*, bool> unknownCrs;
     const std::size_t before = out.featuresRead;
     // Dataset-level iteration: the order OGR's OSM driver needs, and layer by layer elsewhere.
     ds->ResetReading();
-    CPLPushErrorHandler(CPLQuietErrorHandler);
+    const QuietGdal quiet;
+    bool readError = false;
+    std::string err;
     for (;;) {
         OGRLayer* layer = nullptr;
+        CPLErrorReset();  // so that an error seen below is the driver's, not one of a feature's checks
         OGRFeatureUniquePtr f(ds->GetNextFeature(&layer, nullptr, nullptr, nullptr));
+        if (CPLGetLastErrorType() >= CE_Failure && !readError) {
+            readError = true;
+            err = CPLGetLastErrorMsg();
+        }
         if (!f || !layer) break;
         if (!transforms.count(layer)) {
             const OGRSpatialReference* srs = layer->GetSpatialRef();
             unknownCrs[layer] = srs == nullptr;
+            transforms[layer] = nullptr;
             if (srs) {
                 OGRSpatialReference source(*srs);
                 source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
-                if (!(source.IsGeographic() && source.IsSame(&wgs84)))
+                if (!(source.IsGeographic() && source.IsSame(&wgs84))) {
                     transforms[layer].reset(OGRCreateCoordinateTransformation(&source, &wgs84));
-                else transforms[layer] = nullptr;
-            } else transforms[layer] = nullptr;
-            if (unknownCrs[layer]) reader.problem({path, layer->GetName(), -1}, "unknown CRS (the layer has none): its features are skipped");
+                    if (!transforms[layer]) {
+                        unknownCrs[layer] = true;
+                        reader.problem({path, layer->GetName(), -1}, "no transformation from the layer's CRS to WGS84: its features are skipped");
+                    }
+                }
+            } else {
+                reader.problem({path, layer->GetName(), -1}, "unknown CRS (the layer has none): its features are skipped");
+            }
         }
         if (unknownCrs[layer]) {
             ++out.featuresRead;
@@ -217,9 +241,7 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
         }
         reader.feature(*layer, *f, transforms[layer].get());
     }
-    CPLPopErrorHandler();
-    const std::string err = CPLGetLastErrorType() >= CE_Failure ? CPLGetLastErrorMsg() : "";
-    if (!err.empty()) reader.problem({path, "", -1}, "read error (" + err + "): the rest of the file was skipped");
+    if (readError) reader.problem({path, "", -1}, "read error (" + err + "): what followed it may be missing");
     if (out.featuresRead == before) reader.problem({path, "", -1}, "no features (empty file or empty layers)");
 }
 

@@ -6,8 +6,9 @@
 // Per-feature problems (file, layer, feature id, reason): no geometry; a non-finite coordinate; a
 // way of fewer than 2 distinct points (zero length); a ring that is not closed, or has fewer than
 // 3 distinct points; a self-intersecting or otherwise invalid polygon (GEOS, when GDAL has it);
-// a layer with no CRS (its features are skipped: the CRS is unknown). Consecutive duplicate
-// points are removed and reported, and the feature is kept. An empty file is a problem too.
+// a layer with no CRS, or one OGR cannot transform to WGS84 (its features are skipped). Consecutive
+// duplicate points are removed and reported, and the feature is kept. An empty file, and a read
+// error of the driver (a truncated file), are problems too.
 // A file OGR cannot open throws VectorImportError naming the file and the reason.
 
 #include <map>

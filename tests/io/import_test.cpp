@@ -2,6 +2,7 @@
 // import (voids, reprojection, outside), the scene frame, topology and splines, end to end.
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <ogrsf_frmts.h>
@@ -278,6 +279,39 @@ TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreReported) {
     ASSERT_EQ(e.problems.size(), 1u);
     EXPECT_EQ(e.problems[0].reason, "unknown CRS (the layer has none): its features are skipped");
     EXPECT_NE(e.problems[0].source.str().find("roads_nocrs.shp"), std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+TEST(SceneImport, BadOptionsAreRefusedBeforeAnythingIsRead) {
+    ImportOptions o;
+    o.dem = "/nonexistent.tif";
+    o.vectors = {test::vectorData("good.geojson")};
+    ImportReport r;
+    for (double t : {-1.0, std::nan("1"), std::numeric_limits<double>::infinity()}) {
+        o.fitTolerance = t;
+        EXPECT_THROW(importScene(o, r), std::invalid_argument) << t;
+    }
+    o.fitTolerance = 0.5;
+    o.demCell = -3.0;
+    EXPECT_THROW(importScene(o, r), std::invalid_argument);
+}
+
+TEST(DemImport, AGridTooFineForTheExtentIsRefused) {
+    const auto dir = test::scratchDir("demfine");
+    SceneFrame frame(1.525, 42.525);
+    DemImportReport r;
+    try {
+        importDem(test::writeFixtureDem(dir), frame, {{0, 0}, {10000, 10000}}, 0.001, r);
+        FAIL();
+    } catch (const DemImportError& e) {
+        EXPECT_NE(std::string(e.what()).find("more than 16384 samples a side"), std::string::npos) << e.what();
+    }
     std::filesystem::remove_all(dir);
 }
 
