@@ -1,4 +1,4 @@
-// `lacet bench update|accuracy|producers|texture-accuracy`: benchmark tasks printing their figures as JSON.
+// `lacet bench update|accuracy|producers|texture-accuracy|edit`: benchmark tasks printing their figures as JSON.
 #include <iostream>
 
 #include "app/commands.h"
@@ -53,6 +53,17 @@ void addBenchCommand(CLI::App& app) {
     producers->add_option("--deep-level", p->deepLevel, "Quads of this level and deeper make the headline figures");
     producers->add_flag("--json", *pJson, "Print JSON (the only format)");
     producers->callback([p, pJson] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });
+
+    auto e = std::make_shared<bench::EditBenchOptions>();
+    auto eJson = std::make_shared<bool>(true);
+    CLI::App* edit = bench->add_subcommand("edit", "Edit latency of the window-less session: a road control point and a field corner dragged");
+    edit->add_option("--curves", e->curves, "Curves of the synthetic scene (600000: the paper's scale)");
+    edit->add_option("--seed", e->seed, "Random seed");
+    edit->add_option("--dem-resolution", e->demResolution, "DEM samples per 100 km");
+    edit->add_option("--altitude", e->altitude, "Viewer height above the dragged point (m)");
+    edit->add_option("--steps", e->steps, "Steps of each drag");
+    edit->add_flag("--json", *eJson, "Print JSON (the only format)");
+    edit->callback([e, eJson] { std::cout << bench::benchEdit(*e).dump(2) << "\n"; });
 
     struct TextureAccuracyOptions {
         std::size_t curves = 10000;

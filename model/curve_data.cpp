@@ -187,7 +187,11 @@ double CurveDataCache::lakeLevel(LayerId layer, ElementId area) const {
     });
 }
 
-void CurveDataCache::dropDownstream(LayerId layer, ElementId node) {
+void CurveDataCache::dropProfile(LayerId layer, ElementId curve, std::vector<ElementRef>& dropped) {
+    if (profiles_.erase(Key{layer, curve}) > 0) dropped.push_back({layer, ElementKind::Curve, curve});
+}
+
+void CurveDataCache::dropDownstream(LayerId layer, ElementId node, std::vector<ElementRef>& dropped) {
     const Layer& l = quadtree_.scene().layers[layer];
     std::vector<ElementId> pending{node};
     std::vector<ElementId> seen;
@@ -198,14 +202,15 @@ void CurveDataCache::dropDownstream(LayerId layer, ElementId node) {
         seen.push_back(n);
         nodeHeights_.erase(Key{layer, n});
         for (ElementId c : l.nodes[n].curves) {
-            profiles_.erase(Key{layer, c});
+            dropProfile(layer, c, dropped);
             if (l.curves[c].start == n) pending.push_back(l.curves[c].end);
         }
     }
 }
 
-void CurveDataCache::invalidate(const Changeset& cs) {
+std::vector<ElementRef> CurveDataCache::invalidate(const Changeset& cs) {
     std::lock_guard lock(mutex_);
+    std::vector<ElementRef> dropped;
     const Scene& scene = quadtree_.scene();
     for (const auto* list : {&cs.removed, &cs.added})
         for (const ElementRef& r : *list) {
@@ -214,21 +219,24 @@ void CurveDataCache::invalidate(const Changeset& cs) {
                 case ElementKind::Curve:
                     for (std::size_t k = 0; k < 256; ++k) {  // its procedural curves, if any
                         arcs_.erase(Key{r.layer, proceduralId(r.id, k)});
-                        profiles_.erase(Key{r.layer, proceduralId(r.id, k)});
+                        dropProfile(r.layer, proceduralId(r.id, k), dropped);
                     }
                     arcs_.erase(Key{r.layer, r.id});
-                    profiles_.erase(Key{r.layer, r.id});
-                    if (l.kind == LayerKind::Rivers && r.id < l.curves.size()) dropDownstream(r.layer, l.curves[r.id].end);
+                    dropProfile(r.layer, r.id, dropped);
+                    if (l.kind == LayerKind::Rivers && r.id < l.curves.size()) dropDownstream(r.layer, l.curves[r.id].end, dropped);
                     break;
                 case ElementKind::Node:
                     nodeHeights_.erase(Key{r.layer, r.id});
                     if (r.id < l.nodes.size())
-                        for (ElementId c : l.nodes[r.id].curves) profiles_.erase(Key{r.layer, c});
-                    if (l.kind == LayerKind::Rivers) dropDownstream(r.layer, r.id);
+                        for (ElementId c : l.nodes[r.id].curves) dropProfile(r.layer, c, dropped);
+                    if (l.kind == LayerKind::Rivers) dropDownstream(r.layer, r.id, dropped);
                     break;
                 case ElementKind::Area: lakeLevels_.erase(Key{r.layer, r.id}); break;
             }
         }
+    std::sort(dropped.begin(), dropped.end());
+    dropped.erase(std::unique(dropped.begin(), dropped.end()), dropped.end());
+    return dropped;
 }
 
 }  // namespace lacet

@@ -71,8 +71,10 @@ public:
     double lakeLevel(LayerId layer, ElementId area) const;
 
     // Drops what the changeset touches: its curves, nodes and areas, the procedural curves of its
-    // curves, and for rivers everything downstream of a touched river node or curve.
-    void invalidate(const Changeset& changeset);
+    // curves, and for rivers everything downstream of a touched river node or curve. Returns the
+    // ancestor curves whose computed z-profile was dropped: tiles made with it are stale even where
+    // the quad's graph did not change (a river downstream of an edit).
+    std::vector<ElementRef> invalidate(const Changeset& changeset);
 
     const CurveDataCounters& counters() const { return counters_; }
     const ZProfileParams& params() const { return params_; }
@@ -96,7 +98,8 @@ private:
     const Arc& arc(LayerId layer, ElementId ancestor) const;
     double localNodeHeight(LayerId layer, ElementId node) const;
     std::unique_ptr<ZProfile> computeProfile(LayerId layer, ElementId ancestor) const;
-    void dropDownstream(LayerId layer, ElementId node);
+    void dropProfile(LayerId layer, ElementId curve, std::vector<ElementRef>& dropped);
+    void dropDownstream(LayerId layer, ElementId node, std::vector<ElementRef>& dropped);
 
     const Quadtree& quadtree_;
     const HeightField& heights_;
