@@ -1,4 +1,4 @@
-// `lacet bench update|accuracy|producers|texture-accuracy|edit`: benchmark tasks printing their figures as JSON.
+// `lacet bench update|accuracy|producers|texture-accuracy|edit|flyover`: benchmark tasks printing their figures as JSON.
 #include <iostream>
 
 #include "app/commands.h"
@@ -64,6 +64,16 @@ void addBenchCommand(CLI::App& app) {
     edit->add_option("--steps", e->steps, "Steps of each drag");
     edit->add_flag("--json", *eJson, "Print JSON (the only format)");
     edit->callback([e, eJson] { std::cout << bench::benchEdit(*e).dump(2) << "\n"; });
+
+    auto fo = std::make_shared<bench::FlyoverBenchOptions>();
+    auto foJson = std::make_shared<bool>(true);
+    CLI::App* flyover = bench->add_subcommand("flyover", "A flight from 5000 m down to a road through the window-less session");
+    flyover->add_option("--curves", fo->curves, "Curves of the synthetic scene (600000: the paper's scale)");
+    flyover->add_option("--seed", fo->seed, "Random seed");
+    flyover->add_option("--frames", fo->frames, "Frames of the flight");
+    flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');
+    flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
+    flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });
 
     struct TextureAccuracyOptions {
         std::size_t curves = 10000;

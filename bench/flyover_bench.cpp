@@ -1,0 +1,73 @@
+// `lacet bench flyover`: the paper's kind of flight (§9.1) through the window-less session: from
+// 5000 m above the scene down to a few metres above a road, the quadtree refined each frame with
+// K = 2.8 and the missing tiles made nearest first; per frame, the update time (refinement and
+// production), the tiles made and the cache size. Run with no budget (every tile of the view made
+// each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer).
+// No prefetching along the path (not implemented).
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "bench/bench_util.h"
+#include "bench/tasks.h"
+#include "editor/edit_session.h"
+#include "model/synthetic_scene.h"
+#include "raster/synthetic_dem.h"
+
+namespace lacet::bench {
+
+nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({o.seed, o.curves});
+    doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
+    // From above the centre to a road point about 3 km away.
+    const Vec2 start = doc.scene.extent.center();
+    Vec2 end = start;
+    double best = 1e300;
+    for (const Curve& c : doc.scene.layers[kRoadsLayer].curves) {
+        const Vec2 p = c.vertices[c.vertices.size() / 2].p;
+        const double d = std::abs(glm::length(p - start) - 3000.0);
+        if (d < best) best = d, end = p;
+    }
+    nlohmann::json runs = nlohmann::json::array();
+    for (double budget : o.budgetsMs) {
+        SessionParams params;
+        EditSession session(SceneDocument(doc), params);
+        std::vector<double> ms, tiles;
+        std::size_t cachePeak = 0, pendingFrames = 0;
+        for (int f = 0; f < o.frames; ++f) {
+            const double t = double(f) / double(o.frames - 1);
+            const double altitude = o.startAltitude * std::pow(o.endAltitude / o.startAltitude, t);
+            const double s = 1.0 - (1.0 - t) * (1.0 - t);  // fast first, slow near the ground
+            const Vec2 p = start + (end - start) * s;
+            const auto t0 = Clock::now();
+            const FrameReport r = session.frame({p.x, p.y, altitude}, budget);
+            ms.push_back(msSince(t0));
+            tiles.push_back(double(r.produced));
+            cachePeak = std::max(cachePeak, r.cached);
+            pendingFrames += r.pending > 0;
+        }
+        double sum = 0.0, tileSum = 0.0;
+        for (double v : ms) sum += v;
+        for (double v : tiles) tileSum += v;
+        runs.push_back({{"budget_ms", budget},
+                        {"frames", ms.size()},
+                        {"mean_ms", sum / double(ms.size())},
+                        {"median_ms", median(ms)},
+                        {"p99_8_ms", quantile(ms, 0.998)},
+                        {"max_ms", quantile(ms, 1.0)},
+                        {"tiles_per_frame_mean", tileSum / double(ms.size())},
+                        {"tiles_per_frame_max", quantile(tiles, 1.0)},
+                        {"cache_peak_tiles", cachePeak},
+                        {"frames_with_pending_tiles", pendingFrames}});
+    }
+    return {{"curves", count(doc.scene).curves},
+            {"K", 2.8},
+            {"appearance_resolution", RefineParams{}.resolution},
+            {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", glm::length(end - start)}}},
+            {"prefetching", false},
+            {"runs", runs},
+            {"peak_rss_mib", peakRssMiB()}};
+}
+
+}  // namespace lacet::bench
