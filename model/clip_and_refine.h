@@ -33,8 +33,8 @@ struct RefineParams {
     double tolerance(double quadSize) const { return toleranceTexels * quadSize / double(resolution); }  // metres
 
     // How far beyond an element's footprint the elevation producer reads it, in elevation samples
-    // (delta = quad size / elevationResolution): the 2 sqrt(2) delta widening of its footprints plus the
-    // samples of the tile border. Clipping keeps elements that far outside the quad too, so that
+    // (delta = quad size / elevationResolution): the 2 sqrt(2) delta widening of its footprints
+    // plus the samples of the tile border. Clipping keeps elements that far outside the quad too, so that
     // adjacent tiles see the same elements at their shared and border samples.
     int elevationResolution = 24;     // samples per quad side, even
     double footprintReach = 5.0;      // elevation samples, >= 2 sqrt(2) + the tile border (2)
