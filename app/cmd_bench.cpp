@@ -72,6 +72,7 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--seed", fo->seed, "Random seed");
     flyover->add_option("--frames", fo->frames, "Frames of the flight");
     flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');
+    flyover->add_option("--prefetch-frames", fo->prefetchFrames, "How far ahead (frames) the prefetching viewer is");
     flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
     flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });
 

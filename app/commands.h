@@ -10,5 +10,6 @@ void addCheckCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
+void addEditCommand(CLI::App& app);
 
 }  // namespace lacet::app

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
     lacet::app::addBenchCommand(app);
     lacet::app::addRenderCommand(app);
     lacet::app::addImportCommand(app);
+    lacet::app::addEditCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -2,8 +2,9 @@
 // 5000 m above the scene down to a few metres above a road, the quadtree refined each frame with
 // K = 2.8 and the missing tiles made nearest first; per frame, the update time (refinement and
 // production), the tiles made and the cache size. Run with no budget (every tile of the view made
-// each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer).
-// No prefetching along the path (not implemented).
+// each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer),
+// each without and with prefetching: the viewer `prefetchFrames` frames ahead on the path is
+// given to the session, which makes that viewer's tiles with the budget left.
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -29,28 +30,36 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         const double d = std::abs(glm::length(p - start) - 3000.0);
         if (d < best) best = d, end = p;
     }
+    auto viewerAt = [&](int f) {
+        const double t = std::min(1.0, double(f) / double(o.frames - 1));
+        const double altitude = o.startAltitude * std::pow(o.endAltitude / o.startAltitude, t);
+        const double s = 1.0 - (1.0 - t) * (1.0 - t);  // fast first, slow near the ground
+        const Vec2 p = start + (end - start) * s;
+        return glm::dvec3(p.x, p.y, altitude);
+    };
     nlohmann::json runs = nlohmann::json::array();
-    for (double budget : o.budgetsMs) {
+    for (double budget : o.budgetsMs)
+    for (const bool prefetch : {false, true}) {
         SessionParams params;
         EditSession session(SceneDocument(doc), params);
         std::vector<double> ms, tiles;
-        std::size_t cachePeak = 0, pendingFrames = 0;
+        std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0;
         for (int f = 0; f < o.frames; ++f) {
-            const double t = double(f) / double(o.frames - 1);
-            const double altitude = o.startAltitude * std::pow(o.endAltitude / o.startAltitude, t);
-            const double s = 1.0 - (1.0 - t) * (1.0 - t);  // fast first, slow near the ground
-            const Vec2 p = start + (end - start) * s;
             const auto t0 = Clock::now();
-            const FrameReport r = session.frame({p.x, p.y, altitude}, budget);
+            const FrameReport r = session.frame(viewerAt(f), budget, {},
+                                                prefetch ? std::optional<glm::dvec3>(viewerAt(f + o.prefetchFrames)) : std::nullopt);
             ms.push_back(msSince(t0));
             tiles.push_back(double(r.produced));
             cachePeak = std::max(cachePeak, r.cached);
             pendingFrames += r.pending > 0;
+            prefetched += r.prefetched;
         }
         double sum = 0.0, tileSum = 0.0;
         for (double v : ms) sum += v;
         for (double v : tiles) tileSum += v;
         runs.push_back({{"budget_ms", budget},
+                        {"prefetch", prefetch},
+                        {"prefetched_tiles", prefetched},
                         {"frames", ms.size()},
                         {"mean_ms", sum / double(ms.size())},
                         {"median_ms", median(ms)},
@@ -65,7 +74,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             {"K", 2.8},
             {"appearance_resolution", RefineParams{}.resolution},
             {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", glm::length(end - start)}}},
-            {"prefetching", false},
+            {"prefetch_frames_ahead", o.prefetchFrames},
             {"runs", runs},
             {"peak_rss_mib", peakRssMiB()}};
 }

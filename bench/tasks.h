@@ -56,7 +56,7 @@ nlohmann::json benchEdit(const EditBenchOptions& options);
 
 // A flight from `startAltitude` down to `endAltitude` above a road (§9.1) through the session:
 // update time per frame (mean, median, p99.8), tiles made per frame and the cache peak, for each
-// per-frame production budget (0: every tile of the view each frame).
+// per-frame production budget (0: every tile of the view each frame), without and with prefetching.
 struct FlyoverBenchOptions {
     std::size_t curves = 600000;
     std::uint64_t seed = 1;
@@ -64,6 +64,7 @@ struct FlyoverBenchOptions {
     int frames = 600;
     double startAltitude = 5000.0, endAltitude = 5.0;
     std::vector<double> budgetsMs{0.0, 10.0};
+    int prefetchFrames = 30;  // how far ahead the predicted viewer is, in frames
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <set>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
@@ -65,76 +66,163 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     return r;
 }
 
-CommandReport EditSession::execute(const Command& command) {
+namespace {
+
+// Whether `next` continues `last` as a drag of the same vertex or node.
+bool continuesDrag(const Command& last, const Command& next) {
+    if (const auto* a = std::get_if<MoveVertexCmd>(&last))
+        if (const auto* b = std::get_if<MoveVertexCmd>(&next))
+            return a->layer == b->layer && a->curve == b->curve && a->index == b->index;
+    if (const auto* a = std::get_if<MoveNodeCmd>(&last))
+        if (const auto* b = std::get_if<MoveNodeCmd>(&next)) return a->layer == b->layer && a->node == b->node;
+    return false;
+}
+
+}  // namespace
+
+CommandReport EditSession::execute(const Command& command, bool merge) {
     const auto t0 = Clock::now();
     Applied a = lacet::apply(doc_.scene, command);
     const double ms = msSince(t0);
-    done_.push_back({command, std::move(a)});
     undone_.clear();
-    return afterEdit(done_.back().second.changeset, ms);
+    const Changeset cs = a.changeset;
+    if (merge && !done_.empty() && continuesDrag(done_.back().command, command) && done_.back().serial != savedSerial_) {
+        // One undo step: the first command's snapshot, both changesets.
+        Done& last = done_.back();
+        last.command = command;
+        last.applied.changeset.append(a.changeset);
+        last.applied.changeset.normalize();
+        last.serial = ++serial_;
+    } else {
+        done_.push_back({command, std::move(a), group_, ++serial_});
+    }
+    return afterEdit(cs, ms);
 }
+
+void EditSession::beginGroup() { group_ = ++nextGroup_; }
+void EditSession::endGroup() { group_ = 0; }
 
 bool EditSession::undo(CommandReport* report) {
     if (done_.empty()) return false;
-    const auto t0 = Clock::now();
-    const Changeset cs = lacet::undo(doc_.scene, done_.back().second);
-    const double ms = msSince(t0);
-    undone_.push_back(std::move(done_.back().first));
-    done_.pop_back();
-    const CommandReport r = afterEdit(cs, ms);
-    if (report) *report = r;
+    CommandReport total;
+    const std::uint64_t group = done_.back().group;
+    do {
+        const auto t0 = Clock::now();
+        const Changeset cs = lacet::undo(doc_.scene, done_.back().applied);
+        const double ms = msSince(t0);
+        undone_.push_back(std::move(done_.back()));
+        done_.pop_back();
+        const CommandReport r = afterEdit(cs, ms);
+        total.applyMs += r.applyMs, total.updateMs += r.updateMs;
+        total.changedQuads += r.changedQuads, total.dirtyTiles += r.dirtyTiles;
+    } while (group != 0 && !done_.empty() && done_.back().group == group);
+    if (report) *report = total;
     return true;
 }
 
 bool EditSession::redo(CommandReport* report) {
     if (undone_.empty()) return false;
-    const auto t0 = Clock::now();
-    Applied a = lacet::apply(doc_.scene, undone_.back());
-    const double ms = msSince(t0);
-    done_.push_back({std::move(undone_.back()), std::move(a)});
-    undone_.pop_back();
-    const CommandReport r = afterEdit(done_.back().second.changeset, ms);
-    if (report) *report = r;
+    CommandReport total;
+    const std::uint64_t group = undone_.back().group;
+    do {
+        Done d = std::move(undone_.back());
+        undone_.pop_back();
+        const auto t0 = Clock::now();
+        d.applied = lacet::apply(doc_.scene, d.command);
+        const double ms = msSince(t0);
+        done_.push_back(std::move(d));
+        const CommandReport r = afterEdit(done_.back().applied.changeset, ms);
+        total.applyMs += r.applyMs, total.updateMs += r.updateMs;
+        total.changedQuads += r.changedQuads, total.dirtyTiles += r.dirtyTiles;
+    } while (group != 0 && !undone_.empty() && undone_.back().group == group);
+    if (report) *report = total;
     return true;
 }
 
-FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs) {
-    FrameReport r;
-    auto t0 = Clock::now();
-    quadtree_->refineForViewer(viewer, params_.K, params_.maxLevel);
-    r.refineMs = msSince(t0);
-    ++clock_;
-    std::vector<const Quad*> needed;
-    quadtree_->forEachQuad([&](const Quad& q) {
-        if (!q.isLeaf()) return;
-        ++r.viewQuads;
-        const auto it = cache_.find(keyOf(q));
-        if (it != cache_.end()) it->second.lastUsed = clock_;
-        if (it == cache_.end() || it->second.dirty) needed.push_back(&q);
-    });
-    std::stable_sort(needed.begin(), needed.end(),
-                     [&](const Quad* a, const Quad* b) { return viewDistance(*a, viewer) < viewDistance(*b, viewer); });
-    t0 = Clock::now();
+void EditSession::save(const std::string& path) {
+    saveScene(path, doc_);
+    savedSerial_ = topSerial();
+}
+
+void EditSession::setRefineParams(const RefineParams& refine) {
+    params_.refine = refine;
+    data_.reset();
+    quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
+    data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
+    cache_.clear();
+}
+
+void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs, Clock::time_point t0) {
     const std::size_t batch = 8;
-    std::size_t next = 0;
-    while (next < needed.size()) {
-        const std::size_t end = std::min(needed.size(), next + batch);
+    while (next < quads.size()) {
+        const std::size_t end = std::min(quads.size(), next + batch);
         std::vector<CachedTile> made(end - next);
         tbb::parallel_for(next, end, [&](std::size_t i) {
-            made[i - next].appearance = produceAppearance(*needed[i], *quadtree_, *data_, *doc_.dem, params_.appearance);
-            made[i - next].elevation = produceElevation(*needed[i], *quadtree_, *data_, *doc_.dem, params_.elevation);
+            made[i - next].appearance = produceAppearance(*quads[i], *quadtree_, *data_, *doc_.dem, params_.appearance);
+            made[i - next].elevation = produceElevation(*quads[i], *quadtree_, *data_, *doc_.dem, params_.elevation);
         });
         for (std::size_t i = next; i < end; ++i) {
-            CachedTile& t = cache_[keyOf(*needed[i])];
+            CachedTile& t = cache_[keyOf(*quads[i])];
             t = std::move(made[i - next]);
             t.lastUsed = clock_;
+            t.version = ++version_;
         }
-        r.produced += end - next;
         next = end;
         if (budgetMs > 0.0 && msSince(t0) >= budgetMs) break;
     }
-    r.produceMs = msSince(t0);
+}
+
+FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible,
+                               std::optional<glm::dvec3> predicted) {
+    FrameReport r;
+    auto t0 = Clock::now();
+    if (predicted) {
+        // The leaves of both views: the predicted viewer's quads exist (and can be made) now.
+        const glm::dvec3 both[2] = {viewer, *predicted};
+        quadtree_->refineForViewers(both, params_.K, params_.maxLevel);
+    } else {
+        quadtree_->refineForViewer(viewer, params_.K, params_.maxLevel);
+    }
+    r.refineMs = msSince(t0);
+    ++clock_;
+    std::vector<const Quad*> needed, ahead;
+    auto isViewLeaf = [&](const Quad& q) {
+        // With a predicted viewer the tree is refined for both: a quad is a leaf of the current
+        // view when the current viewer alone would not subdivide it.
+        if (q.isLeaf()) return !q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.K, params_.maxLevel);
+        return !Quadtree::wantsSubdivision(q, viewer, params_.K, params_.maxLevel) &&
+               (!q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.K, params_.maxLevel));
+    };
+    quadtree_->forEachQuad([&](const Quad& q) {
+        const bool viewLeaf = predicted ? isViewLeaf(q) : q.isLeaf();
+        if (!viewLeaf && !(predicted && q.isLeaf())) return;
+        if (visible && !visible(q)) {
+            r.culled += viewLeaf;
+            return;
+        }
+        const auto it = cache_.find(keyOf(q));
+        if (viewLeaf) {
+            ++r.viewQuads;
+            if (it != cache_.end()) it->second.lastUsed = clock_;
+        }
+        if (it == cache_.end() || it->second.dirty) (viewLeaf ? needed : ahead).push_back(&q);
+    });
+    auto byDistance = [](glm::dvec3 v) {
+        return [v](const Quad* a, const Quad* b) { return viewDistance(*a, v) < viewDistance(*b, v); };
+    };
+    std::stable_sort(needed.begin(), needed.end(), byDistance(viewer));
+    t0 = Clock::now();
+    std::size_t next = 0;
+    produce(needed, next, budgetMs, t0);
+    r.produced = next;
     r.pending = needed.size() - next;
+    if (predicted && next == needed.size() && (budgetMs <= 0.0 || msSince(t0) < budgetMs)) {
+        std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
+        std::size_t done = 0;
+        produce(ahead, done, budgetMs <= 0.0 ? 0.0 : budgetMs - msSince(t0), Clock::now());
+        r.prefetched = done;
+    }
+    r.produceMs = msSince(t0);
     // LRU: drop the least recently used tiles outside the view beyond the budget.
     if (cache_.size() > params_.cacheTiles) {
         std::vector<std::pair<std::uint64_t, QuadKey>> old;
@@ -150,6 +238,29 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs) {
 const CachedTile* EditSession::tile(const QuadKey& key) const {
     const auto it = cache_.find(key);
     return it == cache_.end() ? nullptr : &it->second;
+}
+
+std::pair<const Quad*, const CachedTile*> EditSession::tileAt(Vec2 p) const {
+    std::pair<const Quad*, const CachedTile*> best{nullptr, nullptr};
+    const Quad* q = &quadtree_->root();
+    while (q) {
+        if (const CachedTile* t = tile(keyOf(*q))) best = {q, t};
+        if (q->isLeaf()) break;
+        const Vec2 c = q->bounds.center();
+        q = q->children[std::size_t(int(p.x >= c.x) | (int(p.y >= c.y) << 1))].get();
+    }
+    return best;
+}
+
+double EditSession::displayedHeight(Vec2 p) const {
+    const auto [q, t] = tileAt(p);
+    if (!t || !t->elevation.bounds.contains(p)) return doc_.dem->sample(p);
+    const ElevationTile& e = t->elevation;
+    const Vec2 g = (p - e.bounds.min) / e.delta;
+    const int i = std::clamp(int(std::floor(g.x)), 0, e.resolution - 1), j = std::clamp(int(std::floor(g.y)), 0, e.resolution - 1);
+    const double fx = g.x - i, fy = g.y - j;
+    auto z = [&](int a, int b) { return double(e.zm[e.index(a, b)]); };
+    return (1 - fy) * ((1 - fx) * z(i, j) + fx * z(i + 1, j)) + fy * ((1 - fx) * z(i, j + 1) + fx * z(i + 1, j + 1));
 }
 
 }  // namespace lacet

@@ -11,10 +11,17 @@
 // never evicted. A tile is dirty when its quad's graph changed, or when it used a z-profile that
 // an edit dropped (a river downstream of the edit).
 //
-// Not here yet (the window's part): frustum culling, prefetching along the camera path, the
-// coarser ancestor shown while a quad is produced.
+// Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
+// leaves' tiles; the window draws a leaf whose tile is not made yet with its nearest ancestor's.
+// Prefetching: frame() may be given the viewer predicted a little later on its path (§8); with
+// budget left once the view is complete, it makes the tiles that viewer will need.
+//
+// Undo granularity: a drag is many commands merged into one undo step (execute(cmd, merge)),
+// and a compound edit (a new road: its nodes, then its curve) is one group.
 
 #include <chrono>
+#include <functional>
+#include <string>
 #include <map>
 #include <memory>
 #include <optional>
@@ -46,6 +53,7 @@ struct CachedTile {
     ElevationTile elevation;
     bool dirty = false;
     std::uint64_t lastUsed = 0;
+    std::uint64_t version = 0;  // changes each time the tile is made (for GPU copies)
 };
 
 struct CommandReport {
@@ -59,8 +67,12 @@ struct FrameReport {
     std::size_t produced = 0;        // tiles made this frame
     std::size_t pending = 0;         // view tiles still missing or dirty after the frame
     std::size_t cached = 0;
+    std::size_t culled = 0;          // leaves outside the view (not produced)
+    std::size_t prefetched = 0;      // tiles made for the predicted viewer
     double refineMs = 0.0, produceMs = 0.0;
 };
+
+using QuadVisibility = std::function<bool(const Quad&)>;
 
 class EditSession {
 public:
@@ -68,36 +80,70 @@ public:
     EditSession(const EditSession&) = delete;
     EditSession& operator=(const EditSession&) = delete;
 
-    // Applies a command (EditError leaves everything as it was) and clears the redo stack.
-    CommandReport execute(const Command& command);
-    // Undo the last command / redo the last undone one; false when there is none.
+    // Applies a command (EditError leaves everything as it was) and clears the redo stack. With
+    // `merge`, and when the last command moved the same vertex or node, the two become one undo
+    // step (a drag: undo goes back to where the drag began).
+    CommandReport execute(const Command& command, bool merge = false);
+    // Commands executed between beginGroup() and endGroup() are undone and redone together.
+    void beginGroup();
+    void endGroup();
+    // Undo the last command (or group) / redo the last undone one; false when there is none.
     bool undo(CommandReport* report = nullptr);
     bool redo(CommandReport* report = nullptr);
     std::size_t undoDepth() const { return done_.size(); }
+    std::size_t redoDepth() const { return undone_.size(); }
 
-    // Refines the quadtree for `viewer` (x, y, height; metres) and produces missing or dirty tiles
-    // of its leaves, nearest first, until `budgetMs` is spent (at least one batch; budget <= 0:
-    // until none is left).
-    FrameReport frame(glm::dvec3 viewer, double budgetMs);
+    // Unsaved changes: the scene differs from the one last saved (or opened).
+    bool modified() const { return savedSerial_ != topSerial(); }
+    // Saves the document (io/scene_file.h, atomic) and marks it saved.
+    void save(const std::string& path);
+
+    // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
+    // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
+    // least one batch; budget <= 0: until none is left). With budget left and a `predicted`
+    // viewer, then makes the tiles of the leaves that viewer would have (prefetching).
+    FrameReport frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible = {},
+                      std::optional<glm::dvec3> predicted = std::nullopt);
+
+    // Accuracy knobs applied live: K takes effect at the next frame; new refinement parameters
+    // rebuild the quadtree and drop every tile.
+    void setK(double K) { params_.K = K; }
+    void setRefineParams(const RefineParams& refine);
+    const SessionParams& params() const { return params_; }
 
     const SceneDocument& document() const { return doc_; }
     const Quadtree& quadtree() const { return *quadtree_; }
     const CurveDataCache& curveData() const { return *data_; }
     const CachedTile* tile(const QuadKey& key) const;
+    // The height shown at p: z_m of the deepest quad of the tree over p that has a tile
+    // (bilinear); the DEM where none has one.
+    double displayedHeight(Vec2 p) const;
+    // The deepest quad of the tree over p that has a tile, and its tile (nullptr, nullptr if none).
+    std::pair<const Quad*, const CachedTile*> tileAt(Vec2 p) const;
     const std::map<QuadKey, CachedTile>& tiles() const { return cache_; }
 
 private:
+    struct Done {
+        Command command;
+        Applied applied;
+        std::uint64_t group = 0;   // 0: alone
+        std::uint64_t serial = 0;  // identifies the scene state after it (for modified())
+    };
     CommandReport afterEdit(const Changeset& cs, double applyMs);
+    std::uint64_t topSerial() const { return done_.empty() ? 0 : done_.back().serial; }
+    void produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs,
+                 std::chrono::steady_clock::time_point t0);
 
     SceneDocument doc_;
     SessionParams params_;
     std::unique_ptr<DemHeightField> heights_;
     std::unique_ptr<Quadtree> quadtree_;
     std::unique_ptr<CurveDataCache> data_;
-    std::vector<std::pair<Command, Applied>> done_;
-    std::vector<Command> undone_;
+    std::vector<Done> done_;
+    std::vector<Done> undone_;  // command, group and serial kept for redo
     std::map<QuadKey, CachedTile> cache_;
-    std::uint64_t clock_ = 0;
+    std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
+    std::uint64_t group_ = 0, nextGroup_ = 0;
 };
 
 QuadKey keyOf(const Quad& q);

@@ -190,19 +190,29 @@ void Quadtree::merge(Quad& q) {
     for (auto& c : q.children) c.reset();
 }
 
-void Quadtree::refineQuad(Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
+bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
     const Vec2 v(viewer.x, viewer.y);
     const Vec2 d = glm::max(glm::max(q.bounds.min - v, v - q.bounds.max), Vec2(0.0));
     const double distance = std::sqrt(d.x * d.x + d.y * d.y + viewer.z * viewer.z);
-    if (q.level < maxLevel && distance < K * q.bounds.size().x) {
+    return q.level < maxLevel && distance < K * q.bounds.size().x;
+}
+
+void Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel) {
+    bool wanted = false;
+    for (const glm::dvec3& v : viewers) wanted = wanted || wantsSubdivision(q, v, K, maxLevel);
+    if (wanted) {
         subdivide(q);
-        for (auto& c : q.children) refineQuad(*c, viewer, K, maxLevel);
+        for (auto& c : q.children) refineQuad(*c, viewers, K, maxLevel);
     } else {
         merge(q);
     }
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) { refineQuad(root_, viewer, K, maxLevel); }
+void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) { refineQuad(root_, {&viewer, 1}, K, maxLevel); }
+
+void Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel) {
+    refineQuad(root_, viewers, K, maxLevel);
+}
 
 void Quadtree::copyQuad(Quad& q, const Quad& like) {
     if (like.isLeaf()) return merge(q);

@@ -91,6 +91,10 @@ public:
     // Subdivides every quad closer to the viewer than K times its size, down to maxLevel, and
     // merges the others. `viewer` is (x, y, height above the ground plane z = 0), metres.
     void refineForViewer(glm::dvec3 viewer, double K, int maxLevel);
+    // The same for several viewers at once: a quad is subdivided when any of them wants it.
+    void refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel);
+    // The rule of refineForViewer: q is below maxLevel and closer to `viewer` than K times its size.
+    static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel);
     // Subdivides this tree exactly where `other` is subdivided (and merges elsewhere).
     void copyStructureOf(const Quadtree& other);
 
@@ -138,7 +142,7 @@ private:
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
-    void refineQuad(Quad& q, glm::dvec3 viewer, double K, int maxLevel);
+    void refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel);
     void copyQuad(Quad& q, const Quad& like);
 
     const Scene& scene_;

@@ -1,0 +1,266 @@
+#include "ui/script_player.h"
+
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <glm/geometric.hpp>
+
+#include "ui/editor_app.h"
+
+namespace lacet::ui {
+namespace {
+
+double radians(double degrees) { return degrees * M_PI / 180.0; }
+
+InputEvent keyEvent(const std::string& name) {
+    InputEvent e;
+    e.type = InputEvent::Type::Key;
+    std::string k = name;
+    if (k.rfind("ctrl+", 0) == 0) {
+        e.mods |= GLFW_MOD_CONTROL;
+        k = k.substr(5);
+    }
+    if (k.rfind("shift+", 0) == 0) {
+        e.mods |= GLFW_MOD_SHIFT;
+        k = k.substr(6);
+    }
+    if (k.size() == 1 && k[0] >= 'a' && k[0] <= 'z') e.key = GLFW_KEY_A + (k[0] - 'a');
+    else if (k == "escape") e.key = GLFW_KEY_ESCAPE;
+    else if (k == "enter") e.key = GLFW_KEY_ENTER;
+    else if (k == "delete") e.key = GLFW_KEY_DELETE;
+    else throw std::runtime_error("script: unknown key '" + name + "'");
+    return e;
+}
+
+InputEvent mouseEvent(InputEvent::Type type, glm::dvec2 p, int button = 0) {
+    InputEvent e;
+    e.type = type;
+    e.x = p.x, e.y = p.y;
+    e.button = button;
+    return e;
+}
+
+LayerId layerOf(const Scene& scene, const nlohmann::json& v) {
+    if (v.is_number_integer()) return v.get<LayerId>();
+    const std::string name = v.get<std::string>();
+    for (LayerId i = 0; i < scene.layers.size(); ++i)
+        if (scene.layers[i].name == name || toString(scene.layers[i].kind) == name) return i;
+    throw std::runtime_error("script: no layer '" + name + "'");
+}
+
+void placeCamera(Camera& cam, const nlohmann::json& s) {
+    if (s.contains("distance")) cam.distance = s["distance"].get<double>();
+    if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
+    if (s.contains("pitch")) cam.pitch = radians(s["pitch"].get<double>());
+}
+
+}  // namespace
+
+ScriptPlayer::ScriptPlayer(const std::string& path, const std::string& outDir) : file_(path), outDir_(outDir) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot read the script");
+    nlohmann::json j;
+    try {
+        in >> j;
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": not JSON: " + e.what());
+    }
+    if (!j.is_object() || !j.contains("steps") || !j["steps"].is_array()) throw std::runtime_error(path + ": expected {\"steps\": [...]}");
+    steps_ = j["steps"];
+    if (j.contains("log")) logName_ = j["log"].get<std::string>();
+    for (std::size_t i = 0; i < steps_.size(); ++i)
+        if (!steps_[i].is_object() || !steps_[i].contains("do"))
+            throw std::runtime_error(path + ": step " + std::to_string(i) + " has no \"do\"");
+}
+
+std::string ScriptPlayer::path(const std::string& file) const {
+    return !file.empty() && file[0] == '/' ? file : outDir_ + "/" + file;
+}
+
+bool ScriptPlayer::step(EditorApp& app) {
+    while (next_ < steps_.size()) {
+        const nlohmann::json& s = steps_[next_];
+        try {
+            const bool done = inStep_ ? continueStep(app, s) : begin(app, s);
+            if (!done) {
+                inStep_ = true;
+                ++frame_;
+                return true;
+            }
+        } catch (const std::exception& e) {
+            throw std::runtime_error(file_ + ": step " + std::to_string(next_) + " (" + s["do"].get<std::string>() + "): " + e.what());
+        }
+        inStep_ = false;
+        frame_ = 0;
+        ++next_;
+        // A step that asked for a screenshot or an input needs the next frame to happen.
+        const std::string kind = s["do"].get<std::string>();
+        if (kind == "screenshot" || kind == "key" || kind == "mouse" || kind == "scroll" || kind == "click_world") return true;
+    }
+    return false;
+}
+
+bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
+    const std::string kind = s["do"].get<std::string>();
+    const Scene& scene = app.session().document().scene;
+    frame_ = 0;
+    if (kind == "camera") {
+        Camera& cam = app.camera();
+        placeCamera(cam, s);
+        if (s.contains("fly")) cam.setFly(s["fly"].get<bool>());
+        if (s.contains("target")) {
+            const Vec2 t = s["target"].is_string() ? scene.extent.center() : Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
+            cam.target = app.groundPoint(t);
+        }
+        if (s.contains("position")) {
+            const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
+            cam.flyPosition = app.groundPoint(p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
+        }
+        return true;
+    }
+    if (kind == "focus") {
+        const LayerId layer = layerOf(scene, s.value("layer", nlohmann::json(0)));
+        const Vec2 near = s.contains("near") ? Vec2(s["near"][0].get<double>(), s["near"][1].get<double>()) : scene.extent.center();
+        const double minWidth = s.value("min_width", 0.0);
+        double best = 1e300;
+        hasFocus_ = false;
+        const Layer& l = scene.layers[layer];
+        for (ElementId id = 0; id < l.curves.size(); ++id) {
+            const Curve& c = l.curves[id];
+            if (!c.alive || c.vertices.size() < 3 || c.w < minWidth) continue;
+            for (std::size_t k = 1; k + 1 < c.vertices.size(); ++k) {
+                const double d = glm::length(c.vertices[k].p - near);
+                if (d < best) best = d, hasFocus_ = true, focusLayer_ = layer, focusCurve_ = id, focusIndex_ = k;
+            }
+        }
+        if (!hasFocus_) throw std::runtime_error("no curve to focus on");
+        const Vec2 p = l.curves[focusCurve_].vertices[focusIndex_].p;
+        app.camera().setFly(false);
+        app.camera().target = app.groundPoint(p);
+        placeCamera(app.camera(), s);
+        app.log()["focus"] = {{"layer", focusLayer_}, {"curve", focusCurve_}, {"index", focusIndex_}, {"x", p.x}, {"y", p.y}};
+        return true;
+    }
+    if (kind == "drag_focus") {
+        if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
+        from_ = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
+        to_ = from_ + glm::dvec2(s["by"][0].get<double>(), s["by"][1].get<double>());
+        const auto px = app.project(app.groundPoint(from_));
+        if (!px) throw std::runtime_error("the focus vertex is behind the camera");
+        app.push(mouseEvent(InputEvent::Type::MouseDown, *px));
+        return false;
+    }
+    if (kind == "wait_idle" || kind == "frames") return continueStep(app, s);
+    if (kind == "screenshot") {
+        app.requestScreenshot(path(s["file"].get<std::string>()), s.value("panels", false), s.value("overlay", true));
+        return true;
+    }
+    if (kind == "key") {
+        app.push(keyEvent(s["name"].get<std::string>()));
+        return true;
+    }
+    if (kind == "mouse") {
+        const std::string a = s["action"].get<std::string>();
+        const auto type = a == "down" ? InputEvent::Type::MouseDown : a == "up" ? InputEvent::Type::MouseUp : InputEvent::Type::MouseMove;
+        app.push(mouseEvent(type, {s["x"].get<double>(), s["y"].get<double>()}, s.value("button", 0)));
+        return true;
+    }
+    if (kind == "scroll") {
+        InputEvent e;
+        e.type = InputEvent::Type::Scroll;
+        e.y = s["dy"].get<double>();
+        app.push(e);
+        return true;
+    }
+    if (kind == "click_world") {
+        const auto px = app.project(app.groundPoint({s["at"][0].get<double>(), s["at"][1].get<double>()}));
+        if (!px) throw std::runtime_error("the point is behind the camera");
+        app.push(mouseEvent(InputEvent::Type::MouseDown, *px));
+        app.push(mouseEvent(InputEvent::Type::MouseUp, *px));
+        return true;
+    }
+    if (kind == "tool") {
+        const std::string n = s["name"].get<std::string>();
+        app.setTool(n == "insert" ? Tool::Insert : n == "delete_point" ? Tool::DeletePoint : n == "draw" ? Tool::Draw : Tool::Select);
+        return true;
+    }
+    if (kind == "save") {
+        app.save(s.contains("file") ? path(s["file"].get<std::string>()) : std::string());
+        return true;
+    }
+    if (kind == "open") {
+        app.open(path(s["file"].get<std::string>()));
+        return true;
+    }
+    if (kind == "background") {
+        app.background = glm::vec3(s["rgb"][0].get<float>(), s["rgb"][1].get<float>(), s["rgb"][2].get<float>());
+        return true;
+    }
+    if (kind == "budget") {
+        app.setBudget(s["ms"].get<double>());
+        return true;
+    }
+    if (kind == "fly") {
+        Camera& cam = app.camera();
+        cam.setFly(true);
+        if (s.contains("pitch")) cam.pitch = radians(s["pitch"].get<double>());
+        if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
+        flyFrom_ = cam.flyPosition;
+        flyHeightFrom_ = std::max(1.0, flyFrom_.z - app.session().displayedHeight({flyFrom_.x, flyFrom_.y}));
+        flyTo_ = glm::dvec3(s["to"][0].get<double>(), s["to"][1].get<double>(), s["to"][2].get<double>());
+        return continueStep(app, s);
+    }
+    throw std::runtime_error("unknown step");
+}
+
+bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
+    const std::string kind = s["do"].get<std::string>();
+    if (kind == "frames") return frame_ >= s.value("n", 1);
+    if (kind == "wait_idle") {
+        if (frame_ > 0 && app.pendingTiles() == 0) return true;
+        if (frame_ >= s.value("max_frames", 2000)) throw std::runtime_error("tiles still pending");
+        return false;
+    }
+    if (kind == "drag_focus") {
+        const int steps = s.value("steps", 20);
+        if (frame_ <= steps) {
+            const double t = double(frame_) / double(steps);
+            const auto px = app.project(app.groundPoint(from_ + (to_ - from_) * t));
+            if (!px) throw std::runtime_error("the drag left the view");
+            app.push(mouseEvent(InputEvent::Type::MouseMove, *px));
+            return false;
+        }
+        const auto px = app.project(app.groundPoint(to_));
+        app.push(mouseEvent(InputEvent::Type::MouseUp, px.value_or(glm::dvec2(0.0))));
+        const Vec2 now = app.session().document().scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
+        app.log()["drags"].push_back({{"from", {from_.x, from_.y}}, {"target", {to_.x, to_.y}}, {"result", {now.x, now.y}},
+                                      {"moved_m", glm::length(now - from_)}, {"error_m", glm::length(now - to_)},
+                                      {"target_pixel", {px.value_or(glm::dvec2(0.0)).x, px.value_or(glm::dvec2(0.0)).y}}});
+        return true;
+    }
+    if (kind == "fly") {
+        const int frames = s.value("frames", 300);
+        const double t = double(frame_ + 1) / double(frames);
+        Camera& cam = app.camera();
+        const double height = flyHeightFrom_ * std::pow(std::max(1.0, flyTo_.z) / flyHeightFrom_, t);
+        const double e = 1.0 - (1.0 - t) * (1.0 - t);  // fast first, slow near the ground
+        const glm::dvec2 xy = glm::dvec2(flyFrom_) + (glm::dvec2(flyTo_) - glm::dvec2(flyFrom_)) * e;
+        cam.flyPosition = app.groundPoint({xy.x, xy.y}) + glm::dvec3(0.0, 0.0, height);
+        const int every = s.value("screenshot_every", 0);
+        if (every > 0 && (frame_ + 1) % every == 0)
+            app.requestScreenshot(path(s.value("prefix", std::string("fly")) + "_" + std::to_string(frame_ + 1) + ".png"), false, false);
+        return frame_ + 1 >= frames;
+    }
+    return true;
+}
+
+void ScriptPlayer::finish(EditorApp& app) {
+    std::ofstream out(path(logName_));
+    out << app.log().dump(1) << "\n";
+    if (!out) throw std::runtime_error(path(logName_) + ": cannot write the log");
+}
+
+}  // namespace lacet::ui
