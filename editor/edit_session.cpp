@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 namespace lacet {
 namespace {
@@ -153,7 +154,8 @@ void EditSession::setRefineParams(const RefineParams& refine) {
 }
 
 void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs, Clock::time_point t0) {
-    const std::size_t batch = 8;
+    // Batches as wide as the worker pool, so that the budget is checked often.
+    const std::size_t batch = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
     while (next < quads.size()) {
         const std::size_t end = std::min(quads.size(), next + batch);
         std::vector<CachedTile> made(end - next);
@@ -204,6 +206,11 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         if (viewLeaf) {
             ++r.viewQuads;
             if (it != cache_.end()) it->second.lastUsed = clock_;
+            // The ancestors' tiles stay too: they are what a renderer shows while a leaf is made.
+            for (const Quad* a = q.parent; a; a = a->parent) {
+                const auto at = cache_.find(keyOf(*a));
+                if (at != cache_.end()) at->second.lastUsed = clock_;
+            }
         }
         if (it == cache_.end() || it->second.dirty) (viewLeaf ? needed : ahead).push_back(&q);
     });

@@ -526,7 +526,8 @@ int EditorApp::run() {
             demRange_ = glm::dvec2(*lo, *hi);
         }
         auto visible = [&](const Quad& q) {
-            const double skirt = terrain_->skirtFraction * q.bounds.size().x;
+            // Below the DEM's lowest point by more than any skirt (TerrainRenderer) hangs.
+            const double skirt = 0.5 * q.bounds.size().x;
             return frustum.mayIntersect({q.bounds.min.x - eye.x, q.bounds.min.y - eye.y, demRange_->x - skirt - 50.0 - eye.z},
                                         {q.bounds.max.x - eye.x, q.bounds.max.y - eye.y, demRange_->y + 50.0 - eye.z});
         };
@@ -590,8 +591,7 @@ int EditorApp::run() {
 void EditorApp::drawPanels() {
     const Scene& scene = session_->document().scene;
     ImGui::SetNextWindowPos({10, 10}, ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize({300, 0}, ImGuiCond_FirstUseEver);
-    ImGui::Begin("Layers");
+    ImGui::Begin("Layers", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     for (LayerId li = 0; li < scene.layers.size(); ++li) {
         ImGui::PushID(int(li));
         bool visible = layerVisible_[li] != 0, locked = layerLocked_[li] != 0;
@@ -626,9 +626,8 @@ void EditorApp::drawPanels() {
     }
     ImGui::End();
 
-    ImGui::SetNextWindowPos({10, 260}, ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize({300, 0}, ImGuiCond_FirstUseEver);
-    ImGui::Begin("Selection");
+    ImGui::SetNextWindowPos({10, 230}, ImGuiCond_FirstUseEver);
+    ImGui::Begin("Selection", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     if (selected_.kind == Pick::Kind::Curve && selected_.id < scene.layers[selected_.layer].curves.size() &&
         scene.layers[selected_.layer].curves[selected_.id].alive) {
         const Curve& c = scene.layers[selected_.layer].curves[selected_.id];
@@ -651,9 +650,8 @@ void EditorApp::drawPanels() {
     }
     ImGui::End();
 
-    ImGui::SetNextWindowPos({float(width_) - 330.0f, 10}, ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize({320, 0}, ImGuiCond_FirstUseEver);
-    ImGui::Begin("Statistics");
+    ImGui::SetNextWindowPos({float(width_) - 10.0f, 10}, ImGuiCond_FirstUseEver, {1.0f, 0.0f});
+    ImGui::Begin("Statistics", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     const TerrainStats& ts = terrain_->stats();
     ImGui::Text("Frame %zu: update %.1f ms, draw %.1f ms", frames_, lastUpdateMs_, lastRenderMs_);
     ImGui::Text("Quads: %zu in view, %zu culled, %zu drawn (%zu coarser)", lastFrame_.viewQuads, lastFrame_.culled, ts.drawn, ts.fallback);

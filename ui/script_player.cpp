@@ -6,8 +6,10 @@
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "raster/appearance_producer.h"
 #include "ui/editor_app.h"
 
 namespace lacet::ui {
@@ -109,15 +111,32 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
     frame_ = 0;
     if (kind == "camera") {
         Camera& cam = app.camera();
+        if (s.contains("save")) {
+            saved_[s["save"].get<std::string>()] = cam;
+            return true;
+        }
+        if (s.contains("restore")) {
+            const auto it = saved_.find(s["restore"].get<std::string>());
+            if (it == saved_.end()) throw std::runtime_error("no camera saved as '" + s["restore"].get<std::string>() + "'");
+            cam = it->second;
+            return true;
+        }
         placeCamera(cam, s);
         if (s.contains("fly")) cam.setFly(s["fly"].get<bool>());
         if (s.contains("target")) {
-            const Vec2 t = s["target"].is_string() ? scene.extent.center() : Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
+            Vec2 t = scene.extent.center();
+            if (s["target"].is_array()) t = Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
+            else if (s["target"] == "drag_from") t = from_;
+            else if (s["target"] == "drag_result") t = lastResult_;
             cam.target = app.groundPoint(t);
         }
         if (s.contains("position")) {
-            const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
-            cam.flyPosition = app.groundPoint(p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
+            if (s["position"].is_string()) {  // "scene": above its centre, `height` metres up
+                cam.flyPosition = app.groundPoint(scene.extent.center()) + glm::dvec3(0.0, 0.0, s.value("height", 3000.0));
+            } else {
+                const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
+                cam.flyPosition = app.groundPoint(p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
+            }
         }
         return true;
     }
@@ -125,6 +144,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         const LayerId layer = layerOf(scene, s.value("layer", nlohmann::json(0)));
         const Vec2 near = s.contains("near") ? Vec2(s["near"][0].get<double>(), s["near"][1].get<double>()) : scene.extent.center();
         const double minWidth = s.value("min_width", 0.0);
+        const bool onCurve = s.value("on_curve", false);
         double best = 1e300;
         hasFocus_ = false;
         const Layer& l = scene.layers[layer];
@@ -132,6 +152,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
             const Curve& c = l.curves[id];
             if (!c.alive || c.vertices.size() < 3 || c.w < minWidth) continue;
             for (std::size_t k = 1; k + 1 < c.vertices.size(); ++k) {
+                if (onCurve && !c.vertices[k].onCurve) continue;
                 const double d = glm::length(c.vertices[k].p - near);
                 if (d < best) best = d, hasFocus_ = true, focusLayer_ = layer, focusCurve_ = id, focusIndex_ = k;
             }
@@ -199,6 +220,26 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         app.background = glm::vec3(s["rgb"][0].get<float>(), s["rgb"][1].get<float>(), s["rgb"][2].get<float>());
         return true;
     }
+    if (kind == "probe") {
+        // What the session's tiles hold at the last drag's start and end: the footprint's
+        // blending b and enforced height z_e against the DEM's z_o, and the appearance colour.
+        nlohmann::json out;
+        for (const auto& [name, p] : {std::pair<const char*, glm::dvec2>{"from", from_}, {"result", lastResult_}}) {
+            const auto [q, t] = app.session().tileAt(p);
+            if (!t) continue;
+            const ElevationTile& e = t->elevation;
+            const glm::ivec2 ij = glm::ivec2(glm::round((p - e.bounds.min) / e.delta));
+            const std::size_t k = e.index(ij.x, ij.y);
+            const AppearanceTile& a = t->appearance;
+            const glm::ivec2 ai = glm::ivec2(glm::floor((p - a.bounds.min) / a.delta));
+            const std::vector<std::uint8_t> texels = tileTexels(a);
+            const std::size_t ak = a.index(ai.x, ai.y);
+            out[name] = {{"level", q->level}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
+                         {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};
+        }
+        app.log()["probes"].push_back(out);
+        return true;
+    }
     if (kind == "budget") {
         app.setBudget(s["ms"].get<double>());
         return true;
@@ -210,7 +251,13 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
         flyFrom_ = cam.flyPosition;
         flyHeightFrom_ = std::max(1.0, flyFrom_.z - app.session().displayedHeight({flyFrom_.x, flyFrom_.y}));
-        flyTo_ = glm::dvec3(s["to"][0].get<double>(), s["to"][1].get<double>(), s["to"][2].get<double>());
+        if (s["to"] == "focus") {
+            if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
+            const Vec2 p = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
+            flyTo_ = glm::dvec3(p.x, p.y, s.value("height", 5.0));
+        } else {
+            flyTo_ = glm::dvec3(s["to"][0].get<double>(), s["to"][1].get<double>(), s["to"][2].get<double>());
+        }
         return continueStep(app, s);
     }
     throw std::runtime_error("unknown step");
@@ -236,6 +283,7 @@ bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
         const auto px = app.project(app.groundPoint(to_));
         app.push(mouseEvent(InputEvent::Type::MouseUp, px.value_or(glm::dvec2(0.0))));
         const Vec2 now = app.session().document().scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
+        lastResult_ = now;
         app.log()["drags"].push_back({{"from", {from_.x, from_.y}}, {"target", {to_.x, to_.y}}, {"result", {now.x, now.y}},
                                       {"moved_m", glm::length(now - from_)}, {"error_m", glm::length(now - to_)},
                                       {"target_pixel", {px.value_or(glm::dvec2(0.0)).x, px.value_or(glm::dvec2(0.0)).y}}});

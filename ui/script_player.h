@@ -6,11 +6,14 @@
 // written to "log" (default session-log.json) in the output folder and the editor exits.
 //
 // Steps ({"do": ...}):
-//   camera      target [x, y] (at its ground height) or "scene" (the centre), distance, yaw, pitch
+//   camera      target [x, y] (at its ground height), "scene" (the centre), "drag_from" or
+//               "drag_result" (where the last drag began and ended), distance, yaw, pitch;
+//               or save: NAME / restore: NAME, the whole camera exactly; in fly mode, position
+//               [x, y, height above the ground] or "scene" (with height, default 3000 m)
 //               (degrees), fly (bool), position [x, y, height above the ground] in fly mode
-//   focus       layer (index or name), near [x, y] (default: the scene centre), min_width (m):
-//               the inner vertex, nearest `near`, of a curve of that layer at least that wide with
-//               3 vertices or more becomes the focus; with distance/yaw/pitch, the camera looks at it
+//   focus       layer (index or name), near [x, y] (default: the scene centre), min_width (m),
+//               on_curve (bool): the inner vertex (on-curve only, if asked), nearest `near`, of a
+//               curve of that layer at least that wide becomes the focus; with distance/yaw/pitch, the camera looks at it
 //   drag_focus  by [dx, dy] metres, steps: presses the mouse on the focus vertex, moves it to the
 //               terrain `by` away in `steps` frames, releases; logs where the vertex went
 //   wait_idle   max_frames: frames until no visible tile is missing or dirty
@@ -24,10 +27,13 @@
 //   save        file (default: the scene's own); open: file
 //   background  rgb [r, g, b] in [0, 1]
 //   budget      ms: the per-frame production budget
-//   fly         to [x, y, height above the ground], frames, pitch (degrees), screenshot_every,
+//   probe       logs what the tiles hold where the last drag began and ended (b, z_o, z_e, z_m,
+//               the appearance colour)
+//   fly         to [x, y, height above the ground] or "focus" (with height), frames, pitch (degrees), screenshot_every,
 //               prefix: the camera flies (fly mode) from where it is, height geometric, position
 //               eased; screenshots are taken live, with whatever tiles are ready
 
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -61,9 +67,10 @@ private:
     bool hasFocus_ = false;
     std::uint32_t focusLayer_ = 0, focusCurve_ = 0;
     std::size_t focusIndex_ = 0;
-    glm::dvec2 from_{0.0}, to_{0.0};
+    glm::dvec2 from_{0.0}, to_{0.0}, lastResult_{0.0};
     glm::dvec3 flyFrom_{0.0}, flyTo_{0.0};
     double flyHeightFrom_ = 0.0;
+    std::map<std::string, Camera> saved_;
 };
 
 }  // namespace lacet::ui

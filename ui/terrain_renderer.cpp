@@ -219,7 +219,10 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
         }
         const GpuTile* g = upload(keyOf(*q), *tile);
         const double size = leaf.bounds.size().x;
-        const glm::dvec3 lo(leaf.bounds.min.x - eye.x, leaf.bounds.min.y - eye.y, double(g->zmin) - size * skirtFraction - eye.z);
+        // The skirt: deeper when the tile is an ancestor's, whose coarser surface can stand
+        // farther from the neighbours' (by its slope over one of its samples).
+        const double skirt = size * skirtFraction + tile->elevation.delta * (q != &leaf ? 1.0 : 0.0);
+        const glm::dvec3 lo(leaf.bounds.min.x - eye.x, leaf.bounds.min.y - eye.y, double(g->zmin) - skirt - eye.z);
         const glm::dvec3 hi(leaf.bounds.max.x - eye.x, leaf.bounds.max.y - eye.y, double(g->zmax) - eye.z);
         if (!frustum.mayIntersect(lo, hi)) {
             ++stats_.culled;
@@ -242,7 +245,7 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
         glUniform3f(program_.uniform("uOrigin"), float(lo.x), float(lo.y), float(-eye.z));
         glUniform1f(program_.uniform("uSize"), float(size));
         glUniform1f(program_.uniform("uMorph"), q == &leaf ? float(view.K * size) : 0.0f);
-        glUniform1f(program_.uniform("uSkirt"), float(size * skirtFraction));
+        glUniform1f(program_.uniform("uSkirt"), float(skirt));
         glUniform1i(program_.uniform("uWater"), g->water ? 1 : 0);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, g->elevation);

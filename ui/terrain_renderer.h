@@ -9,7 +9,7 @@
 // A leaf whose tile is not made yet is drawn with the nearest ancestor's tile (the coarser
 // view, shown until its own tile arrives). Leaves outside the view frustum are not drawn.
 // Every grid has a skirt: a vertical strip hanging from its border (`skirtFraction` of the quad
-// size), so that where the morphing of two neighbours of different levels does not meet exactly,
+// size, plus one sample spacing of the tile when it is an ancestor's), so that where the morphing of two neighbours of different levels does not meet exactly,
 // no background shows through.
 //
 // Textures live on the GPU per tile (RG32F z_m, z_c; RGBA8 appearance with mipmaps), copied again
