@@ -195,5 +195,133 @@ TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
     EXPECT_EQ(first.produced + rest.produced, first.viewQuads);
 }
 
+
+// An inner vertex of a road of the session's scene with at least three vertices.
+std::pair<ElementId, std::size_t> someInnerVertex(const Scene& s) {
+    const Layer& l = s.layers[kRoadsLayer];
+    for (ElementId id = 0; id < l.curves.size(); ++id)
+        if (l.curves[id].alive && l.curves[id].vertices.size() >= 3) return {id, 1};
+    return {kNoElement, 0};
+}
+
+TEST(EditSession, ADragIsOneUndoStepAndAGroupUndoesTogether) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = 8;
+    EditSession session(syntheticDocument(13, 800), params);
+    const Scene original = session.document().scene;
+    EXPECT_FALSE(session.modified());
+    const auto [curve, index] = someInnerVertex(original);
+    ASSERT_NE(curve, kNoElement);
+    const Vec2 p0 = original.layers[kRoadsLayer].curves[curve].vertices[index].p;
+    // A drag in 10 steps, merged: one undo step back to where it began.
+    for (int k = 1; k <= 10; ++k)
+        session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0 + Vec2(3.0 * k, -2.0 * k)}, true);
+    EXPECT_EQ(session.undoDepth(), 1u);
+    EXPECT_TRUE(session.modified());
+    const Scene dragged = session.document().scene;
+    EXPECT_EQ(dragged.layers[kRoadsLayer].curves[curve].vertices[index].p, p0 + Vec2(30.0, -20.0));
+    ASSERT_TRUE(session.undo());
+    EXPECT_TRUE(sameScene(session.document().scene, original));
+    EXPECT_FALSE(session.modified());
+    ASSERT_TRUE(session.redo());
+    EXPECT_TRUE(sameScene(session.document().scene, dragged));
+    // Without merging, each move is its own step; a move of another vertex never merges.
+    session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0}, false);
+    EXPECT_EQ(session.undoDepth(), 2u);
+    // A group (a new road: two nodes and its curve) is undone and redone as one.
+    const Scene beforeGroup = session.document().scene;
+    const Vec2 a = original.extent.center(), b = a + Vec2(120.0, 35.0);
+    session.beginGroup();
+    session.execute(AddNodeCmd{kRoadsLayer, a});
+    const ElementId na = ElementId(session.document().scene.layers[kRoadsLayer].nodes.size() - 1);
+    session.execute(AddNodeCmd{kRoadsLayer, b});
+    const ElementId nb = na + 1;
+    Curve c;
+    c.vertices = {{a}, {(a + b) * 0.5, false}, {b}};
+    c.start = na, c.end = nb, c.w = 6.0f, c.wf = 12.0f;
+    session.execute(AddCurveCmd{kRoadsLayer, c});
+    session.endGroup();
+    const Scene afterGroup = session.document().scene;
+    EXPECT_EQ(session.undoDepth(), 5u);
+    ASSERT_TRUE(session.undo());
+    EXPECT_EQ(session.undoDepth(), 2u);
+    EXPECT_TRUE(sameScene(session.document().scene, beforeGroup));
+    ASSERT_TRUE(session.redo());
+    EXPECT_TRUE(sameScene(session.document().scene, afterGroup));
+}
+
+TEST(EditSession, SavingMarksTheSceneUnmodifiedAndADragAfterItIsNewHistory) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = 8;
+    EditSession session(syntheticDocument(14, 600), params);
+    const auto [curve, index] = someInnerVertex(session.document().scene);
+    const Vec2 p0 = session.document().scene.layers[kRoadsLayer].curves[curve].vertices[index].p;
+    session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0 + Vec2(5.0, 0.0)}, true);
+    const std::string path = ::testing::TempDir() + "/lacet_session_save.gpkg";
+    session.save(path);
+    EXPECT_FALSE(session.modified());
+    // The next drag step does not merge into the saved step: undoing it returns to the saved scene.
+    session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0 + Vec2(9.0, 0.0)}, true);
+    EXPECT_TRUE(session.modified());
+    EXPECT_EQ(session.undoDepth(), 2u);
+    session.undo();
+    EXPECT_FALSE(session.modified());
+    const SceneDocument loaded = loadScene(path);
+    EXPECT_TRUE(sameScene(loaded.scene, session.document().scene));
+    session.undo();
+    EXPECT_TRUE(session.modified());
+}
+
+TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewersTiles) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = 10;
+    params.cacheTiles = 1u << 20;
+    const SceneDocument doc = syntheticDocument(15, 1500);
+    const Vec2 c = doc.scene.extent.center();
+    const glm::dvec3 viewer(c.x, c.y, 30.0);
+    // Visible: the half of the scene east of the viewer.
+    const QuadVisibility east = [&](const Quad& q) { return q.bounds.max.x > c.x; };
+    EditSession session(SceneDocument(doc), params);
+    const FrameReport r = session.frame(viewer, 0.0, east);
+    EXPECT_GT(r.culled, 0u);
+    EXPECT_EQ(r.pending, 0u);
+    session.quadtree().forEachQuad([&](const Quad& q) {
+        if (q.isLeaf()) {
+            EXPECT_EQ(session.tile(keyOf(q)) != nullptr, east(q)) << q.level << " " << q.tx << " " << q.ty;
+        }
+    });
+    // Prefetching: the view's leaves are the same as without, and the predicted viewer's leaves
+    // get tiles too.
+    EditSession plain(SceneDocument(doc), params), ahead(SceneDocument(doc), params);
+    const glm::dvec3 later(c.x + 400.0, c.y + 300.0, 20.0);
+    const FrameReport a = plain.frame(viewer, 0.0);
+    const FrameReport b = ahead.frame(viewer, 0.0, {}, later);
+    EXPECT_EQ(a.viewQuads, b.viewQuads);
+    EXPECT_EQ(a.produced, b.produced);
+    EXPECT_GT(b.prefetched, 0u);
+    const FrameReport atLater = ahead.frame(later, 0.0);
+    const FrameReport fresh = plain.frame(later, 0.0);
+    EXPECT_LT(atLater.produced, fresh.produced);  // what was prefetched is not made again
+}
+
+TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = 9;
+    EditSession session(syntheticDocument(16, 800), params);
+    const Vec2 c = session.document().scene.extent.center();
+    session.frame({c.x, c.y, 20.0}, 0.0);
+    const auto [q, t] = session.tileAt(c);
+    ASSERT_NE(t, nullptr);
+    EXPECT_TRUE(q->isLeaf());
+    const ElevationTile& e = t->elevation;
+    for (int j = 0; j < e.resolution; j += 5)
+        for (int i = 0; i < e.resolution; i += 7)
+            EXPECT_NEAR(session.displayedHeight(e.position(i, j)), e.zm[e.index(i, j)], 1e-3);
+}
+
 }  // namespace
 }  // namespace lacet

@@ -1,0 +1,107 @@
+// The editor in a real window (Mesa's software OpenGL under xvfb-run): scripted sessions from
+// tests/scripts replayed by `lacet edit --script`, on the Andorra scene when its data is beside the
+// repository, else on a synthetic one.
+//  - Drag: a road's on-curve vertex dragged 200 m lands there; the screenshot after the drag differs
+//    from the one before around the new place, and the tiles there hold the road's flattened
+//    footprint (b = 1, z_e off the DEM) and asphalt; undo gives back the first screenshot exactly,
+//    redo the second, and the saved then reopened scene the second again.
+//  - Flyover: from 3000 m down to 5 m above a road with an 8 ms production budget per frame (so
+//    coarser ancestors are shown), no screenshot shows the background through the terrain.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/image_file.h"
+
+namespace lacet {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool haveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
+
+// Runs a script; returns its log.
+nlohmann::json runScript(const std::string& script, const std::string& out) {
+    fs::remove_all(out);
+    fs::create_directories(out);
+    const std::string andorra = std::string(LACET_SOURCE_DIR) + "/../shared/data/andorra";
+    // Mesa's and X11's own allocations at exit are not this program's leaks.
+    const std::string cmd = "LSAN_OPTIONS=suppressions=" + std::string(LACET_SOURCE_DIR) + "/tests/ui/lsan.supp " +
+                            "xvfb-run -a -s '-screen 0 1280x800x24' " + LACET_BINARY + " edit --script " + LACET_SOURCE_DIR +
+                            "/tests/scripts/" + script + " --out " + out + " --andorra " + andorra +
+                            " --curves 20000 --width 800 --height 500 > " + out + "/stdout.txt 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream log(out + "/" + (script == "drag_undo_save.json" ? "drag-log.json" : "fly-log.json"));
+    if (rc != 0 || !log) {
+        std::ifstream o(out + "/stdout.txt");
+        ADD_FAILURE() << cmd << " failed (" << rc << "):\n" << std::string(std::istreambuf_iterator<char>(o), {});
+        return {};
+    }
+    return nlohmann::json::parse(log);
+}
+
+// Pixels that differ between two images within `radius` of (x, y).
+std::size_t differingNear(const Image8& a, const Image8& b, double x, double y, int radius) {
+    std::size_t n = 0;
+    for (int j = std::max(0, int(y) - radius); j < std::min(a.height, int(y) + radius); ++j)
+        for (int i = std::max(0, int(x) - radius); i < std::min(a.width, int(x) + radius); ++i) {
+            const std::size_t k = (std::size_t(j) * std::size_t(a.width) + std::size_t(i)) * std::size_t(a.channels);
+            n += a.pixels[k] != b.pixels[k] || a.pixels[k + 1] != b.pixels[k + 1] || a.pixels[k + 2] != b.pixels[k + 2];
+        }
+    return n;
+}
+
+TEST(EditorScript, DraggingARoadPointMovesItsFootprintAndUndoSaveAndReopenAreExact) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
+    const std::string out = ::testing::TempDir() + "/lacet_editor_drag";
+    const nlohmann::json log = runScript("drag_undo_save.json", out);
+    ASSERT_FALSE(log.is_null());
+    ASSERT_EQ(log["drags"].size(), 1u);
+    const nlohmann::json& drag = log["drags"][0];
+    EXPECT_NEAR(drag["moved_m"].get<double>(), 200.0, 3.0);
+    EXPECT_LT(drag["error_m"].get<double>(), 3.0);  // within a pixel's footprint of the target
+    // The tiles at the new place: the road's footprint, level across (b = 1, z_e set), and asphalt.
+    const nlohmann::json& probe = log["probes"][0]["result"];
+    EXPECT_EQ(probe["b"].get<double>(), 1.0);
+    EXPECT_NE(probe["ze"].get<double>(), probe["zo"].get<double>());
+    EXPECT_LT(probe["rgb"][0].get<int>(), 90);  // dark grey
+    EXPECT_LT(std::abs(probe["rgb"][0].get<int>() - probe["rgb"][1].get<int>()), 12);
+    const Image8 before = readImage8(out + "/before.png"), after = readImage8(out + "/after.png");
+    const Image8 undone = readImage8(out + "/undone.png"), redone = readImage8(out + "/redone.png");
+    const Image8 reopened = readImage8(out + "/reopened.png");
+    EXPECT_GT(differingNear(before, after, drag["target_pixel"][0].get<double>(), drag["target_pixel"][1].get<double>(), 12), 40u);
+    EXPECT_TRUE(undone.pixels == before.pixels) << "undo does not give back the first image";
+    EXPECT_TRUE(redone.pixels == after.pixels) << "redo does not give back the edited image";
+    EXPECT_TRUE(reopened.pixels == after.pixels) << "the saved and reopened scene does not show the edit";
+    for (const auto& s : log["screenshots"]) EXPECT_EQ(s["background_pixels"].get<int>(), 0) << s["file"];
+    std::cout << "[ figures  ] scene " << log["scene"] << ", vertex moved " << drag["moved_m"] << " m, b = " << probe["b"]
+              << ", z_e - z_o = " << probe["ze"].get<double>() - probe["zo"].get<double>() << " m\n";
+}
+
+TEST(EditorScript, NoBackgroundShowsThroughTheTerrainAlongAFlyover) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
+    const std::string out = ::testing::TempDir() + "/lacet_editor_fly";
+    const nlohmann::json log = runScript("flyover_cracks.json", out);
+    ASSERT_FALSE(log.is_null());
+    ASSERT_GE(log["screenshots"].size(), 8u);
+    std::size_t coarser = 0;
+    for (const auto& s : log["screenshots"]) {
+        EXPECT_EQ(s["background_pixels"].get<int>(), 0) << s["file"];
+        coarser += s["fallback_quads"].get<std::size_t>();
+    }
+    EXPECT_GT(coarser, 0u);  // the budget left leaves to be shown with their ancestors' tiles
+    double sum = 0.0;
+    for (const auto& f : log["frames"]) {
+        EXPECT_EQ(f["missing"].get<int>(), 0);
+        sum += f["update_ms"].get<double>();
+    }
+    std::cout << "[ figures  ] " << log["frames"].size() << " frames, mean update " << sum / double(log["frames"].size())
+              << " ms, " << coarser << " leaves shown coarser in the screenshots\n";
+}
+
+}  // namespace
+}  // namespace lacet
