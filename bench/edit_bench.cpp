@@ -1,13 +1,20 @@
 // `lacet bench edit`: edit latency of the window-less session (issue: the 3D editor). A fixed view
-// near the ground; a road control point dragged in 60 steps, then a field corner node: for each
-// step, the time from the command to every dirty tile of the view being made again (both
-// producers, TBB worker threads), against the number of tiles made.
+// near the ground: a camera `altitude` metres above the terrain, 80 m from the edited road control
+// point and looking at it (1280 x 800, 52 degrees vertical field of view); a road control point
+// dragged in 60 steps, then a field corner node: for each step, the time from the command to
+// every visible dirty tile (in the view frustum) being made again (both producers, TBB worker
+// threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
+// they come into view. Also reported: the same without frustum culling (every leaf of the view).
+#include <algorithm>
+#include <cmath>
+
 #include <tbb/info.h>
 
 #include <glm/geometric.hpp>
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "model/synthetic_scene.h"
 #include "raster/synthetic_dem.h"
@@ -27,12 +34,12 @@ struct Drag {
 // One drag: `steps` commands made by `command(i)`, each followed by a frame that makes every
 // dirty tile of the view.
 template <class F>
-Drag drag(EditSession& session, glm::dvec3 viewer, int steps, F&& command) {
+Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, int steps, F&& command) {
     Drag d;
     for (int i = 0; i < steps; ++i) {
         const auto t0 = Clock::now();
-        session.execute(command(i));
-        const FrameReport f = session.frame(viewer, 0.0);
+        session.execute(command(i), true);
+        const FrameReport f = session.frame(viewer, 0.0, visible);
         d.ms.push_back(msSince(t0));
         d.tiles.push_back(double(f.produced));
     }
@@ -66,32 +73,52 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
         if (glm::length(s.layers[kFieldsLayer].nodes[id].p - at) < best) best = glm::length(s.layers[kFieldsLayer].nodes[id].p - at), field = id;
     const Vec2 fieldAt = s.layers[kFieldsLayer].nodes[field].p;
 
-    SessionParams params;
-    params.cacheTiles = 1u << 20;
-    t0 = Clock::now();
-    EditSession session(std::move(doc), params);
-    const glm::dvec3 viewer(at.x, at.y, o.altitude);
-    const FrameReport first = session.frame(viewer, 0.0);
-    const double firstMs = msSince(t0);
-    const Drag roadDrag = drag(session, viewer, o.steps, [&](int i) -> Command {
-        const double f = double(i + 1) / o.steps;
-        return MoveVertexCmd{kRoadsLayer, road, index, at + Vec2(30.0, 20.0) * f};
-    });
-    const Drag fieldDrag = drag(session, viewer, o.steps, [&](int i) -> Command {
-        const double f = double(i + 1) / o.steps;
-        return MoveNodeCmd{kFieldsLayer, field, fieldAt + Vec2(8.0, -6.0) * f};
-    });
-    return {{"curves", count(session.document().scene).curves},
+    // The camera: south-west of the control point, `altitude` above the ground, looking at it.
+    Camera camera;
+    camera.fly = true;
+    const Vec2 from = at + Vec2(-56.0, -56.0);
+    const double ground = doc.dem->sample(from);
+    camera.flyPosition = glm::dvec3(from.x, from.y, ground + o.altitude);
+    const glm::dvec3 look = glm::dvec3(at.x, at.y, doc.dem->sample(at)) - camera.flyPosition;
+    camera.yaw = std::atan2(look.x, look.y);
+    camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
+    const auto [lo, hi] = std::minmax_element(doc.dem->heights().begin(), doc.dem->heights().end());
+    const glm::dvec2 zRange(*lo - 50.0, *hi + 50.0);
+    const QuadVisibility visible = frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(o.altitude), zRange);
+    const glm::dvec3 viewer(from.x, from.y, o.altitude);
+
+    nlohmann::json runs;
+    std::size_t viewQuads = 0, visibleQuads = 0;
+    double firstMs = 0.0;
+    for (const bool cull : {true, false}) {
+        SessionParams params;
+        params.cacheTiles = 1u << 20;
+        t0 = Clock::now();
+        EditSession session{SceneDocument(doc), params};
+        const FrameReport first = session.frame(viewer, 0.0, cull ? visible : QuadVisibility{});
+        if (cull) firstMs = msSince(t0), viewQuads = first.viewQuads + first.culled, visibleQuads = first.viewQuads;
+        const QuadVisibility& v = cull ? visible : QuadVisibility{};
+        const Drag roadDrag = drag(session, viewer, v, o.steps, [&](int i) -> Command {
+            const double f = double(i + 1) / o.steps;
+            return MoveVertexCmd{kRoadsLayer, road, index, at + Vec2(30.0, 20.0) * f};
+        });
+        const Drag fieldDrag = drag(session, viewer, v, o.steps, [&](int i) -> Command {
+            const double f = double(i + 1) / o.steps;
+            return MoveNodeCmd{kFieldsLayer, field, fieldAt + Vec2(8.0, -6.0) * f};
+        });
+        runs[cull ? "frustum_culled" : "every_leaf"] = {{"road_control_point", roadDrag.json()}, {"field_border", fieldDrag.json()}};
+    }
+    return {{"curves", count(doc.scene).curves},
             {"threads", tbb::info::default_concurrency()},
             {"viewer_altitude_m", o.altitude},
-            {"K", params.K},
-            {"appearance_resolution", params.refine.resolution},
-            {"view_quads", first.viewQuads},
+            {"K", SessionParams{}.K},
+            {"appearance_resolution", RefineParams{}.resolution},
+            {"view_quads", viewQuads},
+            {"visible_quads", visibleQuads},
             {"prepare_ms", prepareMs},
             {"first_frame_ms", firstMs},
             {"field_node_distance_m", glm::length(fieldAt - at)},
-            {"road_control_point", roadDrag.json()},
-            {"field_border", fieldDrag.json()},
+            {"runs", runs},
             {"peak_rss_mib", peakRssMiB()}};
 }
 

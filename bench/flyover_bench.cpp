@@ -1,16 +1,19 @@
 // `lacet bench flyover`: the paper's kind of flight (§9.1) through the window-less session: from
-// 5000 m above the scene down to a few metres above a road, the quadtree refined each frame with
-// K = 2.8 and the missing tiles made nearest first; per frame, the update time (refinement and
+// 5000 m above the scene down to a few metres above a road, a camera (1280 x 800, 52 degrees
+// vertical field of view) looking ahead along the path, the quadtree refined each frame with
+// K = 2.8 and the missing tiles of the leaves in the view frustum made nearest first; per frame, the update time (refinement and
 // production), the tiles made and the cache size. Run with no budget (every tile of the view made
 // each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer),
 // each without and with prefetching: the viewer `prefetchFrames` frames ahead on the path is
 // given to the session, which makes that viewer's tiles with the budget left.
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "model/synthetic_scene.h"
 #include "raster/synthetic_dem.h"
@@ -37,19 +40,46 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         const Vec2 p = start + (end - start) * s;
         return glm::dvec3(p.x, p.y, altitude);
     };
+    // The camera looks ahead along the path, steeply at first, nearly level at the end.
+    const auto [lo, hi] = std::minmax_element(doc.dem->heights().begin(), doc.dem->heights().end());
+    const glm::dvec2 zRange(*lo - 50.0, *hi + 50.0);
+    const double aspect = 1280.0 / 800.0;
+    auto cameraAt = [&](int f) {
+        const double t = std::min(1.0, double(f) / double(o.frames - 1));
+        const glm::dvec3 v = viewerAt(f);
+        Camera c;
+        c.fly = true;
+        c.flyPosition = glm::dvec3(v.x, v.y, doc.dem->sample({v.x, v.y}) + v.z);
+        c.yaw = std::atan2(end.x - start.x, end.y - start.y);
+        c.pitch = 1.0 + (0.2 - 1.0) * t;  // radians below the horizon
+        return c;
+    };
     nlohmann::json runs = nlohmann::json::array();
+    struct Run {
+        double budget;
+        bool prefetch, cull;
+    };
+    std::vector<Run> plan;
     for (double budget : o.budgetsMs)
-    for (const bool prefetch : {false, true}) {
+        for (const bool prefetch : {false, true}) plan.push_back({budget, prefetch, true});
+    plan.push_back({0.0, false, false});  // for comparison: every leaf of the view, no culling
+    for (const Run& run : plan) {
+        const double budget = run.budget;
+        const bool prefetch = run.prefetch;
         SessionParams params;
         EditSession session(SceneDocument(doc), params);
-        std::vector<double> ms, tiles;
+        std::vector<double> ms, tiles, refine;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0;
         for (int f = 0; f < o.frames; ++f) {
+            const Camera cam = cameraAt(f);
+            const QuadVisibility visible =
+                run.cull ? frustumVisibility(cam, aspect, Camera::clipRange(viewerAt(f).z), zRange) : QuadVisibility{};
             const auto t0 = Clock::now();
-            const FrameReport r = session.frame(viewerAt(f), budget, {},
+            const FrameReport r = session.frame(viewerAt(f), budget, visible,
                                                 prefetch ? std::optional<glm::dvec3>(viewerAt(f + o.prefetchFrames)) : std::nullopt);
             ms.push_back(msSince(t0));
             tiles.push_back(double(r.produced));
+            refine.push_back(r.refineMs);
             cachePeak = std::max(cachePeak, r.cached);
             pendingFrames += r.pending > 0;
             prefetched += r.prefetched;
@@ -57,8 +87,20 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         double sum = 0.0, tileSum = 0.0;
         for (double v : ms) sum += v;
         for (double v : tiles) tileSum += v;
+        // The first frame subdivides the tree from the root down (a scene's opening, not flight).
+        const std::vector<double> flight(ms.begin() + 1, ms.end()), flightRefine(refine.begin() + 1, refine.end());
+        double flightSum = 0.0, refineSum = 0.0;
+        for (double v : flight) flightSum += v;
+        for (double v : flightRefine) refineSum += v;
         runs.push_back({{"budget_ms", budget},
+                        {"first_frame_ms", ms.front()},
+                        {"flight_mean_ms", flightSum / double(flight.size())},
+                        {"flight_median_ms", median(flight)},
+                        {"flight_p99_8_ms", quantile(flight, 0.998)},
+                        {"flight_refine_mean_ms", refineSum / double(flight.size())},
+                        {"flight_refine_max_ms", quantile(flightRefine, 1.0)},
                         {"prefetch", prefetch},
+                        {"frustum_culling", run.cull},
                         {"prefetched_tiles", prefetched},
                         {"frames", ms.size()},
                         {"mean_ms", sum / double(ms.size())},

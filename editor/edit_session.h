@@ -7,9 +7,10 @@
 // budget is spent.
 //
 // Tiles: one appearance and one elevation tile per quad, cached by (level, x, y) with an LRU
-// bound (`cacheTiles`, the paper's 784 elevation tiles by default); tiles of the current view and of
-// their ancestors (shown while a leaf is made) are never evicted. A tile is dirty when its quad's graph changed, or when it used a z-profile that
-// an edit dropped (a river downstream of the edit).
+// bound (`cacheTiles`, the paper's 784 elevation tiles by default); tiles of the current view and
+// of their ancestors (shown while a leaf is made) are never evicted. A tile is dirty when its
+// quad's graph changed, or when it used a z-profile that an edit dropped (a river downstream of
+// the edit).
 //
 // Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
 // leaves' tiles; the window draws a leaf whose tile is not made yet with its nearest ancestor's.

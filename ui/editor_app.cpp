@@ -519,18 +519,12 @@ int EditorApp::run() {
             predicted = glm::dvec3(ahead.x, ahead.y, std::max(1.0, h + (ahead.z - eye.z)));
         }
         const double aspect = double(width_) / double(height_);
-        const Frustum frustum = camera_.frustum(aspect, clip_);
         const Dem& dem = *session_->document().dem;
         if (!demRange_) {
             const auto [lo, hi] = std::minmax_element(dem.heights().begin(), dem.heights().end());
-            demRange_ = glm::dvec2(*lo, *hi);
+            demRange_ = glm::dvec2(*lo - 50.0, *hi + 50.0);
         }
-        auto visible = [&](const Quad& q) {
-            // Below the DEM's lowest point by more than any skirt (TerrainRenderer) hangs.
-            const double skirt = 0.5 * q.bounds.size().x;
-            return frustum.mayIntersect({q.bounds.min.x - eye.x, q.bounds.min.y - eye.y, demRange_->x - skirt - 50.0 - eye.z},
-                                        {q.bounds.max.x - eye.x, q.bounds.max.y - eye.y, demRange_->y + 50.0 - eye.z});
-        };
+        const QuadVisibility visible = frustumVisibility(camera_, aspect, clip_, *demRange_);
         auto t0 = Clock::now();
         lastFrame_ = session_->frame(viewer, options_.budgetMs, visible, predicted);
         lastUpdateMs_ = msSince(t0);
@@ -546,8 +540,7 @@ int EditorApp::run() {
         tv.clip = clip_;
         tv.heightAboveGround = h;
         tv.K = session_->params().K;
-        const QuadVisibility visibleFn = visible;
-        tv.visible = &visibleFn;
+        tv.visible = &visible;
         terrain_->draw(*session_, tv);
         // The depth buffer of what the user sees: picks of the next frame's input read it.
         depth_.resize(std::size_t(width_) * std::size_t(height_));

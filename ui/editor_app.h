@@ -23,7 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "editor/edit_session.h"
-#include "ui/camera.h"
+#include "editor/camera.h"
 #include "ui/input_event.h"
 
 struct GLFWwindow;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <stdexcept>
 
 #define GLFW_INCLUDE_NONE
@@ -128,6 +129,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
             if (s["target"].is_array()) t = Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
             else if (s["target"] == "drag_from") t = from_;
             else if (s["target"] == "drag_result") t = lastResult_;
+            else if (s["target"] == "focus_node" && hasFocus_) t = scene.layers[focusLayer_].nodes[scene.layers[focusLayer_].curves[focusCurve_].start].p;
             cam.target = app.groundPoint(t);
         }
         if (s.contains("position")) {
@@ -197,7 +199,18 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         return true;
     }
     if (kind == "click_world") {
-        const auto px = app.project(app.groundPoint({s["at"][0].get<double>(), s["at"][1].get<double>()}));
+        Vec2 at;
+        if (s["at"].is_array()) {
+            at = Vec2(s["at"][0].get<double>(), s["at"][1].get<double>());
+        } else {
+            // Relative to the focus: "focus_node" (its curve's start node) or "focus" plus `offset`.
+            if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
+            const Layer& l = scene.layers[focusLayer_];
+            const Curve& c = l.curves[focusCurve_];
+            at = s["at"] == "focus_node" ? l.nodes[c.start].p : c.vertices[focusIndex_].p;
+            if (s.contains("offset")) at += Vec2(s["offset"][0].get<double>(), s["offset"][1].get<double>());
+        }
+        const auto px = app.project(app.groundPoint(at));
         if (!px) throw std::runtime_error("the point is behind the camera");
         app.push(mouseEvent(InputEvent::Type::MouseDown, *px));
         app.push(mouseEvent(InputEvent::Type::MouseUp, *px));
@@ -238,6 +251,28 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
                          {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};
         }
         app.log()["probes"].push_back(out);
+        return true;
+    }
+    if (kind == "inspect") {
+        // The current layer's counts and the selected curve with its end nodes' degrees.
+        const Pick& sel = app.selection();
+        nlohmann::json out;
+        const Layer& l = scene.layers[hasFocus_ ? focusLayer_ : 0];
+        out["nodes"] = l.nodes.size(), out["curves"] = l.curves.size();
+        std::size_t alive = 0;
+        for (const Curve& c : l.curves) alive += c.alive;
+        out["alive_curves"] = alive;
+        if (sel.kind == Pick::Kind::Curve) {
+            const Curve& c = scene.layers[sel.layer].curves[sel.id];
+            const Layer& sl = scene.layers[sel.layer];
+            out["selected"] = {{"curve", sel.id}, {"start", c.start}, {"end", c.end}, {"vertices", c.vertices.size()},
+                               {"start_degree", sl.nodes[c.start].curves.size()}, {"end_degree", sl.nodes[c.end].curves.size()}};
+        }
+        if (hasFocus_) {
+            const Curve& f = l.curves[focusCurve_];
+            out["focus_curve"] = {{"curve", focusCurve_}, {"start", f.start}, {"start_degree", l.nodes[f.start].curves.size()}};
+        }
+        app.log()["inspections"].push_back(out);
         return true;
     }
     if (kind == "budget") {
@@ -309,6 +344,16 @@ void ScriptPlayer::finish(EditorApp& app) {
     std::ofstream out(path(logName_));
     out << app.log().dump(1) << "\n";
     if (!out) throw std::runtime_error(path(logName_) + ": cannot write the log");
+    // A summary on stdout: the screenshots and the last frame's figures.
+    const nlohmann::json& log = app.log();
+    nlohmann::json summary = {{"log", path(logName_)}, {"scene", log.value("scene", nlohmann::json())}};
+    if (log.contains("frames") && !log["frames"].empty()) {
+        summary["frames"] = log["frames"].size();
+        summary["last_frame"] = log["frames"].back();
+    }
+    if (log.contains("screenshots"))
+        for (const auto& s : log["screenshots"]) summary["screenshots"].push_back(s["file"]);
+    std::cout << summary.dump(1) << "\n";
 }
 
 }  // namespace lacet::ui

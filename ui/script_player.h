@@ -7,7 +7,8 @@
 //
 // Steps ({"do": ...}):
 //   camera      target [x, y] (at its ground height), "scene" (the centre), "drag_from" or
-//               "drag_result" (where the last drag began and ended), distance, yaw, pitch;
+//               "drag_result" (where the last drag began and ended), "focus_node" (the focus
+//               curve's start node), distance, yaw, pitch;
 //               or save: NAME / restore: NAME, the whole camera exactly; in fly mode, position
 //               [x, y, height above the ground] or "scene" (with height, default 3000 m)
 //               (degrees), fly (bool), position [x, y, height above the ground] in fly mode
@@ -22,7 +23,9 @@
 //   key         name: "ctrl+z", "ctrl+y", "ctrl+s", "escape", "enter", "delete", "f"
 //   mouse       action down|up|move, x, y (pixels), button (0 left, 1 right, 2 middle)
 //   scroll      dy
-//   click_world at [x, y]: a left click where that ground point is on screen
+//   click_world at [x, y], "focus" or "focus_node" (the focus curve's start node), plus offset
+//               [dx, dy]: a left click where that ground point is on screen
+//   inspect     logs the focus layer's counts, the selected curve and its end nodes' degrees
 //   tool        name: select, insert, delete_point, draw
 //   save        file (default: the scene's own); open: file
 //   background  rgb [r, g, b] in [0, 1]
@@ -38,7 +41,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "ui/camera.h"
+#include "editor/camera.h"
 
 namespace lacet::ui {
 

@@ -21,7 +21,7 @@
 #include <glm/vec3.hpp>
 
 #include "editor/edit_session.h"
-#include "ui/camera.h"
+#include "editor/camera.h"
 #include "ui/gl_program.h"
 
 namespace lacet::ui {

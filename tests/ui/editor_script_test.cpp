@@ -5,6 +5,8 @@
 //    from the one before around the new place, and the tiles there hold the road's flattened
 //    footprint (b = 1, z_e off the DEM) and asphalt; undo gives back the first screenshot exactly,
 //    redo the second, and the saved then reopened scene the second again.
+//  - Drawing: a road drawn by clicking from an existing node joins it (a junction: the node's degree
+//    grows by one) and one undo removes the road and the node made for its other end.
 //  - Flyover: from 3000 m down to 5 m above a road with an 8 ms production budget per frame (so
 //    coarser ancestors are shown), no screenshot shows the background through the terrain.
 #include <cstdlib>
@@ -25,7 +27,7 @@ namespace fs = std::filesystem;
 bool haveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
 
 // Runs a script; returns its log.
-nlohmann::json runScript(const std::string& script, const std::string& out) {
+nlohmann::json runScript(const std::string& script, const std::string& logName, const std::string& out) {
     fs::remove_all(out);
     fs::create_directories(out);
     const std::string andorra = std::string(LACET_SOURCE_DIR) + "/../shared/data/andorra";
@@ -35,7 +37,7 @@ nlohmann::json runScript(const std::string& script, const std::string& out) {
                             "/tests/scripts/" + script + " --out " + out + " --andorra " + andorra +
                             " --curves 20000 --width 800 --height 500 > " + out + "/stdout.txt 2>&1";
     const int rc = std::system(cmd.c_str());
-    std::ifstream log(out + "/" + (script == "drag_undo_save.json" ? "drag-log.json" : "fly-log.json"));
+    std::ifstream log(out + "/" + logName);
     if (rc != 0 || !log) {
         std::ifstream o(out + "/stdout.txt");
         ADD_FAILURE() << cmd << " failed (" << rc << "):\n" << std::string(std::istreambuf_iterator<char>(o), {});
@@ -58,7 +60,7 @@ std::size_t differingNear(const Image8& a, const Image8& b, double x, double y, 
 TEST(EditorScript, DraggingARoadPointMovesItsFootprintAndUndoSaveAndReopenAreExact) {
     if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
     const std::string out = ::testing::TempDir() + "/lacet_editor_drag";
-    const nlohmann::json log = runScript("drag_undo_save.json", out);
+    const nlohmann::json log = runScript("drag_undo_save.json", "drag-log.json", out);
     ASSERT_FALSE(log.is_null());
     ASSERT_EQ(log["drags"].size(), 1u);
     const nlohmann::json& drag = log["drags"][0];
@@ -85,7 +87,7 @@ TEST(EditorScript, DraggingARoadPointMovesItsFootprintAndUndoSaveAndReopenAreExa
 TEST(EditorScript, NoBackgroundShowsThroughTheTerrainAlongAFlyover) {
     if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
     const std::string out = ::testing::TempDir() + "/lacet_editor_fly";
-    const nlohmann::json log = runScript("flyover_cracks.json", out);
+    const nlohmann::json log = runScript("flyover_cracks.json", "fly-log.json", out);
     ASSERT_FALSE(log.is_null());
     ASSERT_GE(log["screenshots"].size(), 8u);
     std::size_t coarser = 0;
@@ -101,6 +103,26 @@ TEST(EditorScript, NoBackgroundShowsThroughTheTerrainAlongAFlyover) {
     }
     std::cout << "[ figures  ] " << log["frames"].size() << " frames, mean update " << sum / double(log["frames"].size())
               << " ms, " << coarser << " leaves shown coarser in the screenshots\n";
+}
+
+TEST(EditorScript, ARoadDrawnFromANodeJoinsItAndOneUndoRemovesIt) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
+    const std::string out = ::testing::TempDir() + "/lacet_editor_draw";
+    const nlohmann::json log = runScript("draw_road.json", "draw-log.json", out);
+    ASSERT_FALSE(log.is_null());
+    ASSERT_EQ(log["inspections"].size(), 3u);
+    const nlohmann::json &before = log["inspections"][0], &drawn = log["inspections"][1], &undone = log["inspections"][2];
+    ASSERT_TRUE(drawn.contains("selected")) << drawn.dump();
+    const nlohmann::json& road = drawn["selected"];
+    EXPECT_EQ(road["start"], before["focus_curve"]["start"]);  // snapped to the existing node
+    EXPECT_EQ(road["start_degree"].get<int>(), before["focus_curve"]["start_degree"].get<int>() + 1);
+    EXPECT_EQ(road["end_degree"].get<int>(), 1);
+    EXPECT_EQ(road["vertices"].get<int>(), 7);  // three points: two cubic pieces
+    EXPECT_EQ(drawn["curves"].get<int>(), before["curves"].get<int>() + 1);
+    EXPECT_EQ(drawn["nodes"].get<int>(), before["nodes"].get<int>() + 1);
+    EXPECT_EQ(undone["curves"], before["curves"]);
+    EXPECT_EQ(undone["nodes"], before["nodes"]);
+    EXPECT_EQ(undone["focus_curve"]["start_degree"], before["focus_curve"]["start_degree"]);
 }
 
 }  // namespace

@@ -1,12 +1,12 @@
 // The editor's camera: projection, unprojection and rays agree; the frustum keeps what is in view
 // and culls what is behind; orbit and fly mode keep the viewpoint; camera-relative matrices stay
 // exact 10 km and more from the origin.
-#include "ui/camera.h"
+#include "editor/camera.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-namespace lacet::ui {
+namespace lacet {
 namespace {
 
 Camera someCamera(glm::dvec3 target) {
@@ -72,4 +72,4 @@ TEST(Camera, FlyModeAndOrbitKeepTheViewpoint) {
 }
 
 }  // namespace
-}  // namespace lacet::ui
+}  // namespace lacet

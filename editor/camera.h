@@ -1,12 +1,13 @@
 #pragma once
-// The editor's camera (issue: the 3D editor): orbit, pan and zoom around a target point, and a fly
-// mode down to car view. Positions are doubles in scene metres; the matrices are camera-relative
+// The editor's camera (issue: the 3D editor), with no window: orbit, pan and zoom around a target
+// point, and a fly mode down to car view. Positions are doubles in scene metres; the matrices are camera-relative
 // (the camera at the origin, world offsets subtracted in double before they become floats), so a
 // view 10 km from the scene origin does not jitter.
 //
 // Angles: yaw 0 looks north (+y), increasing clockwise seen from above; pitch > 0 looks down.
 
 #include <array>
+#include <functional>
 #include <optional>
 
 #include <glm/mat4x4.hpp>
@@ -14,7 +15,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-namespace lacet::ui {
+namespace lacet {
 
 struct Ray {
     glm::dvec3 origin, direction;  // direction has unit length
@@ -66,4 +67,11 @@ public:
     void move(double forwardAmount, double rightAmount, double upAmount);
 };
 
-}  // namespace lacet::ui
+struct Quad;
+
+// The session's visibility test for a camera (EditSession::frame): a quad is visible when its box,
+// from `zRange.x` less half its size (below any skirt a renderer hangs) to `zRange.y`, may
+// intersect the view frustum. zRange: the DEM's lowest and highest heights (metres).
+std::function<bool(const Quad&)> frustumVisibility(const Camera& camera, double aspect, glm::dvec2 clip, glm::dvec2 zRange);
+
+}  // namespace lacet

@@ -1,4 +1,4 @@
-#include "ui/camera.h"
+#include "editor/camera.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 
-namespace lacet::ui {
+#include "model/quadtree.h"
+
+namespace lacet {
 
 bool Frustum::mayIntersect(glm::dvec3 lo, glm::dvec3 hi) const {
     for (const glm::dvec4& p : planes) {
@@ -103,4 +105,14 @@ void Camera::move(double forwardAmount, double rightAmount, double upAmount) {
     flyPosition += forward() * forwardAmount + right() * rightAmount + glm::dvec3(0.0, 0.0, upAmount);
 }
 
-}  // namespace lacet::ui
+std::function<bool(const Quad&)> frustumVisibility(const Camera& camera, double aspect, glm::dvec2 clip, glm::dvec2 zRange) {
+    const Frustum f = camera.frustum(aspect, clip);
+    const glm::dvec3 eye = camera.position();
+    return [f, eye, zRange](const Quad& q) {
+        const double skirt = 0.5 * q.bounds.size().x;
+        return f.mayIntersect({q.bounds.min.x - eye.x, q.bounds.min.y - eye.y, zRange.x - skirt - eye.z},
+                              {q.bounds.max.x - eye.x, q.bounds.max.y - eye.y, zRange.y - eye.z});
+    };
+}
+
+}  // namespace lacet
