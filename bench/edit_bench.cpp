@@ -23,11 +23,17 @@ namespace lacet::bench {
 namespace {
 
 struct Drag {
-    std::vector<double> ms;
-    std::vector<double> tiles;
+    std::vector<double> ms, tiles, updateMs, produceMs, dirty;
     nlohmann::json json() const {
-        return {{"steps", ms.size()},       {"median_ms", median(ms)},      {"p95_ms", quantile(ms, 0.95)},
-                {"max_ms", quantile(ms, 1.0)}, {"tiles_median", median(tiles)}, {"tiles_max", quantile(tiles, 1.0)}};
+        return {{"steps", ms.size()},
+                {"median_ms", median(ms)},
+                {"p95_ms", quantile(ms, 0.95)},
+                {"max_ms", quantile(ms, 1.0)},
+                {"tiles_median", median(tiles)},
+                {"tiles_max", quantile(tiles, 1.0)},
+                {"update_median_ms", median(updateMs)},
+                {"produce_median_ms", median(produceMs)},
+                {"dirty_tiles_median", median(dirty)}};
     }
 };
 
@@ -38,10 +44,13 @@ Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible
     Drag d;
     for (int i = 0; i < steps; ++i) {
         const auto t0 = Clock::now();
-        session.execute(command(i), true);
+        const CommandReport c = session.execute(command(i), true);
         const FrameReport f = session.frame(viewer, 0.0, visible);
         d.ms.push_back(msSince(t0));
         d.tiles.push_back(double(f.produced));
+        d.updateMs.push_back(c.updateMs);
+        d.produceMs.push_back(f.produceMs);
+        d.dirty.push_back(double(c.dirtyTiles));
     }
     return d;
 }

@@ -152,6 +152,8 @@ void EditorApp::loadInitialDocument() {
     for (const Layer& l : session_->document().scene.layers)
         if (l.kind == LayerKind::Roads) {
             currentLayer_ = LayerId(&l - session_->document().scene.layers.data());
+            layerVisible_.assign(layerVisible_.size(), 0);
+            layerVisible_[currentLayer_] = 1;
             break;
         }
 }
@@ -161,9 +163,10 @@ void EditorApp::resetSession(SceneDocument doc) {
     session_.reset();
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
     const std::size_t layers = session_->document().scene.layers.size();
-    layerVisible_.assign(layers, 1);
+    layerVisible_.assign(layers, 0);
     layerLocked_.assign(layers, 0);
     if (currentLayer_ >= layers) currentLayer_ = 0;
+    layerVisible_[currentLayer_] = 1;
     selected_ = dragging_ = {};
     drawing_.clear();
     // First frame: the root's tile, so that every later leaf has an ancestor to show.
@@ -303,6 +306,10 @@ void EditorApp::onMouseDown(const InputEvent& e) {
             break;
         }
         case Tool::Draw: {
+            if (layerLocked_[currentLayer_]) {
+                status("The current layer is locked");
+                return;
+            }
             const Pick p = pick(e.x, e.y, true);
             if (p.kind == Pick::Kind::Node) {
                 drawing_.push_back({layer.nodes[p.id].p, p.id});  // snapped: the road joins this node
@@ -442,7 +449,7 @@ void EditorApp::drawOverlay() {
     overlayCurves_.clear();
     const Scene& scene = session_->document().scene;
     const glm::dvec3 eye = camera_.position();
-    // The current layer's curves near the view (and the selection), within a point budget.
+    // The shown layers' curves near the view (and the selection), within a point budget.
     const double radius = 4.0 * viewerHeight() + 400.0;
     const Vec2 centre = camera_.fly ? Vec2(eye.x, eye.y) : Vec2(camera_.target.x, camera_.target.y);
     auto near = [&](const Curve& c) {
@@ -450,20 +457,26 @@ void EditorApp::drawOverlay() {
             if (glm::length(v.p - centre) < radius) return true;
         return false;
     };
-    auto add = [&](const glm::dvec3& world, const Pick& p, glm::vec4 colour, float size) {
-        const auto px = project(world);
-        if (!px || px->x < -20 || px->y < -20 || px->x > width_ + 20 || px->y > height_ + 20) return;
-        overlay_->point(world, colour, size);
-        overlayItems_.push_back({p, *px});
-    };
+    std::size_t points = 0;
     for (LayerId li = 0; li < scene.layers.size(); ++li) {
-        if (!layerVisible_[li] || li != currentLayer_) continue;
+        if (!layerVisible_[li]) continue;
+        // The current layer's points can be picked; other shown layers' are drawn smaller and dimmer.
+        const bool current = li == currentLayer_;
+        const float scale = current ? 1.0f : 0.6f;
         const Layer& layer = scene.layers[li];
-        for (ElementId id = 0; id < layer.curves.size() && overlayItems_.size() < 20000; ++id) {
+        for (ElementId id = 0; id < layer.curves.size() && points < 20000; ++id) {
             const Curve& c = layer.curves[id];
             const bool selected = selected_.kind == Pick::Kind::Curve && selected_.layer == li && selected_.id == id;
             if (!c.alive || (!selected && !near(c))) continue;
-            overlayCurves_.push_back(id);
+            if (current) overlayCurves_.push_back(id);
+            auto add = [&](const glm::dvec3& world, const Pick& p, glm::vec4 colour, float size) {
+                const auto px = project(world);
+                if (!px || px->x < -20 || px->y < -20 || px->x > width_ + 20 || px->y > height_ + 20) return;
+                if (!current) colour.a = 0.6f;
+                overlay_->point(world, colour, size * scale);
+                ++points;
+                if (current) overlayItems_.push_back({p, *px});
+            };
             glm::dvec3 prev{};
             for (std::size_t k = 0; k < c.vertices.size(); ++k) {
                 const glm::dvec3 w = groundPoint(c.vertices[k].p) + glm::dvec3(0.0, 0.0, 0.5);
@@ -590,6 +603,7 @@ void EditorApp::drawPanels() {
         bool visible = layerVisible_[li] != 0, locked = layerLocked_[li] != 0;
         if (ImGui::RadioButton("##current", currentLayer_ == li)) {
             currentLayer_ = li;
+            layerVisible_[li] = 1;
             selected_ = {};
             drawing_.clear();
         }
