@@ -23,7 +23,7 @@ namespace lacet::bench {
 namespace {
 
 struct Drag {
-    std::vector<double> ms, tiles, updateMs, produceMs, dirty;
+    std::vector<double> ms, tiles, updateMs, produceMs, dirty, uniform;
     nlohmann::json json() const {
         return {{"steps", ms.size()},
                 {"median_ms", median(ms)},
@@ -33,7 +33,8 @@ struct Drag {
                 {"tiles_max", quantile(tiles, 1.0)},
                 {"update_median_ms", median(updateMs)},
                 {"produce_median_ms", median(produceMs)},
-                {"dirty_tiles_median", median(dirty)}};
+                {"dirty_tiles_median", median(dirty)},
+                {"uniform_tiles_median", median(uniform)}};
     }
 };
 
@@ -43,6 +44,8 @@ template <class F>
 Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, int steps, F&& command) {
     Drag d;
     for (int i = 0; i < steps; ++i) {
+        std::uint64_t version = 0;
+        for (const auto& [key, t] : session.tiles()) version = std::max(version, t.version);
         const auto t0 = Clock::now();
         const CommandReport c = session.execute(command(i), true);
         const FrameReport f = session.frame(viewer, 0.0, visible);
@@ -51,6 +54,9 @@ Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible
         d.updateMs.push_back(c.updateMs);
         d.produceMs.push_back(f.produceMs);
         d.dirty.push_back(double(c.dirtyTiles));
+        std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
+        for (const auto& [key, t] : session.tiles()) uniform += t.version > version && t.appearance.uniform;
+        d.uniform.push_back(double(uniform));
     }
     return d;
 }

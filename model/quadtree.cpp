@@ -43,6 +43,13 @@ Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep
     root_.bounds = scene.extent;
     expandedFrom_.resize(scene.layers.size());
     proceduralCurves_.resize(scene.layers.size());
+    areaAttributes_.resize(scene.layers.size());
+    geometryOnlyAreas_.resize(scene.layers.size());
+    for (LayerId l = 0; l < scene.layers.size(); ++l)
+        for (ElementId id = 0; id < scene.layers[l].areas.size(); ++id) {
+            const Area& a = scene.layers[l].areas[id];
+            if (a.alive) areaAttributes_[l][id] = {a.wf, a.cls, a.axial};
+        }
     if (procedural_)
         for (LayerId l = 0; l < scene.layers.size(); ++l)
             for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id)
@@ -273,6 +280,26 @@ UpdateStats Quadtree::update(const Changeset& changeset) {
     }
     removed.normalize();
     added.normalize();
+    // Modified areas whose attributes are those they were clipped with: their quads are pruned
+    // where their pieces come out the same (updateQuad).
+    for (LayerId l = 0; l < nLayers; ++l) {
+        auto& prune = geometryOnlyAreas_[l];
+        prune.clear();
+        const LayerKind kind = scene_.layers[l].kind;
+        if (kind == LayerKind::Fields || kind == LayerKind::Forests || kind == LayerKind::Other)
+            for (ElementId id : added.layers[l].areas) {
+                const Area& a = scene_.layers[l].areas[id];
+                const auto it = areaAttributes_[l].find(id);
+                if (a.axial == kNoElement && it != areaAttributes_[l].end() && it->second == AreaAttributes{a.wf, a.cls, a.axial} &&
+                    std::binary_search(removed.layers[l].areas.begin(), removed.layers[l].areas.end(), id))
+                    prune.push_back(id);
+            }
+        for (ElementId id : removed.layers[l].areas) areaAttributes_[l].erase(id);
+        for (ElementId id : added.layers[l].areas) {
+            const Area& a = scene_.layers[l].areas[id];
+            areaAttributes_[l][id] = {a.wf, a.cls, a.axial};
+        }
+    }
     UpdateStats stats;
     stats.quadsVisited = 1;
     if (!root_.isLeaf() && !(removed.empty() && added.empty()))
@@ -300,6 +327,13 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
         // Alg. 6.1: first remove what was made from the removed elements...
         erase(r.nodes, ql.nodes, r2.nodes);
         erase(r.curves, ql.curves, r2.curves);
+        // Areas that may come out the same: keep their old pieces to compare.
+        std::vector<std::pair<ElementId, std::vector<ClippedArea>>> before;
+        for (ElementId id : geometryOnlyAreas_[l]) {
+            if (std::find(r.areas.begin(), r.areas.end(), id) == r.areas.end()) continue;  // not re-clipped here
+            const auto it = ql.areas.find(id);
+            if (it != ql.areas.end()) before.push_back({id, std::move(it->second)});
+        }
         erase(r.areas, ql.areas, r2.areas);
         // ...then SUBDIVIDE the added ones into q (an element added without being removed first
         // replaces what q had of it).
@@ -344,7 +378,16 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
                 clipAreaInto(l, id, it->second, q, areas);
             }
             if (areas.empty()) continue;
+            const auto old = std::find_if(before.begin(), before.end(), [&](const auto& b) { return b.first == id; });
+            // Bitwise: the children are clipped from these pieces, and must come out bit for bit.
+            const bool same = old != before.end() && old->second.size() == areas.size() &&
+                              std::equal(areas.begin(), areas.end(), old->second.begin(),
+                                         [](const ClippedArea& x, const ClippedArea& y) { return identical(x, y); });
             ql.areas[id] = std::move(areas);
+            if (same) {
+                r2.areas.erase(std::find(r2.areas.begin(), r2.areas.end(), id));
+                continue;
+            }
             a2.areas.push_back(id);
         }
     }

@@ -98,7 +98,13 @@ public:
     // Subdivides this tree exactly where `other` is subdivided (and merges elsewhere).
     void copyStructureOf(const Quadtree& other);
 
-    // UPDATE (Alg. 6.1) after the scene was edited as `changeset` says.
+    // UPDATE (Alg. 6.1) after the scene was edited as `changeset` says. One pruning beyond the
+    // paper: an area of a Fields, Forests or Other layer whose geometry changed but not its
+    // attributes (wf, class, axial curve), re-clipped into a quad into exactly the pieces it had,
+    // leaves that quad unchanged and is not carried into its children (their pieces are made
+    // from those, with the same margin): a moved field corner changes only the quads near the
+    // moved borders, not every quad of the field. (Lakes and river areas are not pruned: their
+    // level depends on the whole border.)
     UpdateStats update(const Changeset& changeset);
 
     // The ancestor curve: a root curve, or a procedural one.
@@ -151,6 +157,16 @@ private:
     Quad root_;
     // Per layer: root curve -> the procedural curves made from it, and their geometry.
     std::vector<std::unordered_map<ElementId, std::vector<ElementId>>> expandedFrom_;
+    // Per layer, the attributes of each area when it was last clipped into the tree, and during
+    // an update the modified areas whose attributes did not change (see update()).
+    struct AreaAttributes {
+        float wf = 0.0f;
+        std::uint16_t cls = 0;
+        ElementId axial = kNoElement;
+        friend bool operator==(const AreaAttributes&, const AreaAttributes&) = default;
+    };
+    std::vector<std::unordered_map<ElementId, AreaAttributes>> areaAttributes_;
+    std::vector<std::vector<ElementId>> geometryOnlyAreas_;
     std::vector<std::unordered_map<ElementId, Curve>> proceduralCurves_;
 };
 
