@@ -67,9 +67,10 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         const double budget = run.budget;
         const bool prefetch = run.prefetch;
         SessionParams params;
+        params.refineBudgetMs = 0.5 * budget;  // no budget: refine completely
         EditSession session(SceneDocument(doc), params);
         std::vector<double> ms, tiles, refine;
-        std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0;
+        std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0;
         for (int f = 0; f < o.frames; ++f) {
             const Camera cam = cameraAt(f);
             const QuadVisibility visible =
@@ -83,6 +84,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             cachePeak = std::max(cachePeak, r.cached);
             pendingFrames += r.pending > 0;
             prefetched += r.prefetched;
+            deferredFrames += r.refineDeferred;
         }
         double sum = 0.0, tileSum = 0.0;
         for (double v : ms) sum += v;
@@ -110,7 +112,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"tiles_per_frame_mean", tileSum / double(ms.size())},
                         {"tiles_per_frame_max", quantile(tiles, 1.0)},
                         {"cache_peak_tiles", cachePeak},
-                        {"frames_with_pending_tiles", pendingFrames}});
+                        {"frames_with_pending_tiles", pendingFrames},
+                        {"frames_with_deferred_subdivisions", deferredFrames}});
     }
     return {{"curves", count(doc.scene).curves},
             {"K", 2.8},

@@ -178,14 +178,15 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
                                std::optional<glm::dvec3> predicted) {
     FrameReport r;
     auto t0 = Clock::now();
-    if (predicted) {
-        // The leaves of both views: the predicted viewer's quads exist (and can be made) now.
-        const glm::dvec3 both[2] = {viewer, *predicted};
-        quadtree_->refineForViewers(both, params_.K, params_.maxLevel);
-    } else {
-        quadtree_->refineForViewer(viewer, params_.K, params_.maxLevel);
-    }
+    std::optional<Clock::time_point> deadline;
+    if (params_.refineBudgetMs > 0.0)
+        deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(params_.refineBudgetMs));
+    // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
+    const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
+    r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.K,
+                                                    params_.maxLevel, deadline);
     r.refineMs = msSince(t0);
+    if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
     std::vector<const Quad*> needed, ahead;
     auto isViewLeaf = [&](const Quad& q) {

@@ -43,6 +43,9 @@ struct SessionParams {
     double K = 2.8;            // subdivide quads closer to the viewer than K times their size (§8)
     int maxLevel = 24;
     std::size_t cacheTiles = 784;
+    // Time a frame may spend subdividing (ms; 0: unlimited): past it, subdivisions wait for the
+    // next frames, nearest first, and the leaves stay coarser meanwhile.
+    double refineBudgetMs = 0.0;
     AppearanceParams appearance;
     ElevationParams elevation;
 };
@@ -70,6 +73,7 @@ struct FrameReport {
     std::size_t cached = 0;
     std::size_t culled = 0;          // leaves outside the view (not produced)
     std::size_t prefetched = 0;      // tiles made for the predicted viewer
+    bool refineDeferred = false;     // the refine budget left subdivisions for later frames
     double refineMs = 0.0, produceMs = 0.0;
 };
 
@@ -101,7 +105,8 @@ public:
 
     // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
     // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
-    // least one batch; budget <= 0: until none is left). With budget left and a `predicted`
+    // least one batch; budget <= 0: until none is left; the time spent refining counts in it).
+    // With budget left and a `predicted`
     // viewer, then makes the tiles of the leaves that viewer would have (prefetching).
     FrameReport frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible = {},
                       std::optional<glm::dvec3> predicted = std::nullopt);
@@ -109,6 +114,7 @@ public:
     // Accuracy knobs applied live: K takes effect at the next frame; new refinement parameters
     // rebuild the quadtree and drop every tile.
     void setK(double K) { params_.K = K; }
+    void setRefineBudget(double ms) { params_.refineBudgetMs = ms; }
     void setRefineParams(const RefineParams& refine);
     const SessionParams& params() const { return params_; }
 

@@ -204,21 +204,44 @@ bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int 
     return q.level < maxLevel && distance < K * q.bounds.size().x;
 }
 
-void Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel) {
+bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel,
+                          const std::optional<std::chrono::steady_clock::time_point>& deadline) {
     bool wanted = false;
     for (const glm::dvec3& v : viewers) wanted = wanted || wantsSubdivision(q, v, K, maxLevel);
-    if (wanted) {
-        subdivide(q);
-        for (auto& c : q.children) refineQuad(*c, viewers, K, maxLevel);
-    } else {
+    if (!wanted) {
         merge(q);
+        return true;
     }
+    if (q.isLeaf()) {
+        if (deadline && std::chrono::steady_clock::now() >= *deadline) return false;  // deferred
+        subdivide(q);
+    }
+    if (!deadline) {
+        bool complete = true;
+        for (auto& c : q.children) complete = refineQuad(*c, viewers, K, maxLevel, deadline) && complete;
+        return complete;
+    }
+    // Nearest first, so that what a deadline defers is what lies farthest.
+    std::array<Quad*, 4> order;
+    for (std::size_t k = 0; k < 4; ++k) order[k] = q.children[k].get();
+    const Vec2 v(viewers[0].x, viewers[0].y);
+    auto distance = [&](const Quad* c) {
+        const Vec2 d = glm::max(glm::max(c->bounds.min - v, v - c->bounds.max), Vec2(0.0));
+        return d.x * d.x + d.y * d.y;
+    };
+    std::stable_sort(order.begin(), order.end(), [&](const Quad* a, const Quad* b) { return distance(a) < distance(b); });
+    bool complete = true;
+    for (Quad* c : order) complete = refineQuad(*c, viewers, K, maxLevel, deadline) && complete;
+    return complete;
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) { refineQuad(root_, {&viewer, 1}, K, maxLevel); }
+void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) {
+    refineQuad(root_, {&viewer, 1}, K, maxLevel, std::nullopt);
+}
 
-void Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel) {
-    refineQuad(root_, viewers, K, maxLevel);
+bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel,
+                                std::optional<std::chrono::steady_clock::time_point> deadline) {
+    return refineQuad(root_, viewers, K, maxLevel, deadline);
 }
 
 void Quadtree::copyQuad(Quad& q, const Quad& like) {

@@ -16,6 +16,8 @@
 // refineForViewer(); after each edit of the Scene (model/edits.h), update(changeset).
 
 #include <array>
+#include <chrono>
+#include <optional>
 #include <memory>
 #include <span>
 #include <unordered_map>
@@ -91,8 +93,12 @@ public:
     // Subdivides every quad closer to the viewer than K times its size, down to maxLevel, and
     // merges the others. `viewer` is (x, y, height above the ground plane z = 0), metres.
     void refineForViewer(glm::dvec3 viewer, double K, int maxLevel);
-    // The same for several viewers at once: a quad is subdivided when any of them wants it.
-    void refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel);
+    // The same for several viewers at once: a quad is subdivided when any of them wants it. With a
+    // deadline, no quad is subdivided once it has passed (merges still happen; children are
+    // visited nearest to the first viewer first): returns false when a subdivision was deferred,
+    // to be done by a later call.
+    bool refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel,
+                          std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
     // The rule of refineForViewer: q is below maxLevel and closer to `viewer` than K times its size.
     static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel);
     // Subdivides this tree exactly where `other` is subdivided (and merges elsewhere).
@@ -148,7 +154,8 @@ private:
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
-    void refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel);
+    bool refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel,
+                    const std::optional<std::chrono::steady_clock::time_point>& deadline);
     void copyQuad(Quad& q, const Quad& like);
 
     const Scene& scene_;

@@ -539,6 +539,7 @@ int EditorApp::run() {
         }
         const QuadVisibility visible = frustumVisibility(camera_, aspect, clip_, *demRange_);
         auto t0 = Clock::now();
+        session_->setRefineBudget(0.5 * options_.budgetMs);  // 0 (no budget): refine completely
         lastFrame_ = session_->frame(viewer, options_.budgetMs, visible, predicted);
         lastUpdateMs_ = msSince(t0);
         tilesProduced_ += lastFrame_.produced + lastFrame_.prefetched;

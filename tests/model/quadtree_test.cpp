@@ -1,5 +1,6 @@
 #include "model/quadtree.h"
 
+#include <chrono>
 #include <map>
 #include <set>
 
@@ -7,6 +8,7 @@
 
 #include "model/edits.h"
 #include "model/quadtree_compare.h"
+#include "model/synthetic_scene.h"
 #include "tests/model/small_scene.h"
 #include "tests/model/split_roads.h"
 #include "tests/model/test_geometry.h"
@@ -145,6 +147,27 @@ TEST(Quadtree, UpdateMarksExactlyTheQuadsWhoseGraphChanged) {
     }
     EXPECT_GT(withRoad, 10u);
     EXPECT_LT(changed.size(), qt.quadCount() / 2);
+}
+
+TEST(Quadtree, ARefinementDeadlineDefersSubdivisionsAndLaterCallsFinishThem) {
+    const Scene scene = makeSyntheticScene({7, 800});
+    const Vec2 c = scene.extent.center();
+    const glm::dvec3 viewer(c.x, c.y, 15.0);
+    Quadtree complete(scene), stepwise(scene);
+    complete.refineForViewer(viewer, 2.8, 12);
+    // A deadline already passed: nothing is subdivided.
+    const glm::dvec3 viewers[1] = {viewer};
+    EXPECT_FALSE(stepwise.refineForViewers(viewers, 2.8, 12, std::chrono::steady_clock::now()));
+    EXPECT_EQ(stepwise.quadCount(), 1u);
+    // Short deadlines: each call does some of the work, nearest first, until it is complete.
+    int calls = 0;
+    while (!stepwise.refineForViewers(viewers, 2.8, 12, std::chrono::steady_clock::now() + std::chrono::microseconds(200))) {
+        ASSERT_LT(++calls, 100000);
+    }
+    EXPECT_GT(calls, 0);
+    const QuadtreeDiff diff = compareQuadtrees(complete, stepwise);
+    EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details.front());
+    EXPECT_EQ(complete.quadCount(), stepwise.quadCount());
 }
 
 }  // namespace
