@@ -58,16 +58,19 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     struct Run {
         double budget;
         bool prefetch, cull;
+        double refineBudget;
     };
     std::vector<Run> plan;
     for (double budget : o.budgetsMs)
-        for (const bool prefetch : {false, true}) plan.push_back({budget, prefetch, true});
-    plan.push_back({0.0, false, false});  // for comparison: every leaf of the view, no culling
+        for (const bool prefetch : {false, true}) plan.push_back({budget, prefetch, true, 0.0});
+    for (double budget : o.budgetsMs)  // half of the budget for subdivisions, the rest deferred
+        if (budget > 0.0) plan.push_back({budget, false, true, 0.5 * budget});
+    plan.push_back({0.0, false, false, 0.0});  // for comparison: every leaf of the view, no culling
     for (const Run& run : plan) {
         const double budget = run.budget;
         const bool prefetch = run.prefetch;
         SessionParams params;
-        params.refineBudgetMs = 0.5 * budget;  // no budget: refine completely
+        params.refineBudgetMs = run.refineBudget;
         EditSession session(SceneDocument(doc), params);
         std::vector<double> ms, tiles, refine;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0;
@@ -103,6 +106,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"flight_refine_max_ms", quantile(flightRefine, 1.0)},
                         {"prefetch", prefetch},
                         {"frustum_culling", run.cull},
+                        {"refine_budget_ms", run.refineBudget},
                         {"prefetched_tiles", prefetched},
                         {"frames", ms.size()},
                         {"mean_ms", sum / double(ms.size())},

@@ -56,8 +56,8 @@ nlohmann::json benchEdit(const EditBenchOptions& options);
 
 // A flight from `startAltitude` down to `endAltitude` above a road (§9.1) through the session:
 // update time per frame (mean, median, p99.8), tiles made per frame and the cache peak, for each
-// per-frame budget (0: every tile of the view each frame; otherwise half of it at most for
-// subdivisions, the rest for production), without and with prefetching.
+// per-frame production budget (0: every tile of the view each frame), without and with
+// prefetching, and with half the budget for subdivisions (the rest deferred to later frames).
 struct FlyoverBenchOptions {
     std::size_t curves = 600000;
     std::uint64_t seed = 1;
