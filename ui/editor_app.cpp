@@ -200,9 +200,16 @@ Pick EditorApp::pick(double x, double y, bool verticesOnly) const {
     if (layerLocked_[currentLayer_]) return best;
     const Layer& layer = session_->document().scene.layers[currentLayer_];
     const glm::dvec2 m(x, y);
+    // The overlay is the last frame's: skip what an edit since (an undo, a deletion) took away.
+    auto alive = [&](const Pick& p) {
+        if (p.layer != currentLayer_) return false;
+        if (p.kind == Pick::Kind::Node) return p.id < layer.nodes.size() && layer.nodes[p.id].alive;
+        return p.id < layer.curves.size() && layer.curves[p.id].alive &&
+               (p.kind != Pick::Kind::Vertex || p.index + 1 < layer.curves[p.id].vertices.size());
+    };
     for (const OverlayItem& item : overlayItems_) {
         const double d = glm::length(item.pixel - m);
-        if (d > kPickPixels) continue;
+        if (d > kPickPixels || !alive(item.pick)) continue;
         // Nodes win over vertices at the same place (a curve's end vertex is its node).
         const double score = d - (item.pick.kind == Pick::Kind::Node ? 0.5 : 0.0);
         if (score < best.pixels) best = item.pick, best.pixels = score;
@@ -210,6 +217,7 @@ Pick EditorApp::pick(double x, double y, bool verticesOnly) const {
     if (best.kind != Pick::Kind::None || verticesOnly) return best;
     // A curve: the nearest control polygon segment on screen.
     for (const ElementId id : overlayCurves_) {
+        if (!alive({Pick::Kind::Curve, currentLayer_, id, 0, 0.0})) continue;
         const Curve& c = layer.curves[id];
         std::optional<glm::dvec2> prev;
         for (const Vertex& v : c.vertices) {
