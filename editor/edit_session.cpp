@@ -154,9 +154,14 @@ void EditSession::setRefineParams(const RefineParams& refine) {
 }
 
 void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs, Clock::time_point t0) {
-    // Batches as wide as the worker pool, so that the budget is checked often.
+    // Batches as wide as the worker pool, so that the budget is checked often. A batch that the
+    // running estimate of a batch's time says would overrun the budget waits for the next frame
+    // (the first batch of a call always runs, so every frame makes progress).
     const std::size_t batch = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
+    const std::size_t first = next;
     while (next < quads.size()) {
+        if (budgetMs > 0.0 && next > first && msSince(t0) + batchMs_ > budgetMs) break;
+        const auto b0 = Clock::now();
         const std::size_t end = std::min(quads.size(), next + batch);
         std::vector<CachedTile> made(end - next);
         tbb::parallel_for(next, end, [&](std::size_t i) {
@@ -169,6 +174,8 @@ void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& ne
             t.lastUsed = clock_;
             t.version = ++version_;
         }
+        const double ms = msSince(b0);
+        batchMs_ = batchMs_ > 0.0 ? 0.8 * batchMs_ + 0.2 * ms : ms;
         next = end;
         if (budgetMs > 0.0 && msSince(t0) >= budgetMs) break;
     }
@@ -227,7 +234,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     if (predicted && next == needed.size() && (budgetMs <= 0.0 || msSince(t0) < budgetMs)) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
         std::size_t done = 0;
-        produce(ahead, done, budgetMs <= 0.0 ? 0.0 : budgetMs - msSince(t0), Clock::now());
+        produce(ahead, done, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
         r.prefetched = done;
     }
     r.produceMs = msSince(t0);

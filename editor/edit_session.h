@@ -151,6 +151,7 @@ private:
     std::map<QuadKey, CachedTile> cache_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
+    double batchMs_ = 0.0;  // running estimate of a production batch's time
 };
 
 QuadKey keyOf(const Quad& q);

@@ -1,5 +1,6 @@
 #include "ui/script_player.h"
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -177,6 +178,10 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         return false;
     }
     if (kind == "wait_idle" || kind == "frames") return continueStep(app, s);
+    if (kind == "wait_ms") {
+        stepStart_ = std::chrono::steady_clock::now();
+        return continueStep(app, s);
+    }
     if (kind == "screenshot") {
         app.requestScreenshot(path(s["file"].get<std::string>()), s.value("panels", false), s.value("overlay", true));
         return true;
@@ -301,6 +306,8 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
 bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
     const std::string kind = s["do"].get<std::string>();
     if (kind == "frames") return frame_ >= s.value("n", 1);
+    if (kind == "wait_ms")  // real time, the live loop running meanwhile (a recorded session's pauses)
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart_).count() >= s.value("ms", 0.0);
     if (kind == "wait_idle") {
         if (frame_ > 0 && app.pendingTiles() == 0) return true;
         if (frame_ >= s.value("max_frames", 2000)) throw std::runtime_error("tiles still pending");

@@ -19,6 +19,7 @@
 //               terrain `by` away in `steps` frames, releases; logs where the vertex went
 //   wait_idle   max_frames: frames until no visible tile is missing or dirty
 //   frames      n: frames
+//   wait_ms     ms: real time (a recorded session's pauses), frames running meanwhile
 //   screenshot  file (relative to the output folder), panels, overlay (bools)
 //   key         name: "ctrl+z", "ctrl+y", "ctrl+s", "escape", "enter", "delete", "f"
 //   mouse       action down|up|move, x, y (pixels), button (0 left, 1 right, 2 middle)
@@ -36,6 +37,7 @@
 //               prefix: the camera flies (fly mode) from where it is, height geometric, position
 //               eased; screenshots are taken live, with whatever tiles are ready
 
+#include <chrono>
 #include <map>
 #include <string>
 
@@ -74,6 +76,7 @@ private:
     glm::dvec3 flyFrom_{0.0}, flyTo_{0.0};
     double flyHeightFrom_ = 0.0;
     std::map<std::string, Camera> saved_;
+    std::chrono::steady_clock::time_point stepStart_;
 };
 
 }  // namespace lacet::ui
