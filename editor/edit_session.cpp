@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <span>
 
 #include <glm/geometric.hpp>
@@ -151,6 +153,19 @@ void EditSession::setRefineParams(const RefineParams& refine) {
     quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
     cache_.clear();
+}
+
+void EditSession::setLayerVisible(LayerId layer, bool visible) {
+    if (layer >= doc_.scene.layers.size()) throw std::out_of_range("EditSession::setLayerVisible: no layer " + std::to_string(layer));
+    if (layerVisible(layer) == visible) return;
+    for (std::vector<bool>* hidden : {&params_.appearance.hiddenLayers, &params_.elevation.hiddenLayers}) {
+        hidden->resize(doc_.scene.layers.size(), false);
+        (*hidden)[layer] = !visible;
+    }
+    for (auto& [key, tile] : cache_) {
+        const Quad* q = findQuad(quadtree_->root(), key);
+        if (!q || (q->layers.size() > layer && !q->layers[layer].empty())) tile.dirty = true;
+    }
 }
 
 void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs, Clock::time_point t0) {

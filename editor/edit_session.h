@@ -116,6 +116,12 @@ public:
     void setK(double K) { params_.K = K; }
     void setRefineBudget(double ms) { params_.refineBudgetMs = ms; }
     void setRefineParams(const RefineParams& refine);
+    // Hides a layer from the textures (its appearance and footprint) or shows it again: the tiles
+    // of quads holding its elements become dirty.
+    void setLayerVisible(LayerId layer, bool visible);
+    bool layerVisible(LayerId layer) const {
+        return layer >= params_.appearance.hiddenLayers.size() || !params_.appearance.hiddenLayers[layer];
+    }
     const SessionParams& params() const { return params_; }
 
     const SceneDocument& document() const { return doc_; }

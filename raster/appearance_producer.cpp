@@ -396,13 +396,14 @@ std::vector<ElementId> sortedKeys(const Map& m) {
     return ids;
 }
 
-std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene) {
+std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene, const std::vector<bool>& hidden) {
     std::vector<LayerId> layers(quad.layers.size());
     for (LayerId l = 0; l < layers.size(); ++l) layers[l] = l;
     std::stable_sort(layers.begin(), layers.end(),
                      [&](LayerId a, LayerId b) { return rank(scene.layers[a].kind) < rank(scene.layers[b].kind); });
     std::vector<DrawItem> items;
     for (LayerId l : layers) {
+        if (l < hidden.size() && hidden[l]) continue;
         const LayerKind kind = scene.layers[l].kind;
         if (surfaceOf(kind) != Surface::None)
             for (ElementId id : sortedKeys(quad.layers[l].areas)) items.push_back({l, true, id});
@@ -482,7 +483,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
     if (counters) ++counters->tiles;
 
     const Scene& scene = quadtree.scene();
-    const std::vector<DrawItem> items = drawList(quad, scene);
+    const std::vector<DrawItem> items = drawList(quad, scene, params.hiddenLayers);
     if (params.detectUniform && !items.empty())
         if (const auto shade = coveringShade(quad, quadtree, t, items.back())) {
             t.uniform = true;

@@ -25,6 +25,7 @@
 // Thread safety: as produceElevation(); per-thread scratch buffers are reused between calls.
 
 #include <atomic>
+#include <vector>
 
 #include "model/curve_data.h"
 #include "model/quadtree.h"
@@ -41,6 +42,7 @@ struct AppearanceParams {
     double markingMinTexels = 0.5;  // texels: road markings narrower than this are not drawn, and u is not asked for
     int groundCells = 32;           // cells of the ground colour grid per quad side, >= 1
     bool detectUniform = true;      // false: rasterize uniform quads too (for tests)
+    std::vector<bool> hiddenLayers; // layers not drawn (index: LayerId; missing: shown)
 };
 
 struct AppearanceCounters {

@@ -200,6 +200,7 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
     FootprintCanvas canvas(t);
     const Scene& scene = quadtree.scene();
     for (LayerId l = 0; l < quad.layers.size(); ++l) {
+        if (l < params.hiddenLayers.size() && params.hiddenLayers[l]) continue;
         const LayerKind kind = scene.layers[l].kind;
         if (kind == LayerKind::Roads || kind == LayerKind::Rivers) {
             for (const auto& [a, pieces] : quad.layers[l].curves) {

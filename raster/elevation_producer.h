@@ -20,6 +20,7 @@
 // DEM, and asks the CurveDataCache (which is thread-safe) for u and z-profiles.
 
 #include <atomic>
+#include <vector>
 
 #include "model/curve_data.h"
 #include "model/quadtree.h"
@@ -30,6 +31,7 @@ namespace lacet {
 
 struct ElevationParams {
     int border = 2;  // samples outside the quad on each side (>= 2: the filter reads one more)
+    std::vector<bool> hiddenLayers;  // layers leaving no footprint (index: LayerId; missing: shown)
 };
 
 struct ElevationCounters {

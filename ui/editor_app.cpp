@@ -617,7 +617,10 @@ void EditorApp::drawPanels() {
             drawing_.clear();
         }
         ImGui::SameLine();
-        if (ImGui::Checkbox("shown", &visible)) layerVisible_[li] = visible;
+        bool drawn = session_->layerVisible(li);
+        if (ImGui::Checkbox("visible", &drawn)) session_->setLayerVisible(li, drawn);
+        ImGui::SameLine();
+        if (ImGui::Checkbox("points", &visible)) layerVisible_[li] = visible;
         ImGui::SameLine();
         if (ImGui::Checkbox("locked", &locked)) layerLocked_[li] = locked;
         ImGui::SameLine();

@@ -323,5 +323,40 @@ TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
             EXPECT_NEAR(session.displayedHeight(e.position(i, j)), e.zm[e.index(i, j)], 1e-3);
 }
 
+TEST(EditSession, AHiddenLayerLeavesTheTexturesAndShowingItAgainRestoresThemExactly) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = 9;
+    params.cacheTiles = 1u << 20;
+    EditSession session(syntheticDocument(17, 1200), params);
+    const Vec2 c = session.document().scene.extent.center();
+    const glm::dvec3 viewer(c.x, c.y, 30.0);
+    session.frame(viewer, 0.0);
+    const std::map<QuadKey, CachedTile> shown = session.tiles();
+    session.setLayerVisible(kRoadsLayer, false);
+    EXPECT_FALSE(session.layerVisible(kRoadsLayer));
+    const FrameReport hiddenFrame = session.frame(viewer, 0.0);
+    EXPECT_GT(hiddenFrame.produced, 0u);
+    // Every view tile is what the producers make without the roads; those with roads changed.
+    SessionParams without = params;
+    without.appearance.hiddenLayers = {true};
+    without.elevation.hiddenLayers = {true};
+    expectTilesEqualFromScratch(session, without, "roads hidden");
+    std::size_t changed = 0;
+    for (const auto& [key, tile] : shown) {
+        const CachedTile* now = session.tile(key);
+        ASSERT_NE(now, nullptr);
+        changed += !(now->appearance == tile.appearance && now->elevation == tile.elevation);
+    }
+    EXPECT_GT(changed, 0u);
+    session.setLayerVisible(kRoadsLayer, true);
+    session.frame(viewer, 0.0);
+    for (const auto& [key, tile] : shown) {
+        const CachedTile* now = session.tile(key);
+        ASSERT_NE(now, nullptr);
+        EXPECT_TRUE(now->appearance == tile.appearance && now->elevation == tile.elevation);
+    }
+}
+
 }  // namespace
 }  // namespace lacet
