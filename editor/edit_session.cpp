@@ -246,7 +246,8 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     produce(needed, next, budgetMs, t0);
     r.produced = next;
     r.pending = needed.size() - next;
-    if (predicted && next == needed.size() && (budgetMs <= 0.0 || msSince(t0) < budgetMs)) {
+    // Prefetch only with time for a batch left (its first batch would otherwise always run).
+    if (predicted && next == needed.size() && (budgetMs <= 0.0 || msSince(t0) + batchMs_ < budgetMs)) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
         std::size_t done = 0;
         produce(ahead, done, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());

@@ -30,6 +30,14 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 
 EditorApp* appOf(GLFWwindow* w) { return static_cast<EditorApp*>(glfwGetWindowUserPointer(w)); }
 
+// Framebuffer pixels per window coordinate (cursor positions are in window coordinates).
+glm::dvec2 framebufferScale(GLFWwindow* w) {
+    int fw = 0, fh = 0, ww = 0, wh = 0;
+    glfwGetFramebufferSize(w, &fw, &fh);
+    glfwGetWindowSize(w, &ww, &wh);
+    return ww > 0 && wh > 0 ? glm::dvec2(double(fw) / ww, double(fh) / wh) : glm::dvec2(1.0);
+}
+
 double segmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
     const glm::dvec2 ab = b - a;
     const double l2 = glm::dot(ab, ab);
@@ -65,21 +73,19 @@ EditorApp::EditorApp(const EditorOptions& options) : options_(options) {
         if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) return;
         double x = 0.0, y = 0.0;
         glfwGetCursorPos(w, &x, &y);
-        float sx = 1.0f, sy = 1.0f;
-        glfwGetWindowContentScale(w, &sx, &sy);
+        const glm::dvec2 scale = framebufferScale(w);
         InputEvent e;
         e.type = action == GLFW_PRESS ? InputEvent::Type::MouseDown : InputEvent::Type::MouseUp;
-        e.x = x * sx, e.y = y * sy;
+        e.x = x * scale.x, e.y = y * scale.y;
         e.button = button == GLFW_MOUSE_BUTTON_LEFT ? 0 : button == GLFW_MOUSE_BUTTON_RIGHT ? 1 : 2;
         e.mods = mods;
         appOf(w)->push(e);
     });
     glfwSetCursorPosCallback(window_, [](GLFWwindow* w, double x, double y) {
-        float sx = 1.0f, sy = 1.0f;
-        glfwGetWindowContentScale(w, &sx, &sy);
+        const glm::dvec2 scale = framebufferScale(w);
         InputEvent e;
         e.type = InputEvent::Type::MouseMove;
-        e.x = x * sx, e.y = y * sy;
+        e.x = x * scale.x, e.y = y * scale.y;
         appOf(w)->push(e);
     });
     glfwSetScrollCallback(window_, [](GLFWwindow* w, double, double dy) {
@@ -91,6 +97,7 @@ EditorApp::EditorApp(const EditorOptions& options) : options_(options) {
     });
     glfwSetKeyCallback(window_, [](GLFWwindow* w, int key, int, int action, int mods) {
         if (action == GLFW_RELEASE || (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureKeyboard)) return;
+        if (action == GLFW_REPEAT && key != GLFW_KEY_Z && key != GLFW_KEY_Y) return;  // held keys repeat undo/redo only
         InputEvent e;
         e.type = InputEvent::Type::Key;
         e.key = key;
@@ -159,9 +166,14 @@ void EditorApp::loadInitialDocument() {
 }
 
 void EditorApp::resetSession(SceneDocument doc) {
+    if (doc.scene.layers.empty()) throw std::runtime_error("lacet edit: the scene has no layer to edit");
     terrain_->reset();
+    if (session_) sessionParams_ = session_->params();  // the knobs the user set stay
+    sessionParams_.appearance.hiddenLayers.clear();
+    sessionParams_.elevation.hiddenLayers.clear();
     session_.reset();
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
+    demRange_.reset();
     const std::size_t layers = session_->document().scene.layers.size();
     layerVisible_.assign(layers, 0);
     layerLocked_.assign(layers, 0);
@@ -233,6 +245,11 @@ Pick EditorApp::pick(double x, double y, bool verticesOnly) const {
 }
 
 void EditorApp::execute(const Command& c, bool merge) {
+    const LayerId layer = std::visit([](const auto& cmd) { return cmd.layer; }, c);
+    if (layer < layerLocked_.size() && layerLocked_[layer]) {
+        status("Refused: the layer is locked");
+        return;
+    }
     try {
         lastCommand_ = session_->execute(c, merge);
         ++commands_;
@@ -248,7 +265,11 @@ void EditorApp::handle(const InputEvent& e) {
         case InputEvent::Type::MouseDown: onMouseDown(e); break;
         case InputEvent::Type::MouseMove: onMouseMove(e); break;
         case InputEvent::Type::MouseUp: onMouseUp(e); break;
-        case InputEvent::Type::Scroll: camera_.zoom(std::pow(0.85, e.y), 2.0); break;
+        case InputEvent::Type::Scroll:
+            // Orbit: scale the distance; fly: move along the view by a share of the height.
+            if (camera_.fly) camera_.move(0.2 * e.y * std::max(2.0, viewerHeight()), 0.0, 0.0);
+            else camera_.zoom(std::pow(0.85, e.y), 2.0);
+            break;
         case InputEvent::Type::Key: onKey(e); break;
     }
 }
@@ -272,7 +293,10 @@ void EditorApp::onMouseDown(const InputEvent& e) {
                 panning_ = true;  // a drag on the ground pans
                 return;
             }
-            if (p.kind == Pick::Kind::Vertex || p.kind == Pick::Kind::Node) dragging_ = p;
+            if (p.kind == Pick::Kind::Vertex || p.kind == Pick::Kind::Node) {
+                dragging_ = p;
+                dragMoved_ = false;
+            }
             selected_ = p;
             if (p.kind == Pick::Kind::Node) {
                 // The selection shows a curve of the node, for the properties panel.
@@ -336,13 +360,21 @@ void EditorApp::onMouseMove(const InputEvent& e) {
     if (orbiting_) {
         camera_.orbit(d.x * 0.005, d.y * 0.005);
     } else if (panning_) {
-        camera_.pan(-d.x / double(height_), d.y / double(height_));
+        if (camera_.fly) {  // over the ground, at a speed that follows the height
+            const double k = 2.0 * std::max(2.0, viewerHeight()) / double(height_);
+            const glm::dvec3 ahead(std::sin(camera_.yaw), std::cos(camera_.yaw), 0.0);
+            camera_.flyPosition += (camera_.right() * -d.x + ahead * d.y) * k;
+        } else {
+            camera_.pan(-d.x / double(height_), d.y / double(height_));
+        }
     } else if (dragging_.kind != Pick::Kind::None) {
         const auto at = terrainAt(e.x, e.y);
         if (!at) return;
         const Vec2 p(at->x, at->y);
-        if (dragging_.kind == Pick::Kind::Vertex) execute(MoveVertexCmd{dragging_.layer, dragging_.id, dragging_.index, p}, true);
-        else execute(MoveNodeCmd{dragging_.layer, dragging_.id, p}, true);
+        // The first move of a drag starts a new undo step; the next ones merge into it.
+        if (dragging_.kind == Pick::Kind::Vertex) execute(MoveVertexCmd{dragging_.layer, dragging_.id, dragging_.index, p}, dragMoved_);
+        else execute(MoveNodeCmd{dragging_.layer, dragging_.id, p}, dragMoved_);
+        dragMoved_ = true;
     }
 }
 
@@ -394,6 +426,8 @@ void EditorApp::finishDrawing() {
     c.w = newWidth_;
     c.wf = std::max(newFootprint_, newWidth_);
     c.cls = std::uint16_t(std::clamp(newClass_, 0, 65535));
+    const std::size_t curvesBefore = session_->document().scene.layers[currentLayer_].curves.size();
+    const std::size_t depthBefore = session_->undoDepth();
     session_->beginGroup();
     auto endpoint = [&](const DrawPoint& d) -> ElementId {
         if (d.node != kNoElement) return d.node;
@@ -404,8 +438,13 @@ void EditorApp::finishDrawing() {
     c.end = endpoint(drawing_.back());
     execute(AddCurveCmd{currentLayer_, c});
     session_->endGroup();
-    selected_ = {Pick::Kind::Curve, currentLayer_, ElementId(session_->document().scene.layers[currentLayer_].curves.size() - 1), 0, 0.0};
     drawing_.clear();
+    if (session_->document().scene.layers[currentLayer_].curves.size() == curvesBefore) {
+        // The curve was refused (the status says why): take back the nodes made for it.
+        if (session_->undoDepth() > depthBefore) session_->undo(&lastCommand_);
+        return;
+    }
+    selected_ = {Pick::Kind::Curve, currentLayer_, ElementId(curvesBefore), 0, 0.0};
 }
 
 void EditorApp::save(const std::string& path) {
@@ -514,12 +553,15 @@ int EditorApp::run() {
             glfwSetWindowShouldClose(window_, GLFW_FALSE);
         }
         glfwGetFramebufferSize(window_, &width_, &height_);
-        if (width_ <= 0 || height_ <= 0) continue;
+        if (width_ <= 0 || height_ <= 0) {  // minimised
+            glfwWaitEvents();
+            continue;
+        }
         if (script_ && !script_->step(*this)) break;
         std::vector<InputEvent> events;
         events.swap(events_);
         for (const InputEvent& e : events) handle(e);
-        if (camera_.fly && !script_) {
+        if (camera_.fly && !script_ && !ImGui::GetIO().WantCaptureKeyboard) {
             const double speed = std::max(2.0, viewerHeight()) * (glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) ? 0.08 : 0.02);
             auto held = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
             camera_.move(speed * (held(GLFW_KEY_W) - held(GLFW_KEY_S)), speed * (held(GLFW_KEY_D) - held(GLFW_KEY_A)),

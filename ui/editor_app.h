@@ -78,10 +78,11 @@ public:
     void save(const std::string& path = {});
     // Opens a scene file in place of the current document (the camera stays).
     void open(const std::string& path);
-    // The next frame is written to `path` (with or without the panels and the overlay);
-    // returns what the log records of it after the frame.
+    // The next frame is written to `path` (with or without the panels and the overlay), and
+    // the log records it.
     void requestScreenshot(const std::string& path, bool panels, bool overlay);
     std::size_t pendingTiles() const { return lastFrame_.pending; }
+    bool refineDeferred() const { return lastFrame_.refineDeferred; }
     glm::vec3 background{0.55f, 0.70f, 0.88f};
     nlohmann::json& log() { return log_; }
     const Pick& selection() const { return selected_; }
@@ -137,6 +138,7 @@ private:
     LayerId currentLayer_ = 0;
     std::vector<char> layerVisible_, layerLocked_;
     Pick selected_, dragging_;
+    bool dragMoved_ = false;  // the current drag has made its first move (later ones merge)
     bool orbiting_ = false, panning_ = false;
     glm::dvec2 lastMouse_{0.0}, mouse_{0.0};
     struct DrawPoint {

@@ -309,7 +309,7 @@ bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
     if (kind == "wait_ms")  // real time, the live loop running meanwhile (a recorded session's pauses)
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - stepStart_).count() >= s.value("ms", 0.0);
     if (kind == "wait_idle") {
-        if (frame_ > 0 && app.pendingTiles() == 0) return true;
+        if (frame_ > 0 && app.pendingTiles() == 0 && !app.refineDeferred()) return true;
         if (frame_ >= s.value("max_frames", 2000)) throw std::runtime_error("tiles still pending");
         return false;
     }

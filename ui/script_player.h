@@ -8,10 +8,9 @@
 // Steps ({"do": ...}):
 //   camera      target [x, y] (at its ground height), "scene" (the centre), "drag_from" or
 //               "drag_result" (where the last drag began and ended), "focus_node" (the focus
-//               curve's start node), distance, yaw, pitch;
-//               or save: NAME / restore: NAME, the whole camera exactly; in fly mode, position
-//               [x, y, height above the ground] or "scene" (with height, default 3000 m)
-//               (degrees), fly (bool), position [x, y, height above the ground] in fly mode
+//               curve's start node); distance, yaw, pitch (degrees); fly (bool); in fly mode,
+//               position [x, y, height above the ground] or "scene" (with height, default
+//               3000 m); or save: NAME / restore: NAME, the whole camera exactly
 //   focus       layer (index or name), near [x, y] (default: the scene centre), min_width (m),
 //               on_curve (bool): the inner vertex (on-curve only, if asked), nearest `near`, of a
 //               curve of that layer at least that wide becomes the focus; with distance/yaw/pitch, the camera looks at it
