@@ -97,8 +97,7 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
     const glm::dvec3 look = glm::dvec3(at.x, at.y, doc.dem->sample(at)) - camera.flyPosition;
     camera.yaw = std::atan2(look.x, look.y);
     camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
-    const auto [lo, hi] = std::minmax_element(doc.dem->heights().begin(), doc.dem->heights().end());
-    const glm::dvec2 zRange(*lo - 50.0, *hi + 50.0);
+    const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
     const QuadVisibility visible = frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(o.altitude), zRange);
     const glm::dvec3 viewer(from.x, from.y, o.altitude);
 

@@ -41,8 +41,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         return glm::dvec3(p.x, p.y, altitude);
     };
     // The camera looks ahead along the path, steeply at first, nearly level at the end.
-    const auto [lo, hi] = std::minmax_element(doc.dem->heights().begin(), doc.dem->heights().end());
-    const glm::dvec2 zRange(*lo - 50.0, *hi + 50.0);
+    const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
     const double aspect = 1280.0 / 800.0;
     auto cameraAt = [&](int f) {
         const double t = std::min(1.0, double(f) / double(o.frames - 1));

@@ -8,6 +8,7 @@
 #include <glm/mat3x3.hpp>
 
 #include "model/quadtree.h"
+#include "raster/dem.h"
 
 namespace lacet {
 
@@ -103,6 +104,11 @@ void Camera::setFly(bool on) {
 
 void Camera::move(double forwardAmount, double rightAmount, double upAmount) {
     flyPosition += forward() * forwardAmount + right() * rightAmount + glm::dvec3(0.0, 0.0, upAmount);
+}
+
+glm::dvec2 frustumHeightRange(const Dem& dem) {
+    const auto [lo, hi] = std::minmax_element(dem.heights().begin(), dem.heights().end());
+    return {double(*lo) - 50.0, double(*hi) + 50.0};
 }
 
 std::function<bool(const Quad&)> frustumVisibility(const Camera& camera, double aspect, glm::dvec2 clip, glm::dvec2 zRange) {

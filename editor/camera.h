@@ -68,6 +68,11 @@ public:
 };
 
 struct Quad;
+class Dem;
+
+// The heights a frustum test should span over `dem`: its lowest and highest samples, 50 m wider
+// each way (interpolation overshoot). A pass over every sample: compute it once per DEM.
+glm::dvec2 frustumHeightRange(const Dem& dem);
 
 // The session's visibility test for a camera (EditSession::frame): a quad is visible when its box,
 // from `zRange.x` less half its size (below any skirt a renderer hangs) to `zRange.y`, may

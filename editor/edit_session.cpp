@@ -230,9 +230,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
             ++r.viewQuads;
             if (it != cache_.end()) it->second.lastUsed = clock_;
             // The ancestors' tiles stay too: they are what a renderer shows while a leaf is made.
+            // A tile already marked this frame was reached from a sibling: so were those above it.
             for (const Quad* a = q.parent; a; a = a->parent) {
                 const auto at = cache_.find(keyOf(*a));
-                if (at != cache_.end()) at->second.lastUsed = clock_;
+                if (at == cache_.end()) continue;
+                if (at->second.lastUsed == clock_) break;
+                at->second.lastUsed = clock_;
             }
         }
         if (it == cache_.end() || it->second.dirty) (viewLeaf ? needed : ahead).push_back(&q);

@@ -1,7 +1,7 @@
 #pragma once
 // The editor's window (issue: the 3D editor): the terrain of an editing session drawn live while
 // the user moves the camera and edits the current layer's curves (Fig. 13), with ImGui panels
-// for layers, the selection's properties, statistics and the accuracy knobs.
+// for layers, the selection's properties, statistics and the accuracy knobs (ui/editor_panels.cpp).
 //
 // Each frame: the queued input (window or script) is handled (camera moves; picks against the
 // depth buffer of the frame the user saw; edits as commands of the session), then

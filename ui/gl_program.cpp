@@ -1,10 +1,22 @@
 #include "ui/gl_program.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
 namespace lacet::ui {
 namespace {
+
+// The info log of a shader or program (getLength, getLog: glGetShaderiv/glGetShaderInfoLog or the
+// program pair).
+template <class GetLength, class GetLog>
+std::string infoLog(GLuint id, GetLength getLength, GetLog getLog) {
+    GLint n = 0;
+    getLength(id, GL_INFO_LOG_LENGTH, &n);
+    std::vector<char> log(std::size_t(std::max(n, 1)));
+    getLog(id, n, nullptr, log.data());
+    return log.data();
+}
 
 GLuint compile(const std::string& name, GLenum type, const char* source) {
     const GLuint s = glCreateShader(type);
@@ -13,12 +25,9 @@ GLuint compile(const std::string& name, GLenum type, const char* source) {
     GLint ok = 0;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        GLint n = 0;
-        glGetShaderiv(s, GL_INFO_LOG_LENGTH, &n);
-        std::vector<char> log(std::size_t(std::max(n, 1)));
-        glGetShaderInfoLog(s, n, nullptr, log.data());
+        const std::string log = infoLog(s, glGetShaderiv, glGetShaderInfoLog);
         glDeleteShader(s);
-        throw std::runtime_error(name + (type == GL_VERTEX_SHADER ? " vertex" : " fragment") + " shader: " + log.data());
+        throw std::runtime_error(name + (type == GL_VERTEX_SHADER ? " vertex" : " fragment") + " shader: " + log);
     }
     return s;
 }
@@ -37,13 +46,10 @@ GlProgram::GlProgram(const std::string& name, const char* vertexSource, const ch
     GLint ok = 0;
     glGetProgramiv(id_, GL_LINK_STATUS, &ok);
     if (!ok) {
-        GLint n = 0;
-        glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &n);
-        std::vector<char> log(std::size_t(std::max(n, 1)));
-        glGetProgramInfoLog(id_, n, nullptr, log.data());
+        const std::string log = infoLog(id_, glGetProgramiv, glGetProgramInfoLog);
         glDeleteProgram(id_);
         id_ = 0;
-        throw std::runtime_error(name + " program: " + log.data());
+        throw std::runtime_error(name + " program: " + log);
     }
 }
 

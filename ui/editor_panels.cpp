@@ -1,0 +1,151 @@
+// The editor's ImGui panels (EditorApp::drawPanels): layers and tools, the selection's
+// properties, statistics and the accuracy knobs, and the prompt before losing unsaved changes.
+#include <algorithm>
+#include <string>
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "ui/editor_app.h"
+#include "ui/terrain_renderer.h"
+
+namespace lacet::ui {
+
+void EditorApp::drawPanels() {
+    const Scene& scene = session_->document().scene;
+    ImGui::SetNextWindowPos({10, 10}, ImGuiCond_FirstUseEver);
+    ImGui::Begin("Layers", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    for (LayerId li = 0; li < scene.layers.size(); ++li) {
+        ImGui::PushID(int(li));
+        bool visible = layerVisible_[li] != 0, locked = layerLocked_[li] != 0;
+        if (ImGui::RadioButton("##current", currentLayer_ == li)) {
+            currentLayer_ = li;
+            layerVisible_[li] = 1;
+            selected_ = {};
+            drawing_.clear();
+        }
+        ImGui::SameLine();
+        bool drawn = session_->layerVisible(li);
+        if (ImGui::Checkbox("visible", &drawn)) session_->setLayerVisible(li, drawn);
+        ImGui::SameLine();
+        if (ImGui::Checkbox("points", &visible)) layerVisible_[li] = visible;
+        ImGui::SameLine();
+        if (ImGui::Checkbox("locked", &locked)) layerLocked_[li] = locked;
+        ImGui::SameLine();
+        ImGui::Text("%s (%s)", scene.layers[li].name.c_str(), std::string(toString(scene.layers[li].kind)).c_str());
+        ImGui::PopID();
+    }
+    ImGui::Separator();
+    int tool = int(tool_);
+    ImGui::RadioButton("Select / drag", &tool, int(Tool::Select));
+    ImGui::SameLine();
+    ImGui::RadioButton("Insert point", &tool, int(Tool::Insert));
+    ImGui::RadioButton("Delete point", &tool, int(Tool::DeletePoint));
+    ImGui::SameLine();
+    ImGui::RadioButton("Draw curve", &tool, int(Tool::Draw));
+    if (Tool(tool) != tool_) drawing_.clear();
+    tool_ = Tool(tool);
+    if (tool_ == Tool::Draw) {
+        ImGui::TextWrapped("Click points (on a node: a junction); Enter ends, Escape cancels. %zu point(s).", drawing_.size());
+        ImGui::InputFloat("width (m)", &newWidth_);
+        ImGui::InputFloat("footprint (m)", &newFootprint_);
+        ImGui::InputInt("class", &newClass_);
+    }
+    ImGui::End();
+
+    ImGui::SetNextWindowPos({10, 230}, ImGuiCond_FirstUseEver);
+    ImGui::Begin("Selection", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    if (selected_.kind == Pick::Kind::Curve && selected_.id < scene.layers[selected_.layer].curves.size() &&
+        scene.layers[selected_.layer].curves[selected_.id].alive) {
+        const Curve& c = scene.layers[selected_.layer].curves[selected_.id];
+        ImGui::Text("Curve %u of %s: %zu vertices", selected_.id, scene.layers[selected_.layer].name.c_str(), c.vertices.size());
+        float w = c.w, wf = c.wf;
+        int cls = c.cls;
+        ImGui::InputFloat("width (m)", &w);
+        if (ImGui::IsItemDeactivatedAfterEdit()) execute(SetCurveWidthCmd{selected_.layer, selected_.id, w, std::max(w, c.wf)});
+        ImGui::InputFloat("footprint (m)", &wf);
+        if (ImGui::IsItemDeactivatedAfterEdit()) execute(SetCurveWidthCmd{selected_.layer, selected_.id, c.w, wf});
+        ImGui::InputInt("class", &cls);
+        if (ImGui::IsItemDeactivatedAfterEdit())
+            execute(SetCurveClassCmd{selected_.layer, selected_.id, std::uint16_t(std::clamp(cls, 0, 65535))});
+        if (ImGui::Button("Delete curve")) {
+            execute(DeleteCurveCmd{selected_.layer, selected_.id});
+            selected_ = {};
+        }
+    } else {
+        ImGui::TextUnformatted("Nothing selected");
+    }
+    ImGui::End();
+
+    ImGui::SetNextWindowPos({float(width_) - 10.0f, 10}, ImGuiCond_FirstUseEver, {1.0f, 0.0f});
+    ImGui::Begin("Statistics", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    const TerrainStats& ts = terrain_->stats();
+    ImGui::Text("Frame %zu: update %.1f ms, draw %.1f ms", frames_, lastUpdateMs_, lastRenderMs_);
+    ImGui::Text("Quads: %zu in view, %zu culled, %zu drawn (%zu coarser)", lastFrame_.viewQuads, lastFrame_.culled, ts.drawn, ts.fallback);
+    ImGui::Text("Tiles: %zu made, %zu prefetched, %zu pending", lastFrame_.produced, lastFrame_.prefetched, lastFrame_.pending);
+    ImGui::Text("Cache: %zu / %zu tiles, GPU %zu, %zu uploads", lastFrame_.cached, session_->params().cacheTiles, ts.gpuTiles, ts.uploads);
+    ImGui::Text("Work: %zu tiles, %zu commands", tilesProduced_, commands_);
+    ImGui::Text("Last edit: apply %.2f ms, UPDATE %.2f ms", lastCommand_.applyMs, lastCommand_.updateMs);
+    ImGui::Text("  %zu quads changed, %zu tiles dirty", lastCommand_.changedQuads, lastCommand_.dirtyTiles);
+    ImGui::Text("Undo %zu, redo %zu%s", session_->undoDepth(), session_->redoDepth(), session_->modified() ? ", unsaved" : "");
+    ImGui::Text("Viewer %.1f m above the ground%s", viewerHeight(), camera_.fly ? " (fly)" : "");
+    ImGui::Separator();
+    ImGui::TextUnformatted("Accuracy");
+    float K = float(session_->params().K);
+    if (ImGui::SliderFloat("K", &K, 1.0f, 8.0f)) session_->setK(K);
+    float tol = float(session_->params().refine.toleranceTexels);
+    ImGui::SliderFloat("tolerance (texels)", &tol, 0.1f, 4.0f);
+    if (ImGui::IsItemDeactivatedAfterEdit()) {
+        RefineParams r = session_->params().refine;
+        r.toleranceTexels = tol;
+        session_->setRefineParams(r);
+        terrain_->reset();
+    }
+    int res = session_->params().refine.resolution;
+    const int choices[] = {64, 128, 256, 512};
+    if (ImGui::BeginCombo("texture (texels)", std::to_string(res).c_str())) {
+        for (int c : choices)
+            if (ImGui::Selectable(std::to_string(c).c_str(), c == res) && c != res) {
+                RefineParams r = session_->params().refine;
+                r.resolution = c;
+                session_->setRefineParams(r);
+                terrain_->reset();
+            }
+        ImGui::EndCombo();
+    }
+    float budget = float(options_.budgetMs);
+    if (ImGui::SliderFloat("budget (ms/frame)", &budget, 1.0f, 100.0f)) options_.budgetMs = budget;
+    ImGui::Checkbox("wireframe", &terrain_->wireframe);
+    if (!status_.empty()) {
+        ImGui::Separator();
+        ImGui::TextWrapped("%s", status_.c_str());
+    }
+    ImGui::End();
+
+    if (confirmClose_) {
+        ImGui::OpenPopup("Unsaved changes");
+        confirmClose_ = false;
+    }
+    if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::Text("The scene has unsaved changes.");
+        if (ImGui::Button("Save and quit")) {
+            save();
+            closing_ = !session_->modified();
+            if (closing_) glfwSetWindowShouldClose(window_, GLFW_TRUE);
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Quit without saving")) {
+            closing_ = true;
+            glfwSetWindowShouldClose(window_, GLFW_TRUE);
+            ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("Cancel")) ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+}
+
+}  // namespace lacet::ui
