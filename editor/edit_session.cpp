@@ -1,6 +1,7 @@
 #include "editor/edit_session.h"
 
 #include <algorithm>
+#include <atomic>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -168,32 +169,50 @@ void EditSession::setLayerVisible(LayerId layer, bool visible) {
     }
 }
 
-void EditSession::produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs, Clock::time_point t0) {
-    // Batches as wide as the worker pool, so that the budget is checked often. A batch that the
-    // running estimate of a batch's time says would overrun the budget waits for the next frame
-    // (the first batch of a call always runs, so every frame makes progress).
-    const std::size_t batch = std::size_t(std::max(1, tbb::this_task_arena::max_concurrency()));
-    const std::size_t first = next;
-    while (next < quads.size()) {
-        if (budgetMs > 0.0 && next > first && msSince(t0) + batchMs_ > budgetMs) break;
-        const auto b0 = Clock::now();
-        const std::size_t end = std::min(quads.size(), next + batch);
-        std::vector<CachedTile> made(end - next);
-        tbb::parallel_for(next, end, [&](std::size_t i) {
-            made[i - next].appearance = produceAppearance(*quads[i], *quadtree_, *data_, *doc_.dem, params_.appearance);
-            made[i - next].elevation = produceElevation(*quads[i], *quadtree_, *data_, *doc_.dem, params_.elevation);
-        });
-        for (std::size_t i = next; i < end; ++i) {
-            CachedTile& t = cache_[keyOf(*quads[i])];
-            t = std::move(made[i - next]);
-            t.lastUsed = clock_;
-            t.version = ++version_;
+std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double budgetMs, Clock::time_point t0) {
+    // A work queue in nearest-first order, one job per producer and quad (so the two threads
+    // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
+    // with a budget, a job that the running estimate of its time says would overrun it is not
+    // started, and neither is any after it (the first quad of a call is always made, so every
+    // frame makes progress). A quad is made when both its jobs are.
+    const std::size_t jobs = 2 * quads.size();
+    std::vector<CachedTile> made(quads.size());
+    std::unique_ptr<std::atomic<bool>[]> done(new std::atomic<bool>[jobs]);
+    for (std::size_t j = 0; j < jobs; ++j) done[j] = false;
+    std::atomic<std::size_t> next{0};
+    std::atomic<bool> stop{false};
+    const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(jobs)));
+    tbb::parallel_for(0, workers, [&](int) {
+        for (;;) {
+            if (stop) return;
+            const std::size_t j = next.fetch_add(1);
+            if (j >= jobs) return;
+            const bool appearance = j % 2 == 0;
+            std::atomic<double>& estimate = jobMs_[appearance ? 0 : 1];
+            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.load() > budgetMs) {
+                stop = true;
+                return;
+            }
+            const Quad& q = *quads[j / 2];
+            const auto j0 = Clock::now();
+            if (appearance) made[j / 2].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
+            else made[j / 2].elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
+            const double ms = msSince(j0);
+            const double e = estimate.load();  // two workers may update it at once: it is an estimate
+            estimate.store(e > 0.0 ? 0.8 * e + 0.2 * ms : ms);
+            done[j] = true;
         }
-        const double ms = msSince(b0);
-        batchMs_ = batchMs_ > 0.0 ? 0.8 * batchMs_ + 0.2 * ms : ms;
-        next = end;
-        if (budgetMs > 0.0 && msSince(t0) >= budgetMs) break;
+    });
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < quads.size(); ++i) {
+        if (!done[2 * i] || !done[2 * i + 1]) continue;
+        CachedTile& t = cache_[keyOf(*quads[i])];
+        t = std::move(made[i]);
+        t.lastUsed = clock_;
+        t.version = ++version_;
+        ++count;
     }
+    return count;
 }
 
 FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible,
@@ -245,16 +264,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     };
     std::stable_sort(needed.begin(), needed.end(), byDistance(viewer));
     t0 = Clock::now();
-    std::size_t next = 0;
-    produce(needed, next, budgetMs, t0);
-    r.produced = next;
-    r.pending = needed.size() - next;
+    r.produced = produce(needed, budgetMs, t0);
+    r.pending = needed.size() - r.produced;
     // Prefetch only with time for a batch left (its first batch would otherwise always run).
-    if (predicted && next == needed.size() && (budgetMs <= 0.0 || msSince(t0) + batchMs_ < budgetMs)) {
+    if (predicted && r.pending == 0 && (budgetMs <= 0.0 || msSince(t0) + jobMs_[0].load() + jobMs_[1].load() < budgetMs)) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
-        std::size_t done = 0;
-        produce(ahead, done, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
-        r.prefetched = done;
+        r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
     }
     r.produceMs = msSince(t0);
     // LRU: drop the least recently used tiles outside the view beyond the budget.

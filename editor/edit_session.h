@@ -20,6 +20,7 @@
 // Undo granularity: a drag is many commands merged into one undo step (execute(cmd, merge)),
 // and a compound edit (a new road: its nodes, then its curve) is one group.
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -144,8 +145,8 @@ private:
     };
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     std::uint64_t topSerial() const { return done_.empty() ? 0 : done_.back().serial; }
-    void produce(const std::vector<const Quad*>& quads, std::size_t& next, double budgetMs,
-                 std::chrono::steady_clock::time_point t0);
+    // Makes the tiles of `quads` in order within the budget; returns how many were made.
+    std::size_t produce(const std::vector<const Quad*>& quads, double budgetMs, std::chrono::steady_clock::time_point t0);
 
     SceneDocument doc_;
     SessionParams params_;
@@ -157,7 +158,7 @@ private:
     std::map<QuadKey, CachedTile> cache_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
-    double batchMs_ = 0.0;  // running estimate of a production batch's time
+    std::atomic<double> jobMs_[2] = {0.0, 0.0};  // running estimates of an appearance and an elevation tile's time
 };
 
 QuadKey keyOf(const Quad& q);

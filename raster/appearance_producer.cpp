@@ -336,38 +336,80 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
         }
         loops.push_back(std::move(pts));
     }
+    // The canvas pixels the piece can change: its bounding box, dilated by the border strip (and
+    // a few pixels). Every pixel it flags below lies in there, and is cleared there.
+    Vec2 reachMin(kInf), reachMax(-kInf);
+    for (const auto& pts : loops)
+        for (const Vec2& p : pts) reachMin = glm::min(reachMin, p), reachMax = glm::max(reachMax, p);
+    const double px = canvas.pixelSize();
+    const int side = canvas.side();
+    const double slack = (wf + px) / px + 3.0;  // pixels
+    glm::dvec2 lo = canvas.pixel(reachMin) - slack, hi = canvas.pixel(reachMax) + slack;
+    if (!std::isfinite(lo.x + lo.y + hi.x + hi.y)) lo = glm::dvec2(0.0), hi = glm::dvec2(double(side));  // whole canvas
+    const int x0 = int(std::clamp(std::floor(lo.x), 0.0, double(side))), x1 = int(std::clamp(std::ceil(hi.x), 0.0, double(side)));
+    const int y0 = int(std::clamp(std::floor(lo.y), 0.0, double(side))), y1 = int(std::clamp(std::ceil(hi.y), 0.0, double(side)));
+
     std::vector<Triangle> triangles;
     triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
     if (counters) counters->triangles += triangles.size();
-    for (const Triangle& tri : triangles)
-        canvas.triangle(tri, [&](std::size_t k, int, int) {
-            canvas.touch(k);
-            s.flags[k] |= kInside;
-        });
-    const double px = canvas.pixelSize();
-    for (const Segment& sg : border) {
-        const Vec2 seg = sg.p1 - sg.p0;
-        const double len2 = glm::dot(seg, seg);
-        canvas.capsule(sg.p0, sg.p1, wf + px, [&](std::size_t k, int x, int y) {
-            const Vec2 r = canvas.world(x, y) - sg.p0;
-            const double tt = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
-            s.dist[k] = std::min(s.dist[k], float(glm::length(r - seg * tt)));
-            canvas.touch(k);
-        });
-    }
+    for (const Triangle& tri : triangles) canvas.triangle(tri, [&](std::size_t k, int, int) { s.flags[k] |= kInside; });
+    // The distance to the real border, block by block: for each block of pixels, only the border
+    // segments that can be the nearest one to some pixel of it (their lower bound is below every
+    // segment's upper bound) within reach of the strip (wf + px) are candidates, so a pixel costs
+    // one or two segment distances rather than one per overlapping capsule. Beyond that reach
+    // the distance changes nothing (no strip, full coverage), and inside pixels farther than a
+    // pixel from the border need none. Every pixel is then blended once.
+    constexpr int kBlock = 16;  // pixels
+    const double reachDistance = wf + px;
     const glm::vec3 strip = borderStripColour(shade.surface);
-    for (std::uint32_t k : s.touched) {
-        const bool inside = (s.flags[k] & kInside) != 0;
-        const float d = s.dist[k];  // may be infinite: no real border near
-        const float cov = inside ? edgeCoverage(d / float(px)) : edgeCoverage(-d / float(px));
-        canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
-        if (cov > 0.0f) {
-            const std::size_t side = std::size_t(canvas.side());
-            const Rgbm c = shader.at(canvas.world(int(k % side), int(k / side)));
-            canvas.over(k, glm::vec3(c), c.a, cov);
+    std::vector<const Segment*> candidates;
+    for (int by = y0; by < y1; by += kBlock)
+        for (int bx = x0; bx < x1; bx += kBlock) {
+            const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
+            const Box box{canvas.world(bx, by), canvas.world(ex - 1, ey - 1)};
+            const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
+            double upper = kInf;
+            for (const Segment& sg : border) {
+                double farthest = 0.0;
+                for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(sg, c));
+                upper = std::min(upper, farthest);
+            }
+            candidates.clear();
+            double nearest = kInf;
+            for (const Segment& sg : border) {
+                const double lower = lowerBound(sg, box);
+                if (lower > reachDistance || lower > upper) continue;
+                candidates.push_back(&sg);
+                nearest = std::min(nearest, lower);
+            }
+            const bool insideNeedsDistance = nearest < px;
+            for (int y = by; y < ey; ++y)
+                for (int x = bx; x < ex; ++x) {
+                    const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
+                    const bool inside = (s.flags[k] & kInside) != 0;
+                    s.flags[k] = 0;
+                    if (inside ? !insideNeedsDistance : candidates.empty()) {
+                        if (!inside) continue;
+                        const Rgbm c = shader.at(canvas.world(x, y));  // coverage 1, no strip
+                        canvas.over(k, glm::vec3(c), c.a, 1.0f);
+                        continue;
+                    }
+                    const Vec2 q = canvas.world(x, y);
+                    float d = kInf;  // infinite: no real border near
+                    for (const Segment* sg : candidates) {
+                        const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
+                        const double len2 = glm::dot(seg, seg);
+                        const double tt = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+                        d = std::min(d, float(glm::length(r - seg * tt)));
+                    }
+                    const float cov = inside ? edgeCoverage(d / float(px)) : edgeCoverage(-d / float(px));
+                    canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
+                    if (cov > 0.0f) {
+                        const Rgbm c = shader.at(q);
+                        canvas.over(k, glm::vec3(c), c.a, cov);
+                    }
+                }
         }
-    }
-    canvas.clearTouched();
 }
 
 // --- Drawing order and uniform quads ------------------------------------------------------------
@@ -447,6 +489,16 @@ std::uint8_t quantize(float c) { return std::uint8_t(std::clamp(c, 0.0f, 1.0f) *
 void resolve(const Canvas& canvas, const Scratch& s, const AppearanceTile& t, std::vector<std::uint8_t>& out) {
     const int n = t.samples, side = canvas.side();
     out.resize(std::size_t(t.stride) * std::size_t(t.stride) * 4);
+    if (n == 1) {  // one sample per texel: a conversion (the common case, and a hot loop)
+        const std::size_t count = std::size_t(t.stride) * std::size_t(t.stride);
+        const float* c = &s.colour[0][0];
+        std::uint8_t* o = out.data();
+        for (std::size_t k = 0; k < 4 * count; ++k) {  // quantize(), written so that it vectorizes
+            const float v = std::min(std::max(c[k], 0.0f), 1.0f) * 255.0f + 0.5f;
+            o[k] = std::uint8_t(int(v));
+        }
+        return;
+    }
     const float norm = 1.0f / float(n * n);
     for (int j = 0; j < t.stride; ++j)
         for (int i = 0; i < t.stride; ++i) {

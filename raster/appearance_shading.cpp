@@ -118,20 +118,11 @@ void SurfaceShader::prepare(const Box& box) {
     }
 }
 
-Rgbm SurfaceShader::at(Vec2 p) const {
-    switch (shade_.surface) {
-        case Surface::Field:
-            if (weight_[0] == 0.0) return Rgbm(base_, 0.0f);
-            return Rgbm(base_ * float(1.0 + weight_[0] * std::cos(glm::dot(p, direction_))), 0.0f);
-        case Surface::Forest: {
-            double n = 0.0;
-            if (weight_[0] > 0.0) n += weight_[0] * (valueNoise(p, kCanopyCell, kCanopySeeds[0], &lattice_[0]) - 0.5);
-            if (weight_[1] > 0.0) n += weight_[1] * (valueNoise(p, kCanopyDetail, kCanopySeeds[1], &lattice_[1]) - 0.5);
-            return Rgbm(base_ * float(1.0 + n), 0.0f);
-        }
-        default:
-            return Rgbm(base_, mask_);
-    }
+Rgbm SurfaceShader::forestAt(Vec2 p) const {
+    double n = 0.0;
+    if (weight_[0] > 0.0) n += weight_[0] * (valueNoise(p, kCanopyCell, kCanopySeeds[0], &lattice_[0]) - 0.5);
+    if (weight_[1] > 0.0) n += weight_[1] * (valueNoise(p, kCanopyDetail, kCanopySeeds[1], &lattice_[1]) - 0.5);
+    return Rgbm(base_ * float(1.0 + n), 0.0f);
 }
 
 Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel) { return SurfaceShader(shade, texel).at(p); }

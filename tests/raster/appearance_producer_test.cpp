@@ -3,7 +3,9 @@
 // count, and no work a scene does not call for.
 #include "raster/appearance_producer.h"
 
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <random>
 #include <tuple>
 
@@ -41,6 +43,21 @@ std::vector<const Quad*> quadsFrom(const Quadtree& qt, int minLevel) {
         if (q.level >= minLevel) out.push_back(&q);
     });
     return out;
+}
+
+TEST(AppearanceShading, FastCosIsWithinItsBoundOfLibmCos) {
+    std::mt19937_64 rng(7);
+    double worst = 0.0;
+    for (const double scale : {1.0, 10.0, 1e3, 1e5, 1e7}) {
+        std::uniform_real_distribution<double> x(-scale, scale);
+        for (int i = 0; i < 20000; ++i) {
+            const double v = x(rng);
+            worst = std::max(worst, std::abs(fastCos(v) - std::cos(v)));
+        }
+    }
+    for (const double v : {0.0, std::numbers::pi, -std::numbers::pi, 0.5 * std::numbers::pi, 1e7})
+        worst = std::max(worst, std::abs(fastCos(v) - std::cos(v)));
+    EXPECT_LT(worst, 1e-8);
 }
 
 TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
