@@ -71,7 +71,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         SessionParams params;
         params.refineBudgetMs = run.refineBudget;
         EditSession session(SceneDocument(doc), params);
-        std::vector<double> ms, tiles, refine;
+        std::vector<double> ms, tiles, refine, produce;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0;
         for (int f = 0; f < o.frames; ++f) {
             const Camera cam = cameraAt(f);
@@ -83,6 +83,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             ms.push_back(msSince(t0));
             tiles.push_back(double(r.produced));
             refine.push_back(r.refineMs);
+            produce.push_back(r.produceMs);
             cachePeak = std::max(cachePeak, r.cached);
             pendingFrames += r.pending > 0;
             prefetched += r.prefetched;
@@ -96,7 +97,17 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         double flightSum = 0.0, refineSum = 0.0;
         for (double v : flight) flightSum += v;
         for (double v : flightRefine) refineSum += v;
+        // The slowest flight frames, and where their time went.
+        std::vector<std::size_t> order(ms.size() - 1);
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i + 1;
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ms[a] > ms[b]; });
+        nlohmann::json worst = nlohmann::json::array();
+        for (std::size_t i = 0; i < std::min<std::size_t>(3, order.size()); ++i) {
+            const std::size_t f = order[i];
+            worst.push_back({{"frame", f}, {"ms", ms[f]}, {"refine_ms", refine[f]}, {"produce_ms", produce[f]}, {"tiles", tiles[f]}});
+        }
         runs.push_back({{"budget_ms", budget},
+                        {"slowest_frames", worst},
                         {"first_frame_ms", ms.front()},
                         {"flight_mean_ms", flightSum / double(flight.size())},
                         {"flight_median_ms", median(flight)},

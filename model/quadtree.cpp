@@ -7,6 +7,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 namespace lacet {
 
 struct Quadtree::Ancestors {
@@ -146,50 +148,55 @@ void Quadtree::subdivide(Quad& q) {
         c.parent = &q;
         c.layers.resize(nLayers);
     }
-    std::vector<ClippedCurve> curves;
-    std::vector<ClippedArea> areas;
-    auto addCurves = [&](LayerId l, ElementId a, std::span<const ClippedCurve> parent) {
-        for (auto& kid : kids) {
+    // Kid by kid, so that the four can be filled on different threads (each writes only its
+    // own graph; clipping is const and its buffers are per thread). The result does not depend
+    // on how they are scheduled. A small quad is not worth the tasks.
+    auto fill = [&](Quad& kid) {
+        std::vector<ClippedCurve> curves;
+        std::vector<ClippedArea> areas;
+        auto addCurves = [&](LayerId l, ElementId a, std::span<const ClippedCurve> parent) {
             curves.clear();
-            clipCurveInto(l, a, parent, *kid, curves);
-            if (!curves.empty()) kid->layers[l].curves.emplace(a, std::move(curves));
-        }
-    };
-    auto addAreas = [&](LayerId l, ElementId a, std::span<const ClippedArea> parent) {
-        for (auto& kid : kids) {
+            clipCurveInto(l, a, parent, kid, curves);
+            if (!curves.empty()) kid.layers[l].curves.emplace(a, std::move(curves));
+        };
+        auto addAreas = [&](LayerId l, ElementId a, std::span<const ClippedArea> parent) {
             areas.clear();
-            clipAreaInto(l, a, parent, *kid, areas);
-            if (!areas.empty()) kid->layers[l].areas.emplace(a, std::move(areas));
+            clipAreaInto(l, a, parent, kid, areas);
+            if (!areas.empty()) kid.layers[l].areas.emplace(a, std::move(areas));
+        };
+        auto addNode = [&](LayerId l, ElementId a, Vec2 p) {
+            if (keepNode(p, kid.bounds, nodeMargin(l, a, kid.bounds.size().x))) kid.layers[l].nodes.emplace(a, p);
+        };
+        for (LayerId l = 0; l < nLayers; ++l) {
+            if (!q.parent) {  // the root: its graph is the scene, after the procedural step
+                const Layer& layer = scene_.layers[l];
+                for (ElementId id = 0; id < layer.nodes.size(); ++id)
+                    if (layer.nodes[id].alive) addNode(l, id, layer.nodes[id].p);
+                for (ElementId id = 0; id < layer.curves.size(); ++id)
+                    if (layer.curves[id].alive)
+                        forEachRootCurveAncestor(l, id, [&](ElementId a) {
+                            const ClippedCurve rc = rootCurve(l, a);
+                            addCurves(l, a, {&rc, 1});
+                        });
+                for (ElementId id = 0; id < layer.areas.size(); ++id)
+                    if (layer.areas[id].alive) {
+                        const ClippedArea ra = rootArea(l, id);
+                        addAreas(l, id, {&ra, 1});
+                    }
+            } else {
+                const QuadLayer& ql = q.layers[l];
+                for (const auto& [a, p] : ql.nodes) addNode(l, a, p);
+                for (const auto& [a, pieces] : ql.curves) addCurves(l, a, pieces);
+                for (const auto& [a, pieces] : ql.areas) addAreas(l, a, pieces);
+            }
         }
     };
-    auto addNode = [&](LayerId l, ElementId a, Vec2 p) {
-        const double m = nodeMargin(l, a, kids[0]->bounds.size().x);
-        for (auto& kid : kids)
-            if (keepNode(p, kid->bounds, m)) kid->layers[l].nodes.emplace(a, p);
-    };
-    for (LayerId l = 0; l < nLayers; ++l) {
-        if (!q.parent) {  // the root: its graph is the scene, after the procedural step
-            const Layer& layer = scene_.layers[l];
-            for (ElementId id = 0; id < layer.nodes.size(); ++id)
-                if (layer.nodes[id].alive) addNode(l, id, layer.nodes[id].p);
-            for (ElementId id = 0; id < layer.curves.size(); ++id)
-                if (layer.curves[id].alive)
-                    forEachRootCurveAncestor(l, id, [&](ElementId a) {
-                        const ClippedCurve rc = rootCurve(l, a);
-                        addCurves(l, a, {&rc, 1});
-                    });
-            for (ElementId id = 0; id < layer.areas.size(); ++id)
-                if (layer.areas[id].alive) {
-                    const ClippedArea ra = rootArea(l, id);
-                    addAreas(l, id, {&ra, 1});
-                }
-        } else {
-            const QuadLayer& ql = q.layers[l];
-            for (const auto& [a, p] : ql.nodes) addNode(l, a, p);
-            for (const auto& [a, pieces] : ql.curves) addCurves(l, a, pieces);
-            for (const auto& [a, pieces] : ql.areas) addAreas(l, a, pieces);
-        }
-    }
+    std::size_t elements = q.parent ? 0 : std::size_t(-1);
+    for (const QuadLayer& ql : q.layers) elements += ql.curves.size() + ql.areas.size();
+    constexpr std::size_t kParallelElements = 256;
+    if (elements >= kParallelElements) tbb::parallel_for(0, 4, [&](int k) { fill(*kids[std::size_t(k)]); });
+    else
+        for (auto& kid : kids) fill(*kid);
     q.children = std::move(kids);
 }
 

@@ -52,26 +52,6 @@ public:
     }
     glm::dvec2 pixel(Vec2 p) const { return ((p - t_.bounds.min) / t_.delta + double(t_.border)) * double(t_.samples); }
 
-    // f(k, x, y) for every pixel whose centre is within `radius` metres of segment a-b (and a
-    // few more: the capsule's oriented bounding rectangle with one pixel of slack).
-    template <class F>
-    void capsule(Vec2 a, Vec2 b, double radius, F&& f) {
-        const glm::dvec2 pa = pixel(a), pb = pixel(b);
-        const double r = radius / pixel_ + 1.0;
-        glm::dvec2 d = pb - pa;
-        const double len = glm::length(d);
-        d = len > 0.0 ? d / len : glm::dvec2(1.0, 0.0);
-        const glm::dvec2 n(-d.y, d.x);
-        RasterVertex v[4];
-        v[0].p = pa - d * r - n * r;
-        v[1].p = pa - d * r + n * r;
-        v[2].p = pb + d * r - n * r;
-        v[3].p = pb + d * r + n * r;
-        auto shade = [&](int x, int y, const float*) { f(std::size_t(y) * std::size_t(side_) + std::size_t(x), x, y); };
-        rasterizeTriangle(v[0], v[1], v[2], 0, side_, side_, shade);
-        rasterizeTriangle(v[1], v[3], v[2], 0, side_, side_, shade);
-    }
-
     template <class F>
     void triangle(const Triangle& tri, F&& f) {
         RasterVertex v[3];
@@ -190,41 +170,79 @@ double lowerBound(const Segment& sg, const Box& box) {
     return glm::length(gap);
 }
 
-// Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
-// and u of the nearest segment, within `reach` metres of the polyline, over the canvas `box`.
-// A segment that is farther from every point of the box than some other segment is from the
-// farthest point (distance to a segment is convex, so its maximum over the box is at a corner)
-// is nearest nowhere and skipped: wide roads seen from close would otherwise compute every
-// segment of their margin at every texel.
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, const Box& box) {
-    Scratch& s = canvas.scratch();
+// The segments that can be nearest to some point of `box` within `reach`: a segment whose
+// lower bound (the distance from its bounding box) exceeds the reach, or exceeds some segment's
+// upper bound over the box (the distance to a segment is convex, so its maximum over the box is
+// at a corner), is nearest nowhere in it. Returns the least lower bound of those kept.
+double candidatesNear(const std::vector<Segment>& segments, const Box& box, double reach,
+                      std::vector<const Segment*>& out) {
     const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
-    double upper = std::numeric_limits<double>::infinity();
+    double upper = kInf;
     for (const Segment& sg : segments) {
         double farthest = 0.0;
         for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(sg, c));
         upper = std::min(upper, farthest);
     }
+    out.clear();
+    double nearest = kInf;
     for (const Segment& sg : segments) {
         const double lower = lowerBound(sg, box);
-        if (lower > reach + canvas.pixelSize() || lower > upper) continue;
-        const Vec2 seg = sg.p1 - sg.p0;
-        const double len2 = glm::dot(seg, seg);
-        canvas.capsule(sg.p0, sg.p1, reach, [&](std::size_t k, int x, int y) {
-            const Vec2 q = canvas.world(x, y);
-            const Vec2 r = q - sg.p0;
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
-            const double d = glm::length(r - seg * t);
-            if (float(d) < s.dist[k]) {
-                s.dist[k] = float(d);
-                s.v[k] = float(seg.x * r.y - seg.y * r.x >= 0.0 ? d : -d);
-                s.u[k] = float(sg.u0 + (sg.u1 - sg.u0) * t);
-                const bool cap = (t == 0.0 && sg.startCap) || (t == 1.0 && sg.endCap);
-                s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
-            }
-            canvas.touch(k);
-        });
+        if (lower > reach || lower > upper) continue;
+        out.push_back(&sg);
+        nearest = std::min(nearest, lower);
     }
+    return nearest;
+}
+
+constexpr int kBlock = 16;  // pixels: the blocks whose candidate segments are found together
+
+// Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
+// and u of the nearest segment, for the pixels within `reach` metres (and a pixel) of the
+// polyline, and lists them as touched. Block by block (kBlock pixels), only the candidate
+// segments (candidatesNear) are measured: wide roads seen from close would otherwise compute
+// every segment of their margin at every texel. Among segments at the same distance the first
+// one wins.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
+    Scratch& s = canvas.scratch();
+    const double px = canvas.pixelSize();
+    const double within = reach + px;
+    Vec2 lo(kInf), hi(-kInf);
+    for (const Segment& sg : segments) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    const int side = canvas.side();
+    glm::dvec2 a = canvas.pixel(lo) - (within / px + 2.0), b = canvas.pixel(hi) + (within / px + 2.0);
+    if (!std::isfinite(a.x + a.y + b.x + b.y)) return;  // no segment (or a non-finite one: nothing drawn)
+    const int x0 = int(std::clamp(std::floor(a.x), 0.0, double(side))), x1 = int(std::clamp(std::ceil(b.x), 0.0, double(side)));
+    const int y0 = int(std::clamp(std::floor(a.y), 0.0, double(side))), y1 = int(std::clamp(std::ceil(b.y), 0.0, double(side)));
+    std::vector<const Segment*> candidates;
+    for (int by = y0; by < y1; by += kBlock)
+        for (int bx = x0; bx < x1; bx += kBlock) {
+            const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
+            if (candidatesNear(segments, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, within, candidates) > within) continue;
+            for (int y = by; y < ey; ++y)
+                for (int x = bx; x < ex; ++x) {
+                    const Vec2 q = canvas.world(x, y);
+                    float best = kInf;
+                    const Segment* nearest = nullptr;
+                    double bestT = 0.0;
+                    Vec2 bestR(0.0);
+                    for (const Segment* sg : candidates) {
+                        const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
+                        const double len2 = glm::dot(seg, seg);
+                        const double t = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+                        const float d = float(glm::length(r - seg * t));
+                        if (d < best) best = d, nearest = sg, bestT = t, bestR = r;
+                    }
+                    if (!nearest || double(best) > within) continue;
+                    const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
+                    const Vec2 seg = nearest->p1 - nearest->p0;
+                    s.dist[k] = best;
+                    s.v[k] = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
+                    s.u[k] = float(nearest->u0 + (nearest->u1 - nearest->u0) * bestT);
+                    const bool cap = (bestT == 0.0 && nearest->startCap) || (bestT == 1.0 && nearest->endCap);
+                    s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
+                    canvas.touch(k);
+                }
+        }
 }
 
 float smoothFall(double d, double width) {  // 1 at d <= 0, 0 at d >= width
@@ -238,7 +256,7 @@ float smoothFall(double d, double width) {  // 1 at d <= 0, 0 at d >= width
 // rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w), hwf = std::max(hw, 0.5 * double(c.wf));
-    distanceField(canvas, segments, hwf, canvas.box());
+    distanceField(canvas, segments, hwf);
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     for (std::uint32_t k : s.touched) {
@@ -251,7 +269,7 @@ void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const 
 
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw, canvas.box());
+    distanceField(canvas, segments, hw);
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     const glm::vec3 water = glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0));
@@ -261,7 +279,7 @@ void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const 
 
 void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw, canvas.box());
+    distanceField(canvas, segments, hw);
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     for (std::uint32_t k : s.touched) canvas.over(k, roadColour(c.cls), 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
@@ -278,7 +296,7 @@ struct RoadEnds {
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
     const MarkingGeometry g;
     const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw, canvas.box());
+    distanceField(canvas, segments, hw);
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const float halfLine = float(0.5 * g.lineWidth / px);
@@ -353,35 +371,18 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
     if (counters) counters->triangles += triangles.size();
     for (const Triangle& tri : triangles) canvas.triangle(tri, [&](std::size_t k, int, int) { s.flags[k] |= kInside; });
-    // The distance to the real border, block by block: for each block of pixels, only the border
-    // segments that can be the nearest one to some pixel of it (their lower bound is below every
-    // segment's upper bound) within reach of the strip (wf + px) are candidates, so a pixel costs
-    // one or two segment distances rather than one per overlapping capsule. Beyond that reach
+    // The distance to the real border, block by block: only the candidate segments
+    // (candidatesNear) within reach of the strip (wf + px), so a pixel costs one or two segment
+    // distances rather than one per overlapping capsule. Beyond that reach
     // the distance changes nothing (no strip, full coverage), and inside pixels farther than a
     // pixel from the border need none. Every pixel is then blended once.
-    constexpr int kBlock = 16;  // pixels
     const double reachDistance = wf + px;
     const glm::vec3 strip = borderStripColour(shade.surface);
     std::vector<const Segment*> candidates;
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
             const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
-            const Box box{canvas.world(bx, by), canvas.world(ex - 1, ey - 1)};
-            const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
-            double upper = kInf;
-            for (const Segment& sg : border) {
-                double farthest = 0.0;
-                for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(sg, c));
-                upper = std::min(upper, farthest);
-            }
-            candidates.clear();
-            double nearest = kInf;
-            for (const Segment& sg : border) {
-                const double lower = lowerBound(sg, box);
-                if (lower > reachDistance || lower > upper) continue;
-                candidates.push_back(&sg);
-                nearest = std::min(nearest, lower);
-            }
+            const double nearest = candidatesNear(border, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, reachDistance, candidates);
             const bool insideNeedsDistance = nearest < px;
             for (int y = by; y < ey; ++y)
                 for (int x = bx; x < ex; ++x) {
@@ -491,8 +492,8 @@ void resolve(const Canvas& canvas, const Scratch& s, const AppearanceTile& t, st
     out.resize(std::size_t(t.stride) * std::size_t(t.stride) * 4);
     if (n == 1) {  // one sample per texel: a conversion (the common case, and a hot loop)
         const std::size_t count = std::size_t(t.stride) * std::size_t(t.stride);
-        const float* c = &s.colour[0][0];
-        std::uint8_t* o = out.data();
+        const float* __restrict c = &s.colour[0][0];
+        std::uint8_t* __restrict o = out.data();
         for (std::size_t k = 0; k < 4 * count; ++k) {  // quantize(), written so that it vectorizes
             const float v = std::min(std::max(c[k], 0.0f), 1.0f) * 255.0f + 0.5f;
             o[k] = std::uint8_t(int(v));
