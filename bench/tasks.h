@@ -62,10 +62,10 @@ struct FlyoverBenchOptions {
     std::size_t curves = 600000;
     std::uint64_t seed = 1;
     int demResolution = 5000;
-    int frames = 600;
+    int frames = 4381;  // 73 s at 60 frames per second, as in the paper
     double startAltitude = 5000.0, endAltitude = 5.0;
     std::vector<double> budgetsMs{0.0, 10.0};
-    int prefetchFrames = 30;  // how far ahead the predicted viewer is, in frames
+    int prefetchFrames = 25;  // how far ahead the predicted viewer is, in frames (the paper: 25)
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 

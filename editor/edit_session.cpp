@@ -28,6 +28,13 @@ const Quad* findQuad(const Quad& root, const QuadKey& key) {
     return q->tx == tx && q->ty == ty ? q : nullptr;
 }
 
+// What a tile's production time grows with: the curves and areas its quad holds.
+std::size_t elementsOf(const Quad& q) {
+    std::size_t n = 0;
+    for (const QuadLayer& l : q.layers) n += l.curves.size() + l.areas.size();
+    return n;
+}
+
 double viewDistance(const Quad& q, glm::dvec3 viewer) {
     const Vec2 p(viewer.x, viewer.y);
     const Vec2 d = glm::max(glm::max(q.bounds.min - p, p - q.bounds.max), Vec2(0.0));
@@ -172,9 +179,9 @@ void EditSession::setLayerVisible(LayerId layer, bool visible) {
 std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double budgetMs, Clock::time_point t0) {
     // A work queue in nearest-first order, one job per producer and quad (so the two threads
     // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
-    // with a budget, a job that the running estimate of its time says would overrun it is not
-    // started, and neither is any after it (the first quad of a call is always made, so every
-    // frame makes progress). A quad is made when both its jobs are.
+    // with a budget, a job whose estimated time (editor/production_estimate.h) would overrun it
+    // is not started, and neither is any after it (the first quad of a call is always made, so
+    // every frame makes progress). A quad is made when both its jobs are.
     const std::size_t jobs = 2 * quads.size();
     std::vector<CachedTile> made(quads.size());
     std::unique_ptr<std::atomic<bool>[]> done(new std::atomic<bool>[jobs]);
@@ -188,18 +195,17 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
             const std::size_t j = next.fetch_add(1);
             if (j >= jobs) return;
             const bool appearance = j % 2 == 0;
-            std::atomic<double>& estimate = jobMs_[appearance ? 0 : 1];
-            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.load() > budgetMs) {
+            const Quad& q = *quads[j / 2];
+            ProductionEstimate& estimate = estimates_[appearance ? 0 : 1];
+            const std::size_t elements = elementsOf(q);
+            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.predict(elements) > budgetMs) {
                 stop = true;
                 return;
             }
-            const Quad& q = *quads[j / 2];
             const auto j0 = Clock::now();
             if (appearance) made[j / 2].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
             else made[j / 2].elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
-            const double ms = msSince(j0);
-            const double e = estimate.load();  // two workers may update it at once: it is an estimate
-            estimate.store(e > 0.0 ? 0.8 * e + 0.2 * ms : ms);
+            estimate.add(elements, msSince(j0));
             done[j] = true;
         }
     });
@@ -266,10 +272,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     t0 = Clock::now();
     r.produced = produce(needed, budgetMs, t0);
     r.pending = needed.size() - r.produced;
-    // Prefetch only with time for a batch left (its first batch would otherwise always run).
-    if (predicted && r.pending == 0 && (budgetMs <= 0.0 || msSince(t0) + jobMs_[0].load() + jobMs_[1].load() < budgetMs)) {
+    // Prefetch only with time left for the first quad ahead (it would otherwise always be made).
+    if (predicted && r.pending == 0 && !ahead.empty()) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
-        r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
+        const std::size_t first = elementsOf(*ahead.front());
+        if (budgetMs <= 0.0 || msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) < budgetMs)
+            r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
     }
     r.produceMs = msSince(t0);
     // LRU: drop the least recently used tiles outside the view beyond the budget.

@@ -30,6 +30,7 @@
 #include <tuple>
 
 #include "editor/command.h"
+#include "editor/production_estimate.h"
 #include "io/scene_file.h"
 #include "model/curve_data.h"
 #include "model/quadtree.h"
@@ -158,7 +159,7 @@ private:
     std::map<QuadKey, CachedTile> cache_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
-    std::atomic<double> jobMs_[2] = {0.0, 0.0};  // running estimates of an appearance and an elevation tile's time
+    ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time
 };
 
 QuadKey keyOf(const Quad& q);
