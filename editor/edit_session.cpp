@@ -264,6 +264,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
             }
         }
         if (it == cache_.end() || it->second.dirty) (viewLeaf ? needed : ahead).push_back(&q);
+        else if (!viewLeaf) it->second.lastUsed = clock_;  // made ahead: kept until the view gets there
     });
     auto byDistance = [](glm::dvec3 v) {
         return [v](const Quad* a, const Quad* b) { return viewDistance(*a, v) < viewDistance(*b, v); };
@@ -273,8 +274,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     r.produced = produce(needed, budgetMs, t0);
     r.pending = needed.size() - r.produced;
     // Prefetch only with time left for the first quad ahead (it would otherwise always be made).
-    if (predicted && r.pending == 0 && !ahead.empty()) {
+    // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"):
+    // past it, the LRU would evict tiles made ahead before the view reached them.
+    const std::size_t room = params_.cacheTiles > cache_.size() ? params_.cacheTiles - cache_.size() : 0;
+    if (predicted && r.pending == 0 && !ahead.empty() && room > 0) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
+        if (ahead.size() > room) ahead.resize(room);
         const std::size_t first = elementsOf(*ahead.front());
         if (budgetMs <= 0.0 || msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) < budgetMs)
             r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());

@@ -305,6 +305,19 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
     const FrameReport atLater = ahead.frame(later, 0.0);
     const FrameReport fresh = plain.frame(later, 0.0);
     EXPECT_LT(atLater.produced, fresh.produced);  // what was prefetched is not made again
+
+    // Prefetching fills the cache's room only, and what it made survives the next frame's LRU
+    // (before, tiles made ahead were the first evicted, and made again frame after frame).
+    SessionParams small = params;
+    small.cacheTiles = a.cached + 5;
+    EditSession bounded(SceneDocument(doc), small);
+    const FrameReport first = bounded.frame(viewer, 0.0, {}, later);
+    EXPECT_EQ(first.prefetched, 5u);
+    EXPECT_EQ(first.cached, small.cacheTiles);
+    const FrameReport second = bounded.frame(viewer, 0.0, {}, later);
+    EXPECT_EQ(second.produced, 0u);
+    EXPECT_EQ(second.prefetched, 0u);  // no room left, and nothing evicted to make again
+    EXPECT_EQ(second.cached, small.cacheTiles);
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
