@@ -382,38 +382,59 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     // pixel from the border need none. Every pixel is then blended once.
     const double reachDistance = wf + px;
     const glm::vec3 strip = borderStripColour(shade.surface);
+    struct LocalSegment {
+        glm::vec2 p0, seg;
+        float invLen2;
+    };
     std::vector<const Segment*> candidates;
+    std::vector<LocalSegment> local;
+    Rgbm rowColour[kBlock];
+    shader.prepareRows(px, kBlock);
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
             const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
             const double nearest = candidatesNear(border, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, reachDistance, candidates);
             const bool insideNeedsDistance = nearest < px;
-            for (int y = by; y < ey; ++y)
+            // The candidates in block-local float metres (from the block's first pixel centre):
+            // a few micrometres of rounding at most, for one float distance per candidate.
+            const Vec2 origin = canvas.world(bx, by);
+            local.clear();
+            for (const Segment* sg : candidates) {
+                const Vec2 seg = sg->p1 - sg->p0;
+                const double len2 = glm::dot(seg, seg);
+                local.push_back({glm::vec2(sg->p0 - origin), glm::vec2(seg), len2 > 0.0 ? float(1.0 / len2) : 0.0f});
+            }
+            for (int y = by; y < ey; ++y) {
+                bool shaded = false;  // the surface's colours along this row of the block, made once
+                auto colour = [&](int x) -> const Rgbm& {
+                    if (!shaded) shader.row(canvas.world(bx, y), ex - bx, rowColour), shaded = true;
+                    return rowColour[x - bx];
+                };
                 for (int x = bx; x < ex; ++x) {
                     const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
                     const bool inside = (s.flags[k] & kInside) != 0;
                     s.flags[k] = 0;
-                    if (inside ? !insideNeedsDistance : candidates.empty()) {
-                        if (!inside) continue;
-                        const Rgbm c = shader.at(canvas.world(x, y));  // coverage 1, no strip
-                        canvas.over(k, glm::vec3(c), c.a, 1.0f);
+                    if (inside ? !insideNeedsDistance : local.empty()) {
+                        if (inside) s.colour[k] = colour(x);  // coverage 1, no strip
                         continue;
                     }
-                    const Vec2 q = canvas.world(x, y);
-                    float d = kInf;  // infinite: no real border near
-                    for (const Segment* sg : candidates) {
-                        const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
-                        const double len2 = glm::dot(seg, seg);
-                        const double tt = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
-                        d = std::min(d, float(glm::length(r - seg * tt)));
+                    const glm::vec2 q(float(double(x - bx) * px), float(double(y - by) * px));
+                    float d2 = kInf;  // squared; infinite: no real border near
+                    for (const LocalSegment& l : local) {
+                        const glm::vec2 r = q - l.p0;
+                        const float tt = std::clamp((r.x * l.seg.x + r.y * l.seg.y) * l.invLen2, 0.0f, 1.0f);
+                        const glm::vec2 e = r - l.seg * tt;
+                        d2 = std::min(d2, e.x * e.x + e.y * e.y);
                     }
+                    const float d = std::sqrt(d2);
                     const float cov = inside ? edgeCoverage(d / float(px)) : edgeCoverage(-d / float(px));
                     canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
                     if (cov > 0.0f) {
-                        const Rgbm c = shader.at(q);
+                        const Rgbm& c = colour(x);
                         canvas.over(k, glm::vec3(c), c.a, cov);
                     }
                 }
+            }
         }
 }
 

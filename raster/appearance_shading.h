@@ -44,9 +44,16 @@ public:
     // Optional: tables for the points of `box` (metres), so at() costs less there.
     void prepare(const Box& box);
     Rgbm at(Vec2 p) const;  // inline below: it runs at every texel an area covers
+    // Rows: at() of the n points start + (i step, 0), i < n, up to rounding (1e-8). Fields step
+    // the furrows' phase along the row with tables made once by prepareRows (two cos per row
+    // instead of one per point); other surfaces call at().
+    void prepareRows(double step, int n);
+    void row(Vec2 start, int n, Rgbm* out) const;
 
 private:
     Rgbm forestAt(Vec2 p) const;
+    double rowStep_ = 0.0;
+    std::vector<double> rowCos_, rowSin_;  // cos and sin of i * step * direction_.x
 
     SurfaceShade shade_;
     glm::vec3 base_{0.0f};
