@@ -55,6 +55,12 @@ LayerId layerOf(const Scene& scene, const nlohmann::json& v) {
     throw std::runtime_error("script: no layer '" + name + "'");
 }
 
+// Where a script puts the camera's target or position: on the DEM, the ground the view converges
+// to. The displayed height is not used: before the view is refined there it comes from a coarse
+// tile, which in mountains lies tens of metres off, and a close camera would end up under the
+// refined terrain.
+glm::dvec3 ground(EditorApp& app, Vec2 p) { return {p.x, p.y, app.session().document().dem->sample(p)}; }
+
 void placeCamera(Camera& cam, const nlohmann::json& s) {
     if (s.contains("distance")) cam.distance = s["distance"].get<double>();
     if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
@@ -131,14 +137,14 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
             else if (s["target"] == "drag_from") t = from_;
             else if (s["target"] == "drag_result") t = lastResult_;
             else if (s["target"] == "focus_node" && hasFocus_) t = scene.layers[focusLayer_].nodes[scene.layers[focusLayer_].curves[focusCurve_].start].p;
-            cam.target = app.groundPoint(t);
+            cam.target = ground(app, t);
         }
         if (s.contains("position")) {
             if (s["position"].is_string()) {  // "scene": above its centre, `height` metres up
-                cam.flyPosition = app.groundPoint(scene.extent.center()) + glm::dvec3(0.0, 0.0, s.value("height", 3000.0));
+                cam.flyPosition = ground(app, scene.extent.center()) + glm::dvec3(0.0, 0.0, s.value("height", 3000.0));
             } else {
                 const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
-                cam.flyPosition = app.groundPoint(p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
+                cam.flyPosition = ground(app, p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
             }
         }
         return true;
@@ -163,7 +169,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         if (!hasFocus_) throw std::runtime_error("no curve to focus on");
         const Vec2 p = l.curves[focusCurve_].vertices[focusIndex_].p;
         app.camera().setFly(false);
-        app.camera().target = app.groundPoint(p);
+        app.camera().target = ground(app, p);
         placeCamera(app.camera(), s);
         app.log()["focus"] = {{"layer", focusLayer_}, {"curve", focusCurve_}, {"index", focusIndex_}, {"x", p.x}, {"y", p.y}};
         return true;
