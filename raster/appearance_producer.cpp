@@ -100,7 +100,9 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
     for (int j = 0; j < nodes; ++j)
         for (int i = 0; i < nodes; ++i) {
             const Vec2 p = t.bounds.min + Vec2(double(i - 1), double(j - 1)) * cell;
-            grid[std::size_t(j) * std::size_t(nodes) + std::size_t(i)] = groundColour(dem.sample(p), glm::length(dem.gradient(p)));
+            Vec2 gradient;
+            const double z = dem.sampleAndGradient(p, gradient);
+            grid[std::size_t(j) * std::size_t(nodes) + std::size_t(i)] = groundColour(z, glm::length(gradient));
         }
     const int side = canvas.side();
     std::vector<int> i0(std::size_t(side), 0);
@@ -110,6 +112,15 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
         i0[std::size_t(x)] = int(g);
         fx[std::size_t(x)] = float(g - std::floor(g));
     }
+    // Runs of texels between the same two nodes along x (i0 does not decrease).
+    struct Run {
+        std::size_t node;
+        int begin, end;
+    };
+    std::vector<Run> runs;
+    for (int x = 0; x < side; ++x)
+        if (runs.empty() || runs.back().node != std::size_t(i0[std::size_t(x)])) runs.push_back({std::size_t(i0[std::size_t(x)]), x, x + 1});
+        else runs.back().end = x + 1;
     Scratch& s = canvas.scratch();
     std::vector<glm::vec3> row(static_cast<std::size_t>(nodes));
     for (int y = 0; y < side; ++y) {
@@ -121,9 +132,9 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
         const glm::vec3* r1 = r0 + nodes;
         for (int i = 0; i < nodes; ++i) row[std::size_t(i)] = r0[i] + (r1[i] - r0[i]) * fy;
         Rgbm* out = &s.colour[std::size_t(y) * std::size_t(side)];
-        for (int x = 0; x < side; ++x) {
-            const std::size_t i = std::size_t(i0[std::size_t(x)]);
-            out[x] = Rgbm(row[i] + (row[i + 1] - row[i]) * fx[std::size_t(x)], 0.0f);
+        for (const Run& run : runs) {
+            const glm::vec3 a = row[run.node], d = row[run.node + 1] - row[run.node];
+            for (int x = run.begin; x < run.end; ++x) out[x] = Rgbm(a + d * fx[std::size_t(x)], 0.0f);
         }
     }
 }
@@ -286,7 +297,8 @@ void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const
     distanceField(canvas, segments, hw);
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
-    for (std::uint32_t k : s.touched) canvas.over(k, roadColour(c.cls), 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
+    const glm::vec3 asphalt = roadColour(c.cls);
+    for (std::uint32_t k : s.touched) canvas.over(k, asphalt, 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
     canvas.clearTouched();
 }
 
@@ -337,11 +349,13 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     Scratch& s = canvas.scratch();
     SurfaceShader shader(shade, t.delta);
     shader.prepare(canvas.box());
-    if (area.coversQuad) {
+    if (area.coversQuad) {  // every texel at coverage 1
+        constexpr int n = SurfaceShader::kMaxRow;
+        shader.prepareRows(canvas.pixelSize(), n);
         for (int y = 0; y < canvas.side(); ++y)
-            for (int x = 0; x < canvas.side(); ++x) {
-                const Rgbm c = shader.at(canvas.world(x, y));
-                canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
+            for (int x = 0; x < canvas.side(); x += n) {
+                const int count = std::min(n, canvas.side() - x);
+                shader.row(canvas.world(x, y), count, &s.colour[std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x)]);
             }
         return;
     }
@@ -388,6 +402,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     };
     std::vector<const Segment*> candidates;
     std::vector<LocalSegment> local;
+    static_assert(kBlock <= SurfaceShader::kMaxRow);
     Rgbm rowColour[kBlock];
     shader.prepareRows(px, kBlock);
     for (int by = y0; by < y1; by += kBlock)

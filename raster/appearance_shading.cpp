@@ -120,17 +120,17 @@ void SurfaceShader::prepare(const Box& box) {
 
 void SurfaceShader::prepareRows(double step, int n) {
     rowStep_ = step;
-    rowCos_.clear();
-    rowSin_.clear();
+    rowTable_ = 0;
     if (shade_.surface != Surface::Field || weight_[0] == 0.0) return;
-    for (int i = 0; i < n; ++i) {
-        rowCos_.push_back(std::cos(double(i) * step * direction_.x));
-        rowSin_.push_back(std::sin(double(i) * step * direction_.x));
+    rowTable_ = std::clamp(n, 0, kMaxRow);
+    for (int i = 0; i < rowTable_; ++i) {
+        rowCos_[i] = std::cos(double(i) * step * direction_.x);
+        rowSin_[i] = std::sin(double(i) * step * direction_.x);
     }
 }
 
 void SurfaceShader::row(Vec2 start, int n, Rgbm* out) const {
-    if (std::size_t(n) > rowCos_.size()) {  // not a field with a pattern, or a longer row
+    if (n > rowTable_) {  // not a field with a pattern, or a longer row
         for (int i = 0; i < n; ++i) out[i] = at(start + Vec2(double(i) * rowStep_, 0.0));
         return;
     }
@@ -138,7 +138,7 @@ void SurfaceShader::row(Vec2 start, int n, Rgbm* out) const {
     const double phase = start.x * direction_.x + start.y * direction_.y;
     const double c = fastCos(phase), s = fastCos(phase - 0.5 * std::numbers::pi);
     for (int i = 0; i < n; ++i)
-        out[i] = Rgbm(base_ * float(1.0 + weight_[0] * (c * rowCos_[std::size_t(i)] - s * rowSin_[std::size_t(i)])), 0.0f);
+        out[i] = Rgbm(base_ * float(1.0 + weight_[0] * (c * rowCos_[i] - s * rowSin_[i])), 0.0f);
 }
 
 Rgbm SurfaceShader::forestAt(Vec2 p) const {

@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -46,14 +47,16 @@ public:
     Rgbm at(Vec2 p) const;  // inline below: it runs at every texel an area covers
     // Rows: at() of the n points start + (i step, 0), i < n, up to rounding (1e-8). Fields step
     // the furrows' phase along the row with tables made once by prepareRows (two cos per row
-    // instead of one per point); other surfaces call at().
+    // instead of one per point; rows of up to kMaxRow points); other surfaces call at().
+    static constexpr int kMaxRow = 16;
     void prepareRows(double step, int n);
     void row(Vec2 start, int n, Rgbm* out) const;
 
 private:
     Rgbm forestAt(Vec2 p) const;
     double rowStep_ = 0.0;
-    std::vector<double> rowCos_, rowSin_;  // cos and sin of i * step * direction_.x
+    int rowTable_ = 0;                            // points in the tables (0: none)
+    double rowCos_[kMaxRow] = {}, rowSin_[kMaxRow] = {};  // cos and sin of i * step * direction_.x
 
     SurfaceShade shade_;
     glm::vec3 base_{0.0f};

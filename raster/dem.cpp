@@ -111,20 +111,33 @@ double Dem::sample(Vec2 p) const {
 }
 
 Vec2 Dem::gradient(Vec2 p) const {
-    if (hasNaN(p)) return Vec2(std::numeric_limits<double>::quiet_NaN());
+    Vec2 g;
+    sampleAndGradient(p, g);
+    return g;
+}
+
+double Dem::sampleAndGradient(Vec2 p, Vec2& gradient) const {
+    if (hasNaN(p)) {
+        gradient = Vec2(std::numeric_limits<double>::quiet_NaN());
+        return std::numeric_limits<double>::quiet_NaN();
+    }
     const Stencil s = stencil(p);
     const auto wx = catmullRom(s.tx), wy = catmullRom(s.ty);
     const auto dx = catmullRomDerivative(s.tx), dy = catmullRomDerivative(s.ty);
+    double h = 0.0;
     Vec2 g(0.0);
     for (std::size_t r = 0; r < 4; ++r) {
         const auto& v = s.v[r];
+        const double across = wx[0] * v[0] + wx[1] * v[1] + wx[2] * v[2] + wx[3] * v[3];
+        h += wy[r] * across;
         g.x += wy[r] * (dx[0] * v[0] + dx[1] * v[1] + dx[2] * v[2] + dx[3] * v[3]);
-        g.y += dy[r] * (wx[0] * v[0] + wx[1] * v[1] + wx[2] * v[2] + wx[3] * v[3]);
+        g.y += dy[r] * across;
     }
     g /= cell_;
     if (p.x < extent_.min.x || p.x > extent_.max.x) g.x = 0.0;
     if (p.y < extent_.min.y || p.y > extent_.max.y) g.y = 0.0;
-    return g;
+    gradient = g;
+    return h;
 }
 
 }  // namespace lacet

@@ -45,6 +45,9 @@ public:
     // there); on the border itself the inside derivative is returned. NaN for a NaN p.
     Vec2 gradient(Vec2 p) const;
 
+    // sample(p) and gradient(p) from one stencil: the same values, for callers wanting both.
+    double sampleAndGradient(Vec2 p, Vec2& gradient) const;
+
 private:
     struct Stencil;
     Stencil stencil(Vec2 p) const;
