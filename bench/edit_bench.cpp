@@ -1,9 +1,9 @@
 // `lacet bench edit`: edit latency of the window-less session (issue: the 3D editor). A fixed view
 // near the ground: a camera `altitude` metres above the terrain, 80 m from the edited road control
 // point and looking at it (1280 x 800, 52 degrees vertical field of view); a road control point
-// dragged in 60 steps, then a field corner node: for each step, the time from the command to
-// every visible dirty tile (in the view frustum) being made again (both producers, TBB worker
-// threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
+// dragged in 60 steps, then a field corner node, three times each (undone in between): for each
+// step, the time from the command to every visible dirty tile (in the view frustum) being made
+// again (both producers, TBB worker threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
 // they come into view. Also reported: the same without frustum culling (every leaf of the view).
 #include <algorithm>
 #include <cmath>
@@ -38,25 +38,31 @@ struct Drag {
     }
 };
 
-// One drag: `steps` commands made by `command(i)`, each followed by a frame that makes every
-// dirty tile of the view.
+// `repeats` drags of `steps` commands made by `command(i)`, each command followed by a frame
+// that makes every dirty tile of the view; after each drag, undo and a frame (not timed) bring
+// the scene and the tiles back, so every drag starts from the same state. The steps of all the
+// drags are pooled (this machine's noise is about 10 % from run to run).
 template <class F>
-Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, int steps, F&& command) {
+Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, int steps, int repeats, F&& command) {
     Drag d;
-    for (int i = 0; i < steps; ++i) {
-        std::uint64_t version = 0;
-        for (const auto& [key, t] : session.tiles()) version = std::max(version, t.version);
-        const auto t0 = Clock::now();
-        const CommandReport c = session.execute(command(i), true);
-        const FrameReport f = session.frame(viewer, 0.0, visible);
-        d.ms.push_back(msSince(t0));
-        d.tiles.push_back(double(f.produced));
-        d.updateMs.push_back(c.updateMs);
-        d.produceMs.push_back(f.produceMs);
-        d.dirty.push_back(double(c.dirtyTiles));
-        std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
-        for (const auto& [key, t] : session.tiles()) uniform += t.version > version && t.appearance.uniform;
-        d.uniform.push_back(double(uniform));
+    for (int rep = 0; rep < repeats; ++rep) {
+        for (int i = 0; i < steps; ++i) {
+            std::uint64_t version = 0;
+            for (const auto& [key, t] : session.tiles()) version = std::max(version, t.version);
+            const auto t0 = Clock::now();
+            const CommandReport c = session.execute(command(i), true);
+            const FrameReport f = session.frame(viewer, 0.0, visible);
+            d.ms.push_back(msSince(t0));
+            d.tiles.push_back(double(f.produced));
+            d.updateMs.push_back(c.updateMs);
+            d.produceMs.push_back(f.produceMs);
+            d.dirty.push_back(double(c.dirtyTiles));
+            std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
+            for (const auto& [key, t] : session.tiles()) uniform += t.version > version && t.appearance.uniform;
+            d.uniform.push_back(double(uniform));
+        }
+        session.undo();  // the drag is one undo step
+        session.frame(viewer, 0.0, visible);
     }
     return d;
 }
@@ -112,11 +118,11 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
         const FrameReport first = session.frame(viewer, 0.0, cull ? visible : QuadVisibility{});
         if (cull) firstMs = msSince(t0), viewQuads = first.viewQuads + first.culled, visibleQuads = first.viewQuads;
         const QuadVisibility& v = cull ? visible : QuadVisibility{};
-        const Drag roadDrag = drag(session, viewer, v, o.steps, [&](int i) -> Command {
+        const Drag roadDrag = drag(session, viewer, v, o.steps, o.repeats, [&](int i) -> Command {
             const double f = double(i + 1) / o.steps;
             return MoveVertexCmd{kRoadsLayer, road, index, at + Vec2(30.0, 20.0) * f};
         });
-        const Drag fieldDrag = drag(session, viewer, v, o.steps, [&](int i) -> Command {
+        const Drag fieldDrag = drag(session, viewer, v, o.steps, o.repeats, [&](int i) -> Command {
             const double f = double(i + 1) / o.steps;
             return MoveNodeCmd{kFieldsLayer, field, fieldAt + Vec2(8.0, -6.0) * f};
         });
@@ -125,6 +131,8 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
     return {{"curves", count(doc.scene).curves},
             {"threads", tbb::info::default_concurrency()},
             {"viewer_altitude_m", o.altitude},
+            {"steps_per_drag", o.steps},
+            {"drags", o.repeats},
             {"K", SessionParams{}.K},
             {"appearance_resolution", RefineParams{}.resolution},
             {"view_quads", viewQuads},

@@ -43,14 +43,16 @@ nlohmann::json benchProducers(const ProducerBenchOptions& options);
 nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int views);
 
 // Edit latency of the window-less editing session: a road control point and then a field corner
-// dragged in `steps` steps in a fixed view `altitude` m above the road; per step, the time from
-// the command to every dirty tile of the view made again, and the tiles made.
+// dragged in `steps` steps in a fixed view `altitude` m above the road, `repeats` times each
+// (undone in between); per step, the time from the command to every dirty tile of the view made
+// again, and the tiles made.
 struct EditBenchOptions {
     std::size_t curves = 600000;
     std::uint64_t seed = 1;
     int demResolution = 5000;
     double altitude = 10.0;
     int steps = 60;
+    int repeats = 3;  // drags of each kind, their steps pooled
 };
 nlohmann::json benchEdit(const EditBenchOptions& options);
 

@@ -573,8 +573,9 @@ Scratch& threadScratch() {
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                  const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters) {
     const int n = quadtree.params().resolution;
-    if (n <= 0 || params.border < 0 || params.samples < 1 || params.samples > 8 || params.groundCells < 1)
-        throw std::invalid_argument("produceAppearance(): resolution > 0, border >= 0, 1 <= samples <= 8 and groundCells >= 1 required");
+    if (n <= 0 || params.border < 0 || params.samples < 1 || params.samples > 8 || params.groundCells < 1 ||
+        !(params.groundCellMin >= 0.0))
+        throw std::invalid_argument("produceAppearance(): resolution > 0, border >= 0, 1 <= samples <= 8, groundCells >= 1 and groundCellMin >= 0 required");
     if (params.border > quadtree.params().appearanceBorder)
         throw std::invalid_argument("produceAppearance(): the tile border is wider than the quadtree clips for (RefineParams::appearanceBorder)");
     AppearanceTile t;
@@ -600,7 +601,9 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         }
 
     Canvas canvas(t, threadScratch());
-    drawGround(canvas, t, dem, params.groundCells);
+    const double fit = std::ceil(t.bounds.size().x / std::max(params.groundCellMin, 1e-9));  // cells of groundCellMin
+    const int cells = int(std::clamp(fit, 1.0, double(params.groundCells)));
+    drawGround(canvas, t, dem, cells);
     const MarkingGeometry marking;
     const bool markingsShow = marking.lineWidth >= params.markingMinTexels * t.delta;
     for (std::size_t i = 0; i < items.size(); ++i) {

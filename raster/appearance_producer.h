@@ -6,15 +6,17 @@
 // layer by ancestor id, so the result does not depend on hash-map order. Each element is
 // composited over what is below with its anti-aliased coverage.
 // - Ground: colour by altitude and slope, from the DEM on a grid of `groundCells` per quad side
-//   aligned with the quad (adjacent quads share its nodes), bilinear between.
+//   (fewer in small quads: cells of `groundCellMin` metres at least) aligned with the quad
+//   (adjacent quads share its nodes), bilinear between.
 // - Areas: interiors triangulated with CGAL's constrained Delaunay triangulation (contour, holes
 //   and closing paths) and rasterized; coverage near the real border (not the closing paths)
 //   from the exact distance to it, the box filter of edgeCoverage() on each side; a border strip
 //   of width wf outside (banks, field margins, forest edges).
-// - Curves: each refined segment drawn as a capsule whose texels take the exact distance to it;
-//   the nearest segment gives the texel its (u, v), so the union over a polyline is the band of
-//   the distance to the polyline: joins at sharp turns and hairpins wider than their radius have
-//   no spike and no gap, ends get round caps and junctions are the union of the roads' discs.
+// - Curves: each texel near a curve takes the exact distance to its nearest refined segment
+//   (found among the few that can be nearest in its block of texels), and that segment gives the
+//   texel its (u, v), so the result is the band of the distance to the polyline: joins at sharp
+//   turns and hairpins wider than their radius have no spike and no gap, ends get round caps
+//   and junctions are the union of the roads' discs.
 //   Rivers: water (mask 1) within w/2, banks to wf/2. Roads: asphalt within w/2; then, once all
 //   the roads of the layer are down, markings: side lines, a dashed centre line from u, and stop
 //   lines from the ancestor node's degree (model/junctions.h); markings stop at junctions.
@@ -41,6 +43,8 @@ struct AppearanceParams {
     int samples = 1;                // supersampling, samples x samples per texel (1..8), each with analytic edge coverage
     double markingMinTexels = 0.5;  // texels: road markings narrower than this are not drawn, and u is not asked for
     int groundCells = 32;           // cells of the ground colour grid per quad side, >= 1
+    double groundCellMin = 5.0;     // m: smallest cell of that grid (the colour varies at the DEM's
+                                    // scale, 20 to 30 m; finer cells cost time and change nothing seen)
     bool detectUniform = true;      // false: rasterize uniform quads too (for tests)
     std::vector<bool> hiddenLayers; // layers not drawn (index: LayerId; missing: shown)
 };
