@@ -35,7 +35,8 @@ FlightPath paperFlight(int frames, double startAltitude, double endAltitude) {
     constexpr double kSeconds = 73.0, kDescent = 0.8;  // of the time
     constexpr double kTopSpeed = 2000.0 / 3.6, kLowSpeed = 60.0 / 3.6, kEndSpeed = 90.0 / 3.6;  // m/s
     const double low = std::max(endAltitude, std::min(8.0, startAltitude));
-    const double exponent = std::log(kLowSpeed / kTopSpeed) / std::log(low / startAltitude);
+    // The speed's power of the altitude (0 when the flight starts that low already).
+    const double exponent = low < startAltitude ? std::log(kLowSpeed / kTopSpeed) / std::log(low / startAltitude) : 0.0;
     FlightPath path;
     const double dt = kSeconds / double(std::max(1, frames - 1));
     double s = 0.0;
@@ -74,9 +75,11 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         if (d < best) best = d, end = p;
     }
     const Vec2 direction = glm::length(end - start) > 0.0 ? glm::normalize(end - start) : Vec2(0.0, 1.0);
+    // A scene too small for the path: the same flight, shortened to end above its road.
+    const double scale = length > 0.0 ? std::min(1.0, glm::length(end - start) / length) : 1.0;
     auto viewerAt = [&](int f) {
         const std::size_t i = std::size_t(std::clamp(f, 0, o.frames - 1));
-        const Vec2 p = start + direction * path.along[i];
+        const Vec2 p = start + direction * (path.along[i] * scale);
         return glm::dvec3(p.x, p.y, path.altitude[i]);
     };
     // The camera looks ahead along the path, steeply from high up, nearly level near the ground.
@@ -84,7 +87,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     const double aspect = 1280.0 / 800.0;
     auto cameraAt = [&](int f) {
         const glm::dvec3 v = viewerAt(f);
-        const double high = std::clamp(std::log(v.z / o.endAltitude) / std::log(o.startAltitude / o.endAltitude), 0.0, 1.0);
+        const double span = std::log(o.startAltitude / o.endAltitude);
+        const double high = span > 0.0 ? std::clamp(std::log(v.z / o.endAltitude) / span, 0.0, 1.0) : 1.0;
         Camera c;
         c.fly = true;
         c.flyPosition = glm::dvec3(v.x, v.y, doc.dem->sample({v.x, v.y}) + v.z);
@@ -171,9 +175,9 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     return {{"curves", count(doc.scene).curves},
             {"K", 2.8},
             {"appearance_resolution", RefineParams{}.resolution},
-            {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", length},
+            {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", length * scale},
                       {"seconds_at_60_fps", double(o.frames - 1) / 60.0}, {"times_the_papers_speed", 73.0 * 60.0 / double(o.frames - 1)},
-                      {"end_to_road_m", std::abs(glm::length(end - start) - length)}}},
+                      {"end_to_road_m", std::abs(glm::length(end - start) - length * scale)}}},
             {"prefetch_frames_ahead", o.prefetchFrames},
             {"runs", runs},
             {"peak_rss_mib", peakRssMiB()}};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -180,12 +181,13 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
     // A work queue in nearest-first order, one job per producer and quad (so the two threads
     // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
     // with a budget, a job whose estimated time (editor/production_estimate.h) would overrun it
-    // is not started, and neither is any after it (the first quad of a call is always made, so
-    // every frame makes progress). A quad is made when both its jobs are.
+    // is not started, and the workers take no more (a job the other worker took just before may
+    // still run if its own estimate fits; a quad with one job of two made is dropped). The first
+    // quad of a call is always made, so every frame makes progress. A quad is made when both its
+    // jobs are.
     const std::size_t jobs = 2 * quads.size();
     std::vector<CachedTile> made(quads.size());
-    std::unique_ptr<std::atomic<bool>[]> done(new std::atomic<bool>[jobs]);
-    for (std::size_t j = 0; j < jobs; ++j) done[j] = false;
+    std::vector<char> done(jobs, 0);  // each written by one worker, read after they join
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(jobs)));
@@ -206,7 +208,7 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
             if (appearance) made[j / 2].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
             else made[j / 2].elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
             estimate.add(elements, msSince(j0));
-            done[j] = true;
+            done[j] = 1;
         }
     });
     std::size_t count = 0;
@@ -274,9 +276,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     r.produced = produce(needed, budgetMs, t0);
     r.pending = needed.size() - r.produced;
     // Prefetch only with time left for the first quad ahead (it would otherwise always be made).
-    // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"):
-    // past it, the LRU would evict tiles made ahead before the view reached them.
-    const std::size_t room = params_.cacheTiles > cache_.size() ? params_.cacheTiles - cache_.size() : 0;
+    // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"): the
+    // budget less the tiles the LRU may not evict this frame (the view's, its ancestors', those
+    // made ahead). Past it, the LRU would evict tiles made ahead before the view reached them.
+    std::size_t kept = 0;
+    for (const auto& [key, t] : cache_) kept += t.lastUsed == clock_;
+    const std::size_t room = params_.cacheTiles > kept ? params_.cacheTiles - kept : 0;
     if (predicted && r.pending == 0 && !ahead.empty() && room > 0) {
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
         if (ahead.size() > room) ahead.resize(room);

@@ -7,20 +7,21 @@
 // budget is spent.
 //
 // Tiles: one appearance and one elevation tile per quad, cached by (level, x, y) with an LRU
-// bound (`cacheTiles`, the paper's 784 elevation tiles by default); tiles of the current view and
-// of their ancestors (shown while a leaf is made) are never evicted. A tile is dirty when its
+// bound (`cacheTiles`, the paper's 784 elevation tiles by default); tiles of the current view, of
+// their ancestors (shown while a leaf is made) and those made ahead for a predicted viewer that
+// still wants them are never evicted. A tile is dirty when its
 // quad's graph changed, or when it used a z-profile that an edit dropped (a river downstream of
 // the edit).
 //
 // Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
 // leaves' tiles; the window draws a leaf whose tile is not made yet with its nearest ancestor's.
 // Prefetching: frame() may be given the viewer predicted a little later on its path (§8); with
-// budget left once the view is complete, it makes the tiles that viewer will need.
+// budget left once the view is complete, it makes the tiles that viewer will need, within the
+// cache's room.
 //
 // Undo granularity: a drag is many commands merged into one undo step (execute(cmd, merge)),
 // and a compound edit (a new road: its nodes, then its curve) is one group.
 
-#include <atomic>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -107,7 +108,7 @@ public:
 
     // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
     // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
-    // least one batch; budget <= 0: until none is left; the time spent refining counts in it).
+    // least one quad; budget <= 0: until none is left; the time spent refining counts in it).
     // With budget left and a `predicted`
     // viewer, then makes the tiles of the leaves that viewer would have (prefetching).
     FrameReport frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible = {},

@@ -191,10 +191,10 @@ void Quadtree::subdivide(Quad& q) {
             }
         }
     };
-    std::size_t elements = q.parent ? 0 : std::size_t(-1);
+    std::size_t elements = 0;  // the root's graph is the scene's
     for (const QuadLayer& ql : q.layers) elements += ql.curves.size() + ql.areas.size();
     constexpr std::size_t kParallelElements = 256;
-    if (elements >= kParallelElements) tbb::parallel_for(0, 4, [&](int k) { fill(*kids[std::size_t(k)]); });
+    if (!q.parent || elements >= kParallelElements) tbb::parallel_for(0, 4, [&](int k) { fill(*kids[std::size_t(k)]); });
     else
         for (auto& kid : kids) fill(*kid);
     q.children = std::move(kids);

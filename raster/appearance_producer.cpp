@@ -191,21 +191,28 @@ double lowerBound(const Segment& sg, const Box& box) {
 // at a corner), is nearest nowhere in it. Returns the least lower bound of those kept.
 double candidatesNear(const std::vector<Segment>& segments, const Box& box, double reach,
                       std::vector<const Segment*>& out) {
+    out.clear();
+    for (const Segment& sg : segments)
+        if (lowerBound(sg, box) <= reach) out.push_back(&sg);
+    if (out.empty()) return kInf;
+    // The least upper bound among those in reach bounds the nearest distance at every point of
+    // the box (if that is within reach at all).
     const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
     double upper = kInf;
-    for (const Segment& sg : segments) {
+    for (const Segment* sg : out) {
         double farthest = 0.0;
-        for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(sg, c));
+        for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(*sg, c));
         upper = std::min(upper, farthest);
     }
-    out.clear();
     double nearest = kInf;
-    for (const Segment& sg : segments) {
-        const double lower = lowerBound(sg, box);
-        if (lower > reach || lower > upper) continue;
-        out.push_back(&sg);
+    std::size_t kept = 0;
+    for (const Segment* sg : out) {
+        const double lower = lowerBound(*sg, box);
+        if (lower > upper) continue;
+        out[kept++] = sg;
         nearest = std::min(nearest, lower);
     }
+    out.resize(kept);
     return nearest;
 }
 
@@ -344,19 +351,24 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
 
 // --- Areas -------------------------------------------------------------------------------------
 
+// Every texel of the canvas at coverage 1 (an area covering the quad), row by row; also how a
+// uniform tile's texels are made (tileTexels), so the two agree bit for bit.
+void shadeWhole(Canvas& canvas, SurfaceShader& shader) {
+    constexpr int n = SurfaceShader::kMaxRow;
+    shader.prepareRows(canvas.pixelSize(), n);
+    const int side = canvas.side();
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; x += n)
+            shader.row(canvas.world(x, y), std::min(n, side - x), &canvas.scratch().colour[std::size_t(y) * std::size_t(side) + std::size_t(x)]);
+}
+
 void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, const SurfaceShade& shade, double wf,
               AppearanceCounters* counters) {
     Scratch& s = canvas.scratch();
     SurfaceShader shader(shade, t.delta);
     shader.prepare(canvas.box());
-    if (area.coversQuad) {  // every texel at coverage 1
-        constexpr int n = SurfaceShader::kMaxRow;
-        shader.prepareRows(canvas.pixelSize(), n);
-        for (int y = 0; y < canvas.side(); ++y)
-            for (int x = 0; x < canvas.side(); x += n) {
-                const int count = std::min(n, canvas.side() - x);
-                shader.row(canvas.world(x, y), count, &s.colour[std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x)]);
-            }
+    if (area.coversQuad) {
+        shadeWhole(canvas, shader);
         return;
     }
     std::vector<std::vector<Vec2>> loops;
@@ -391,9 +403,9 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     for (const Triangle& tri : triangles) canvas.triangle(tri, [&](std::size_t k, int, int) { s.flags[k] |= kInside; });
     // The distance to the real border, block by block: only the candidate segments
     // (candidatesNear) within reach of the strip (wf + px), so a pixel costs one or two segment
-    // distances rather than one per overlapping capsule. Beyond that reach
-    // the distance changes nothing (no strip, full coverage), and inside pixels farther than a
-    // pixel from the border need none. Every pixel is then blended once.
+    // distances rather than one per overlapping capsule. Beyond that reach the distance changes
+    // nothing (no strip, full coverage), and inside pixels farther than a pixel from the border
+    // need none: they take the surface's colour (coverage 1) without blending.
     const double reachDistance = wf + px;
     const glm::vec3 strip = borderStripColour(shade.surface);
     struct LocalSegment {
@@ -411,7 +423,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
             const double nearest = candidatesNear(border, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, reachDistance, candidates);
             const bool insideNeedsDistance = nearest < px;
             // The candidates in block-local float metres (from the block's first pixel centre):
-            // a few micrometres of rounding at most, for one float distance per candidate.
+            // a rounding of about 1e-7 of the segments' extent, far below a texel at every level.
             const Vec2 origin = canvas.world(bx, by);
             local.clear();
             for (const Segment* sg : candidates) {
@@ -532,6 +544,7 @@ void resolve(const Canvas& canvas, const Scratch& s, const AppearanceTile& t, st
     out.resize(std::size_t(t.stride) * std::size_t(t.stride) * 4);
     if (n == 1) {  // one sample per texel: a conversion (the common case, and a hot loop)
         const std::size_t count = std::size_t(t.stride) * std::size_t(t.stride);
+        static_assert(sizeof(Rgbm) == 4 * sizeof(float), "the canvas is read as packed floats");
         const float* c = &s.colour[0][0];
         std::uint8_t* o = out.data();
         std::size_t k = 0;
@@ -601,7 +614,10 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         }
 
     Canvas canvas(t, threadScratch());
-    const double fit = std::ceil(t.bounds.size().x / std::max(params.groundCellMin, 1e-9));  // cells of groundCellMin
+    // Cells of groundCellMin at least, from the level's nominal size (the root's halved `level`
+    // times, exact), so quads of a level agree on their grid and share its nodes.
+    const double size = std::ldexp(quadtree.root().bounds.size().x, -quad.level);
+    const double fit = std::ceil(size / std::max(params.groundCellMin, 1e-9) - 1e-9);
     const int cells = int(std::clamp(fit, 1.0, double(params.groundCells)));
     drawGround(canvas, t, dem, cells);
     const MarkingGeometry marking;
@@ -667,11 +683,7 @@ std::vector<std::uint8_t> tileTexels(const AppearanceTile& tile) {
     std::fill(canvas.scratch().colour.begin(), canvas.scratch().colour.end(), Rgbm(0.0f));
     SurfaceShader shader(tile.shade, tile.delta);
     shader.prepare(canvas.box());
-    for (int y = 0; y < canvas.side(); ++y)
-        for (int x = 0; x < canvas.side(); ++x) {
-            const Rgbm c = shader.at(canvas.world(x, y));
-            canvas.over(std::size_t(y) * std::size_t(canvas.side()) + std::size_t(x), glm::vec3(c), c.a, 1.0f);
-        }
+    shadeWhole(canvas, shader);
     std::vector<std::uint8_t> out;
     resolve(canvas, canvas.scratch(), tile, out);
     return out;

@@ -10,7 +10,6 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -45,9 +44,10 @@ public:
     // Optional: tables for the points of `box` (metres), so at() costs less there.
     void prepare(const Box& box);
     Rgbm at(Vec2 p) const;  // inline below: it runs at every texel an area covers
-    // Rows: at() of the n points start + (i step, 0), i < n, up to rounding (1e-8). Fields step
-    // the furrows' phase along the row with tables made once by prepareRows (two cos per row
-    // instead of one per point; rows of up to kMaxRow points); other surfaces call at().
+    // Rows, after prepareRows(step, ...): at() of the n points start + (i step, 0), i < n, up to
+    // rounding (1e-7 of a channel). Fields step the furrows' phase along the row with tables made
+    // once by prepareRows (two cos per row instead of one per point; rows of up to kMaxRow
+    // points); other surfaces call at().
     static constexpr int kMaxRow = 16;
     void prepareRows(double step, int n);
     void row(Vec2 start, int n, Rgbm* out) const;

@@ -296,7 +296,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         if (s.contains("pitch")) cam.pitch = radians(s["pitch"].get<double>());
         if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
         flyFrom_ = cam.flyPosition;
-        flyHeightFrom_ = std::max(1.0, flyFrom_.z - app.session().displayedHeight({flyFrom_.x, flyFrom_.y}));
+        flyHeightFrom_ = std::max(1.0, flyFrom_.z - ground(app, {flyFrom_.x, flyFrom_.y}).z);
         if (s["to"] == "focus") {
             if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
             const Vec2 p = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
@@ -344,7 +344,7 @@ bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
         const double height = flyHeightFrom_ * std::pow(std::max(1.0, flyTo_.z) / flyHeightFrom_, t);
         const double e = 1.0 - (1.0 - t) * (1.0 - t);  // fast first, slow near the ground
         const glm::dvec2 xy = glm::dvec2(flyFrom_) + (glm::dvec2(flyTo_) - glm::dvec2(flyFrom_)) * e;
-        cam.flyPosition = app.groundPoint({xy.x, xy.y}) + glm::dvec3(0.0, 0.0, height);
+        cam.flyPosition = ground(app, {xy.x, xy.y}) + glm::dvec3(0.0, 0.0, height);
         const int every = s.value("screenshot_every", 0);
         if (every > 0 && (frame_ + 1) % every == 0)
             app.requestScreenshot(path(s.value("prefix", std::string("fly")) + "_" + std::to_string(frame_ + 1) + ".png"), false, false);

@@ -318,6 +318,21 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
     EXPECT_EQ(second.produced, 0u);
     EXPECT_EQ(second.prefetched, 0u);  // no room left, and nothing evicted to make again
     EXPECT_EQ(second.cached, small.cacheTiles);
+    // A cache full of tiles nobody shows any more (the view moved on) is room: it does not stop
+    // prefetching. A probe with a one-tile budget keeps only what the LRU may not evict at
+    // `later` (its view's tiles and their ancestors'); the budget gets 5 more.
+    SessionParams one = params;
+    one.cacheTiles = 1;
+    EditSession probe(SceneDocument(doc), one);
+    probe.frame(viewer, 0.0);
+    SessionParams room = params;
+    room.cacheTiles = probe.frame(later, 0.0).cached + 5;
+    EditSession full(SceneDocument(doc), room);
+    full.frame(viewer, 0.0);
+    EXPECT_EQ(full.frame(later, 0.0).cached, room.cacheTiles);  // full, of the old view's tiles too
+    const FrameReport third = full.frame(later, 0.0, {}, glm::dvec3(later.x + 400.0, later.y + 300.0, 20.0));
+    EXPECT_EQ(third.prefetched, 5u);
+    EXPECT_EQ(third.cached, room.cacheTiles);
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {

@@ -244,6 +244,30 @@ TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraw
     EXPECT_GT(uniform, 20u);
 }
 
+TEST(AppearanceProducer, UniformFurrowedFieldQuadsExpandToWhatTheProducerDraws) {
+    // Quads inside a field, with texels fine enough for its furrows (the pattern the producer
+    // and tileTexels both shade row by row).
+    World w(3, 3000);
+    const Layer& fields = w.scene.layers[kFieldsLayer];
+    ASSERT_FALSE(fields.nodes.empty());
+    const Vec2 at = fields.nodes[fields.nodes.size() / 2].p;
+    Quadtree qt(w.scene, RefineParams{.resolution = 256});
+    qt.refineForViewer({at.x, at.y, 5.0}, 2.8, 11);
+    DemHeightField heights(w.dem);
+    CurveDataCache data(qt, heights);
+    AppearanceParams full;
+    full.detectUniform = false;
+    std::size_t furrowed = 0;
+    for (const Quad* q : quadsFrom(qt, 8)) {
+        if (!q->isLeaf()) continue;
+        const AppearanceTile t = produceAppearance(*q, qt, data, w.dem, {});
+        if (!t.uniform || t.shade.surface != Surface::Field || t.delta > 1.0) continue;
+        ++furrowed;
+        EXPECT_TRUE(tileTexels(t) == produceAppearance(*q, qt, data, w.dem, full).rgbm) << "quad " << q->tx << "," << q->ty;
+    }
+    EXPECT_GT(furrowed, 5u);
+}
+
 TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
     test::SceneBuilder b(64.0);
     const ElementId a = b.node(kRiversLayer, {0, 30}), c = b.node(kRiversLayer, {64, 34});
