@@ -11,6 +11,8 @@
 namespace lacet::ui {
 namespace {
 
+constexpr double kSkirtSlope = 2.0;  // m of skirt per m of the coarsest fallback tile's sample spacing
+
 const char* kVertex = R"(#version 410 core
 layout(location = 0) in vec3 aGrid;  // i, j, 1 on the skirt
 uniform mat4 uViewProj;
@@ -200,13 +202,20 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     glEnable(GL_DEPTH_TEST);
     glPolygonMode(GL_FRONT_AND_BACK, wireframe ? GL_LINE : GL_FILL);
 
+    // The leaves to draw, each with its tile: its own, else its nearest ancestor's.
+    struct Drawn {
+        const Quad* leaf;
+        const Quad* q;
+        const CachedTile* tile;
+    };
+    std::vector<Drawn> leaves;
+    double coarsest = 0.0;  // the largest sample spacing of an ancestor's tile drawn (m)
     session.quadtree().forEachQuad([&](const Quad& leaf) {
         if (!leaf.isLeaf()) return;
         if (view.visible && !(*view.visible)(leaf)) {  // the session's test: it makes no tile there
             ++stats_.culled;
             return;
         }
-        // The tile to draw: the leaf's own, else the nearest ancestor's.
         const Quad* q = &leaf;
         const CachedTile* tile = session.tile(keyOf(*q));
         while (!tile && q->parent) {
@@ -217,16 +226,23 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
             ++stats_.missing;
             return;
         }
+        if (q != &leaf) coarsest = std::max(coarsest, tile->elevation.delta);
+        leaves.push_back({&leaf, q, tile});
+    });
+    for (const auto& [leafPtr, q, tile] : leaves) {
+        const Quad& leaf = *leafPtr;
         const GpuTile* g = upload(keyOf(*q), *tile);
         const double size = leaf.bounds.size().x;
-        // The skirt: deeper when the tile is an ancestor's, whose coarser surface can stand
-        // farther from the neighbours' (by its slope over one of its samples).
-        const double skirt = size * skirtFraction + tile->elevation.delta * (q != &leaf ? 1.0 : 0.0);
+        // The skirt: a neighbour drawn with an ancestor's coarser surface can stand below this
+        // leaf's edge by its slope over one of its samples, on either side of a level change, so
+        // every skirt reaches that far (slopes up to 2, 63 degrees). A skirt shows only where the
+        // neighbour's surface is lower: where there would be a crack.
+        const double skirt = size * skirtFraction + kSkirtSlope * coarsest;
         const glm::dvec3 lo(leaf.bounds.min.x - eye.x, leaf.bounds.min.y - eye.y, double(g->zmin) - skirt - eye.z);
         const glm::dvec3 hi(leaf.bounds.max.x - eye.x, leaf.bounds.max.y - eye.y, double(g->zmax) - eye.z);
         if (!frustum.mayIntersect(lo, hi)) {
             ++stats_.culled;
-            return;
+            continue;
         }
         ++stats_.drawn;
         stats_.fallback += q != &leaf;
@@ -252,7 +268,7 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
         glActiveTexture(GL_TEXTURE1);
         glBindTexture(GL_TEXTURE_2D, g->appearance);
         glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
-    });
+    }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glBindVertexArray(0);
     glActiveTexture(GL_TEXTURE0);

@@ -9,8 +9,9 @@
 // A leaf whose tile is not made yet is drawn with the nearest ancestor's tile (the coarser
 // view, shown until its own tile arrives). Leaves outside the view frustum are not drawn.
 // Every grid has a skirt: a vertical strip hanging from its border (`skirtFraction` of the quad
-// size, plus one sample spacing of the tile when it is an ancestor's), so that where the morphing of two neighbours of different levels does not meet exactly,
-// no background shows through.
+// size, plus twice the sample spacing of the coarsest ancestor's tile drawn in the frame, which
+// can stand that far below a neighbour's edge), so that where two neighbours of different levels
+// or tiles do not meet exactly, no background shows through.
 //
 // Textures live on the GPU per tile (RG32F z_m, z_c; RGBA8 appearance with mipmaps), copied again
 // when the session remakes the tile, and released with it.
