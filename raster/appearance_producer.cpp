@@ -228,11 +228,13 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
-    Vec2 lo(kInf), hi(-kInf);
-    for (const Segment& sg : segments) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    Vec2 lo(kInf), hi(-kInf);  // of the finite segments (a non-finite one is nobody's candidate)
+    for (const Segment& sg : segments)
+        if (std::isfinite(sg.p0.x + sg.p0.y + sg.p1.x + sg.p1.y))
+            lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
     const int side = canvas.side();
     glm::dvec2 a = canvas.pixel(lo) - (within / px + 2.0), b = canvas.pixel(hi) + (within / px + 2.0);
-    if (!std::isfinite(a.x + a.y + b.x + b.y)) return;  // no segment (or a non-finite one: nothing drawn)
+    if (!std::isfinite(a.x + a.y + b.x + b.y)) return;  // no finite segment
     const int x0 = int(std::clamp(std::floor(a.x), 0.0, double(side))), x1 = int(std::clamp(std::ceil(b.x), 0.0, double(side)));
     const int y0 = int(std::clamp(std::floor(a.y), 0.0, double(side))), y1 = int(std::clamp(std::ceil(b.y), 0.0, double(side)));
     std::vector<const Segment*> candidates;
