@@ -279,14 +279,15 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"): the
     // budget less the tiles the LRU may not evict this frame (the view's, its ancestors', those
     // made ahead). Past it, the LRU would evict tiles made ahead before the view reached them.
-    std::size_t kept = 0;
-    for (const auto& [key, t] : cache_) kept += t.lastUsed == clock_;
-    const std::size_t room = params_.cacheTiles > kept ? params_.cacheTiles - kept : 0;
-    if (predicted && r.pending == 0 && !ahead.empty() && room > 0) {
+    if (predicted && r.pending == 0 && !ahead.empty()) {
+        std::size_t kept = 0;
+        for (const auto& [key, t] : cache_) kept += t.lastUsed == clock_;
+        const std::size_t room = params_.cacheTiles > kept ? params_.cacheTiles - kept : 0;
         std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
-        if (ahead.size() > room) ahead.resize(room);
-        const std::size_t first = elementsOf(*ahead.front());
-        if (budgetMs <= 0.0 || msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) < budgetMs)
+        ahead.resize(std::min(ahead.size(), room));
+        const std::size_t first = ahead.empty() ? 0 : elementsOf(*ahead.front());
+        if (!ahead.empty() &&
+            (budgetMs <= 0.0 || msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) < budgetMs))
             r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
     }
     r.produceMs = msSince(t0);

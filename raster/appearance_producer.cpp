@@ -21,6 +21,8 @@ namespace lacet {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
+
+bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 constexpr std::uint8_t kTouched = 1, kInside = 2, kCap = 4;  // kCap: nearest to a curve's end node, beyond it
 
 // Per-thread buffers of one tile, on the supersampled canvas.
@@ -55,6 +57,16 @@ public:
         return t_.bounds.min + ((Vec2(double(x), double(y)) + 0.5) / double(t_.samples) - double(t_.border)) * t_.delta;
     }
     glm::dvec2 pixel(Vec2 p) const { return ((p - t_.bounds.min) / t_.delta + double(t_.border)) * double(t_.samples); }
+    // The pixels [x0, x1) x [y0, y1) of the canvas within `slack` pixels of the box lo..hi
+    // (finite, lo <= hi; metres).
+    struct Rect {
+        int x0, y0, x1, y1;
+    };
+    Rect around(Vec2 lo, Vec2 hi, double slack) const {
+        const glm::dvec2 a = pixel(lo) - slack, b = pixel(hi) + slack;
+        auto clamped = [&](double v) { return int(std::clamp(v, 0.0, double(side_))); };
+        return {clamped(std::floor(a.x)), clamped(std::floor(a.y)), clamped(std::ceil(b.x)), clamped(std::ceil(b.y))};
+    }
 
     template <class F>
     void triangle(const Triangle& tri, F&& f) {
@@ -230,13 +242,10 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
     const double within = reach + px;
     Vec2 lo(kInf), hi(-kInf);  // of the finite segments (a non-finite one is nobody's candidate)
     for (const Segment& sg : segments)
-        if (std::isfinite(sg.p0.x + sg.p0.y + sg.p1.x + sg.p1.y))
-            lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    if (!finite(lo)) return;  // no finite segment
     const int side = canvas.side();
-    glm::dvec2 a = canvas.pixel(lo) - (within / px + 2.0), b = canvas.pixel(hi) + (within / px + 2.0);
-    if (!std::isfinite(a.x + a.y + b.x + b.y)) return;  // no finite segment
-    const int x0 = int(std::clamp(std::floor(a.x), 0.0, double(side))), x1 = int(std::clamp(std::ceil(b.x), 0.0, double(side)));
-    const int y0 = int(std::clamp(std::floor(a.y), 0.0, double(side))), y1 = int(std::clamp(std::ceil(b.y), 0.0, double(side)));
+    const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
     std::vector<const Segment*> candidates;
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
@@ -386,18 +395,18 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
         }
         loops.push_back(std::move(pts));
     }
-    // The canvas pixels the piece can change: its bounding box, dilated by the border strip (and
-    // a few pixels). Every pixel it flags below lies in there, and is cleared there.
+    // The canvas pixels the piece can change: the bounding box of its finite points (the
+    // rasterizer drops a triangle with a non-finite vertex, and no such segment is a candidate),
+    // dilated by the border strip and a few pixels. Every pixel it flags below lies in there, and
+    // is cleared there.
     Vec2 reachMin(kInf), reachMax(-kInf);
     for (const auto& pts : loops)
-        for (const Vec2& p : pts) reachMin = glm::min(reachMin, p), reachMax = glm::max(reachMax, p);
+        for (const Vec2& p : pts)
+            if (finite(p)) reachMin = glm::min(reachMin, p), reachMax = glm::max(reachMax, p);
+    if (!finite(reachMin)) return;  // nothing to draw
     const double px = canvas.pixelSize();
     const int side = canvas.side();
-    const double slack = (wf + px) / px + 3.0;  // pixels
-    glm::dvec2 lo = canvas.pixel(reachMin) - slack, hi = canvas.pixel(reachMax) + slack;
-    if (!std::isfinite(lo.x + lo.y + hi.x + hi.y)) lo = glm::dvec2(0.0), hi = glm::dvec2(double(side));  // whole canvas
-    const int x0 = int(std::clamp(std::floor(lo.x), 0.0, double(side))), x1 = int(std::clamp(std::ceil(hi.x), 0.0, double(side)));
-    const int y0 = int(std::clamp(std::floor(lo.y), 0.0, double(side))), y1 = int(std::clamp(std::ceil(hi.y), 0.0, double(side)));
+    const auto [x0, y0, x1, y1] = canvas.around(reachMin, reachMax, (wf + px) / px + 3.0);
 
     std::vector<Triangle> triangles;
     triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);

@@ -98,6 +98,15 @@ std::optional<Command> randomCommand(const Scene& s, std::mt19937_64& rng) {
     return std::nullopt;
 }
 
+// Sessions of small tiles (32 texels) refined down to `maxLevel`.
+SessionParams smallTiles(int maxLevel, std::size_t cacheTiles = SessionParams{}.cacheTiles) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.maxLevel = maxLevel;
+    params.cacheTiles = cacheTiles;
+    return params;
+}
+
 SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
     SceneDocument doc;
     doc.scene = makeSyntheticScene({seed, curves});
@@ -125,10 +134,7 @@ void expectTilesEqualFromScratch(const EditSession& session, const SessionParams
 }
 
 TEST(EditSession, RandomCommandsUndoneRestoreTheSceneAndEveryTileExactly) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 9;
-    params.cacheTiles = 1u << 20;
+    SessionParams params = smallTiles(9, 1u << 20);
     EditSession session(syntheticDocument(11, 1500), params);
     const Vec2 c = session.document().scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 40.0);
@@ -205,9 +211,7 @@ std::pair<ElementId, std::size_t> someInnerVertex(const Scene& s) {
 }
 
 TEST(EditSession, ADragIsOneUndoStepAndAGroupUndoesTogether) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 8;
+    SessionParams params = smallTiles(8);
     EditSession session(syntheticDocument(13, 800), params);
     const Scene original = session.document().scene;
     EXPECT_FALSE(session.modified());
@@ -252,9 +256,7 @@ TEST(EditSession, ADragIsOneUndoStepAndAGroupUndoesTogether) {
 }
 
 TEST(EditSession, SavingMarksTheSceneUnmodifiedAndADragAfterItIsNewHistory) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 8;
+    SessionParams params = smallTiles(8);
     EditSession session(syntheticDocument(14, 600), params);
     const auto [curve, index] = someInnerVertex(session.document().scene);
     const Vec2 p0 = session.document().scene.layers[kRoadsLayer].curves[curve].vertices[index].p;
@@ -275,10 +277,7 @@ TEST(EditSession, SavingMarksTheSceneUnmodifiedAndADragAfterItIsNewHistory) {
 }
 
 TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewersTiles) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 10;
-    params.cacheTiles = 1u << 20;
+    SessionParams params = smallTiles(10, 1u << 20);
     const SceneDocument doc = syntheticDocument(15, 1500);
     const Vec2 c = doc.scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 30.0);
@@ -336,9 +335,7 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 9;
+    SessionParams params = smallTiles(9);
     EditSession session(syntheticDocument(16, 800), params);
     const Vec2 c = session.document().scene.extent.center();
     session.frame({c.x, c.y, 20.0}, 0.0);
@@ -352,10 +349,7 @@ TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
 }
 
 TEST(EditSession, AHiddenLayerLeavesTheTexturesAndShowingItAgainRestoresThemExactly) {
-    SessionParams params;
-    params.refine.resolution = 32;
-    params.maxLevel = 9;
-    params.cacheTiles = 1u << 20;
+    SessionParams params = smallTiles(9, 1u << 20);
     EditSession session(syntheticDocument(17, 1200), params);
     const Vec2 c = session.document().scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 30.0);
