@@ -15,6 +15,7 @@
 #include "model/junctions.h"
 #include "raster/appearance_shading.h"
 #include "raster/area_triangulation.h"
+#include "raster/float4.h"
 #include "raster/rasterizer.h"
 
 namespace lacet {
@@ -365,12 +366,13 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
 // Every texel of the canvas at coverage 1 (an area covering the quad), row by row; also how a
 // uniform tile's texels are made (tileTexels), so the two agree bit for bit.
 void shadeWhole(Canvas& canvas, SurfaceShader& shader) {
-    constexpr int n = SurfaceShader::kMaxRow;
-    shader.prepareRows(canvas.pixelSize(), n);
+    constexpr int n = SurfaceShader::kMaxBlock;
+    shader.prepareBlocks(canvas.pixelSize());
     const int side = canvas.side();
-    for (int y = 0; y < side; ++y)
+    for (int y = 0; y < side; y += n)
         for (int x = 0; x < side; x += n)
-            shader.row(canvas.world(x, y), std::min(n, side - x), &canvas.scratch().colour[std::size_t(y) * std::size_t(side) + std::size_t(x)]);
+            shader.block(canvas.world(x, y), std::min(n, side - x), std::min(n, side - y),
+                         &canvas.scratch().colour[std::size_t(y) * std::size_t(side) + std::size_t(x)], std::size_t(side));
 }
 
 void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, const SurfaceShade& shade, double wf,
@@ -420,14 +422,17 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     const double reachDistance = wf + px;
     const glm::vec3 strip = borderStripColour(shade.surface);
     struct LocalSegment {
-        glm::vec2 p0, seg;
-        float invLen2;
+        float x0, y0, dx, dy, invLen2;
     };
     std::vector<const Segment*> candidates;
     std::vector<LocalSegment> local;
-    static_assert(kBlock <= SurfaceShader::kMaxRow);
-    Rgbm rowColour[kBlock];
-    shader.prepareRows(px, kBlock);
+    static_assert(kBlock == SurfaceShader::kMaxBlock && kBlock % 4 == 0);
+    Rgbm blockColour[kBlock * kBlock];
+    shader.prepareBlocks(px);
+    // Pixel centres of a block row, in metres from the block's first pixel centre.
+    Float4 qx[kBlock / 4];
+    for (int i = 0; i < kBlock; ++i) qx[i / 4][i % 4] = float(double(i) * px);
+    const float pxf = float(px);
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
             const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
@@ -438,38 +443,43 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
             const Vec2 origin = canvas.world(bx, by);
             local.clear();
             for (const Segment* sg : candidates) {
-                const Vec2 seg = sg->p1 - sg->p0;
+                const Vec2 p0 = sg->p0 - origin, seg = sg->p1 - sg->p0;
                 const double len2 = glm::dot(seg, seg);
-                local.push_back({glm::vec2(sg->p0 - origin), glm::vec2(seg), len2 > 0.0 ? float(1.0 / len2) : 0.0f});
+                local.push_back({float(p0.x), float(p0.y), float(seg.x), float(seg.y), len2 > 0.0 ? float(1.0 / len2) : 0.0f});
             }
+            bool shaded = false;  // the surface's colours over the block, made once when needed
             for (int y = by; y < ey; ++y) {
-                bool shaded = false;  // the surface's colours along this row of the block, made once
-                auto colour = [&](int x) -> const Rgbm& {
-                    if (!shaded) shader.row(canvas.world(bx, y), ex - bx, rowColour), shaded = true;
-                    return rowColour[x - bx];
-                };
+                const std::size_t row = std::size_t(y) * std::size_t(side);
+                // Squared distances to the real border along the row (infinite: none near), four
+                // pixels at a time.
+                Float4 d2[kBlock / 4];
+                for (Float4& v : d2) v = splat(kInf);
+                const float qy = float(double(y - by) * px);
+                for (const LocalSegment& l : local) {
+                    const Float4 dx = splat(l.dx), dy = splat(l.dy);
+                    const float ry = qy - l.y0;
+                    for (int v = 0; v < kBlock / 4; ++v) {
+                        const Float4 rx = qx[v] - l.x0;
+                        const Float4 tt = clamp4((rx * dx + ry * dy) * l.invLen2, splat(0.0f), splat(1.0f));
+                        const Float4 exv = rx - dx * tt, eyv = ry - dy * tt;
+                        d2[v] = min4(d2[v], exv * exv + eyv * eyv);
+                    }
+                }
                 for (int x = bx; x < ex; ++x) {
-                    const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
+                    const std::size_t k = row + std::size_t(x);
                     const bool inside = (s.flags[k] & kInside) != 0;
                     s.flags[k] = 0;
-                    if (inside ? !insideNeedsDistance : local.empty()) {
-                        if (inside) s.colour[k] = colour(x);  // coverage 1, no strip
-                        continue;
-                    }
-                    const glm::vec2 q(float(double(x - bx) * px), float(double(y - by) * px));
-                    float d2 = kInf;  // squared; infinite: no real border near
-                    for (const LocalSegment& l : local) {
-                        const glm::vec2 r = q - l.p0;
-                        const float tt = std::clamp((r.x * l.seg.x + r.y * l.seg.y) * l.invLen2, 0.0f, 1.0f);
-                        const glm::vec2 e = r - l.seg * tt;
-                        d2 = std::min(d2, e.x * e.x + e.y * e.y);
-                    }
-                    const float d = std::sqrt(d2);
-                    const float cov = inside ? edgeCoverage(d / float(px)) : edgeCoverage(-d / float(px));
-                    canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
-                    if (cov > 0.0f) {
-                        const Rgbm& c = colour(x);
+                    if (inside ? insideNeedsDistance : !local.empty()) {
+                        const float d = std::sqrt(d2[(x - bx) / 4][(x - bx) % 4]);
+                        const float cov = edgeCoverage(inside ? d / pxf : -d / pxf);
+                        canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
+                        if (cov <= 0.0f) continue;
+                        if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
+                        const Rgbm& c = blockColour[(y - by) * kBlock + (x - bx)];
                         canvas.over(k, glm::vec3(c), c.a, cov);
+                    } else if (inside) {  // coverage 1, no strip
+                        if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
+                        s.colour[k] = blockColour[(y - by) * kBlock + (x - bx)];
                     }
                 }
             }

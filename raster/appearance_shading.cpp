@@ -118,27 +118,33 @@ void SurfaceShader::prepare(const Box& box) {
     }
 }
 
-void SurfaceShader::prepareRows(double step, int n) {
-    rowStep_ = step;
-    rowTable_ = 0;
-    if (shade_.surface != Surface::Field || weight_[0] == 0.0) return;
-    rowTable_ = std::clamp(n, 0, kMaxRow);
-    for (int i = 0; i < rowTable_; ++i) {
-        rowCos_[i] = std::cos(double(i) * step * direction_.x);
-        rowSin_[i] = std::sin(double(i) * step * direction_.x);
+void SurfaceShader::prepareBlocks(double step) {
+    step_ = step;
+    tables_ = shade_.surface == Surface::Field && weight_[0] != 0.0;
+    if (!tables_) return;
+    for (int i = 0; i < kMaxBlock; ++i) {
+        cosX_[i] = std::cos(double(i) * step * direction_.x);
+        sinX_[i] = std::sin(double(i) * step * direction_.x);
+        cosY_[i] = std::cos(double(i) * step * direction_.y);
+        sinY_[i] = std::sin(double(i) * step * direction_.y);
     }
 }
 
-void SurfaceShader::row(Vec2 start, int n, Rgbm* out) const {
-    if (n > rowTable_) {  // not a field with a pattern, or a longer row
-        for (int i = 0; i < n; ++i) out[i] = at(start + Vec2(double(i) * rowStep_, 0.0));
+void SurfaceShader::block(Vec2 start, int nx, int ny, Rgbm* out, std::size_t stride) const {
+    if (!tables_) {  // not a field with a pattern
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) out[std::size_t(j) * stride + std::size_t(i)] = at(start + Vec2(double(i), double(j)) * step_);
         return;
     }
-    // cos(phase + i a) = cos(phase) cos(i a) - sin(phase) sin(i a)
+    // cos(a + b) = cos a cos b - sin a sin b and sin(a + b) = sin a cos b + cos a sin b: from the
+    // block's first point down the column (j), then along each row (i).
     const double phase = start.x * direction_.x + start.y * direction_.y;
-    const double c = fastCos(phase), s = fastCos(phase - 0.5 * std::numbers::pi);
-    for (int i = 0; i < n; ++i)
-        out[i] = Rgbm(base_ * float(1.0 + weight_[0] * (c * rowCos_[i] - s * rowSin_[i])), 0.0f);
+    const double c0 = fastCos(phase), s0 = fastCos(phase - 0.5 * std::numbers::pi);
+    for (int j = 0; j < ny; ++j) {
+        const double c = c0 * cosY_[j] - s0 * sinY_[j], s = s0 * cosY_[j] + c0 * sinY_[j];
+        Rgbm* row = out + std::size_t(j) * stride;
+        for (int i = 0; i < nx; ++i) row[i] = Rgbm(base_ * float(1.0 + weight_[0] * (c * cosX_[i] - s * sinX_[i])), 0.0f);
+    }
 }
 
 Rgbm SurfaceShader::forestAt(Vec2 p) const {

@@ -44,19 +44,21 @@ public:
     // Optional: tables for the points of `box` (metres), so at() costs less there.
     void prepare(const Box& box);
     Rgbm at(Vec2 p) const;  // inline below: it runs at every texel an area covers
-    // Rows, after prepareRows(step, ...): at() of the n points start + (i step, 0), i < n, up to
-    // rounding (1e-7 of a channel). Fields step the furrows' phase along the row with tables made
-    // once by prepareRows (two cos per row instead of one per point; rows of up to kMaxRow
-    // points); other surfaces call at().
-    static constexpr int kMaxRow = 16;
-    void prepareRows(double step, int n);
-    void row(Vec2 start, int n, Rgbm* out) const;
+    // Blocks, after prepareBlocks(step): at() of the points start + (i step, j step), i < nx,
+    // j < ny (nx, ny <= kMaxBlock), into out[j * stride + i], up to rounding (1e-7 of a
+    // channel). Fields step the furrows' phase along rows and columns by angle addition, with
+    // tables made once by prepareBlocks: two cosines per block instead of one per point. Other
+    // surfaces call at().
+    static constexpr int kMaxBlock = 16;
+    void prepareBlocks(double step);
+    void block(Vec2 start, int nx, int ny, Rgbm* out, std::size_t stride) const;
 
 private:
     Rgbm forestAt(Vec2 p) const;
-    double rowStep_ = 0.0;
-    int rowTable_ = 0;                            // points in the tables (0: none)
-    double rowCos_[kMaxRow] = {}, rowSin_[kMaxRow] = {};  // cos and sin of i * step * direction_.x
+    double step_ = 0.0;
+    bool tables_ = false;                                  // a field with a pattern, prepared
+    double cosX_[kMaxBlock] = {}, sinX_[kMaxBlock] = {};   // cos and sin of i * step * direction_.x
+    double cosY_[kMaxBlock] = {}, sinY_[kMaxBlock] = {};   // and of j * step * direction_.y
 
     SurfaceShade shade_;
     glm::vec3 base_{0.0f};
@@ -70,10 +72,14 @@ Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel);
 // cos(x) within 1e-8 for |x| up to 1e7 (the field pattern's phase in radians, for coordinates up
 // to 4000 km from the origin): reduced to [-pi, pi] in double, then 2 cos^2(x/2) - 1 with
 // cos(x/2), |x/2| <= pi/2, from its Taylor series to x^12. Several times cheaper than libm's cos,
-// which the field pattern calls at every texel.
+// which the field pattern calls at every texel. The reduction rounds through an integer, not
+// nearbyint (a libm call on x86-64's baseline); beyond 2^52 turns the quotient is an integer
+// already, and a NaN stays one.
 inline double fastCos(double x) {
     constexpr double kTwoPi = 2.0 * std::numbers::pi;
-    const double h = 0.5 * (x - kTwoPi * std::nearbyint(x * (1.0 / kTwoPi)));
+    const double q = x * (1.0 / kTwoPi);
+    const double turns = std::abs(q) < 0x1p52 ? double(std::int64_t(q + (q < 0.0 ? -0.5 : 0.5))) : q;
+    const double h = 0.5 * (x - kTwoPi * turns);
     const double h2 = h * h;
     const double c = 1.0 + h2 * (-1.0 / 2 + h2 * (1.0 / 24 + h2 * (-1.0 / 720 + h2 * (1.0 / 40320 +
                      h2 * (-1.0 / 3628800 + h2 * (1.0 / 479001600))))));

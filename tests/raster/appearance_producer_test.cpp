@@ -60,23 +60,31 @@ TEST(AppearanceShading, FastCosIsWithinItsBoundOfLibmCos) {
     EXPECT_LT(worst, 1e-8);
 }
 
-TEST(AppearanceShading, RowsAreTheColoursOfTheirPoints) {
-    // Fields step their furrows along a row; every surface must give what at() gives, far from
-    // the origin too.
+TEST(AppearanceShading, BlocksAreTheColoursOfTheirPoints) {
+    // Fields step their furrows along rows and columns; every surface must give what at() gives,
+    // far from the origin too, in full blocks and in the partial ones at a canvas's edge.
     for (const Surface surface : {Surface::Field, Surface::Forest, Surface::Water, Surface::Other})
         for (std::uint32_t seed = 0; seed < 6; ++seed) {
             const double texel = 0.02 * double(seed + 1);
             SurfaceShader shader({surface, std::uint16_t(seed), seed * 977u}, texel);
             const Vec2 start(812345.678 + 31.0 * seed, -4321.5 * seed);
             shader.prepare({start - 1.0, start + 40.0 * texel + 1.0});
-            shader.prepareRows(texel, 16);
-            Rgbm row[16];
-            shader.row(start, 16, row);
+            shader.prepareBlocks(texel);
+            constexpr int n = SurfaceShader::kMaxBlock;
+            const int nx = seed % 2 ? n : 5 + int(seed), ny = seed % 3 ? n : 3;
+            std::vector<Rgbm> block(std::size_t(n * n), Rgbm(-1.0f));
+            shader.block(start, nx, ny, block.data(), n);
             float worst = 0.0f;
-            for (int i = 0; i < 16; ++i) {
-                const Rgbm c = shader.at(start + Vec2(double(i) * texel, 0.0));
-                for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(c[k] - row[i][k]));
-            }
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const Rgbm& got = block[std::size_t(j * n + i)];
+                    if (i >= nx || j >= ny) {  // left alone
+                        EXPECT_EQ(got, Rgbm(-1.0f));
+                        continue;
+                    }
+                    const Rgbm c = shader.at(start + Vec2(double(i), double(j)) * texel);
+                    for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(c[k] - got[k]));
+                }
             EXPECT_LT(worst, 1e-6f) << int(surface) << " " << seed;
         }
 }
