@@ -73,8 +73,9 @@ public:
     void triangle(const Triangle& tri, F&& f) {
         RasterVertex v[3];
         for (int i = 0; i < 3; ++i) v[i].p = pixel(tri[std::size_t(i)]);
+        const std::size_t side = std::size_t(side_);  // a local: f's stores must not make it reload
         rasterizeTriangle(v[0], v[1], v[2], 0, side_, side_,
-                          [&](int x, int y, const float*) { f(std::size_t(y) * std::size_t(side_) + std::size_t(x), x, y); });
+                          [&f, side](int x, int y, const float*) { f(std::size_t(y) * side + std::size_t(x), x, y); });
     }
 
     void touch(std::size_t k) {
@@ -279,11 +280,12 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
         }
 }
 
-float smoothFall(double d, double width) {  // 1 at d <= 0, 0 at d >= width
-    if (width <= 0.0 || d >= width) return 0.0f;
-    if (d <= 0.0) return 1.0f;
-    const double t = 1.0 - d / width;
-    return float(t * t * (3.0 - 2.0 * t));
+template <class Real>
+float smoothFall(Real d, Real width) {  // 1 at d <= 0, 0 at d >= width
+    if (width <= Real(0) || d >= width) return 0.0f;
+    if (d <= Real(0)) return 1.0f;
+    const Real t = Real(1) - d / width;
+    return float(t * t * (Real(3) - Real(2) * t));
 }
 
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
@@ -413,14 +415,17 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     std::vector<Triangle> triangles;
     triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
     if (counters) counters->triangles += triangles.size();
-    for (const Triangle& tri : triangles) canvas.triangle(tri, [&](std::size_t k, int, int) { s.flags[k] |= kInside; });
+    std::uint8_t* const flags = s.flags.data();
+    Rgbm* const colour = s.colour.data();
+    for (const Triangle& tri : triangles) canvas.triangle(tri, [flags](std::size_t k, int, int) { flags[k] |= kInside; });
     // The distance to the real border, block by block: only the candidate segments
     // (candidatesNear) within reach of the strip (wf + px), so a pixel costs one or two segment
     // distances rather than one per overlapping capsule. Beyond that reach the distance changes
     // nothing (no strip, full coverage), and inside pixels farther than a pixel from the border
     // need none: they take the surface's colour (coverage 1) without blending.
     const double reachDistance = wf + px;
-    const glm::vec3 strip = borderStripColour(shade.surface);
+    const Rgbm strip(borderStripColour(shade.surface), 0.0f);
+    const float wff = float(wf);
     struct LocalSegment {
         float x0, y0, dx, dy, invLen2;
     };
@@ -465,21 +470,23 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                         d2[v] = min4(d2[v], exv * exv + eyv * eyv);
                     }
                 }
+                std::uint8_t* const f = flags + row;
+                Rgbm* const c = colour + row;
+                const Rgbm* const surface = blockColour + (y - by) * kBlock - bx;
                 for (int x = bx; x < ex; ++x) {
-                    const std::size_t k = row + std::size_t(x);
-                    const bool inside = (s.flags[k] & kInside) != 0;
-                    s.flags[k] = 0;
+                    const bool inside = (f[x] & kInside) != 0;
+                    f[x] = 0;
                     if (inside ? insideNeedsDistance : !local.empty()) {
                         const float d = std::sqrt(d2[(x - bx) / 4][(x - bx) % 4]);
                         const float cov = edgeCoverage(inside ? d / pxf : -d / pxf);
-                        canvas.over(k, strip, 0.0f, (1.0f - cov) * smoothFall(inside ? 0.0 : double(d), wf));
+                        const float stripAlpha = (1.0f - cov) * (inside ? 1.0f : smoothFall(d, wff));
+                        if (stripAlpha > 0.0f) c[x] = c[x] * (1.0f - stripAlpha) + strip * stripAlpha;
                         if (cov <= 0.0f) continue;
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
-                        const Rgbm& c = blockColour[(y - by) * kBlock + (x - bx)];
-                        canvas.over(k, glm::vec3(c), c.a, cov);
+                        c[x] = c[x] * (1.0f - cov) + surface[x] * cov;
                     } else if (inside) {  // coverage 1, no strip
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
-                        s.colour[k] = blockColour[(y - by) * kBlock + (x - bx)];
+                        c[x] = surface[x];
                     }
                 }
             }
