@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <cstring>
 #include <optional>
+#include <span>
 #include <stdexcept>
 
 #if defined(__SSE2__)
@@ -26,18 +28,24 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 bool finite(Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); }
 constexpr std::uint8_t kTouched = 1, kInside = 2, kCap = 4;  // kCap: nearest to a curve's end node, beyond it
 
-// Per-thread buffers of one tile, on the supersampled canvas.
+// Per-thread buffers of one tile, on the supersampled canvas. Every drawing pass leaves dist
+// infinite and flags 0 where it set them (clearTouched, drawArea's rectangle), so a tile that
+// was drawn to the end leaves them `clean` for the next one; after an exception they are reset.
 struct Scratch {
     std::vector<Rgbm> colour;
     std::vector<float> dist, v, u;  // per element: distance to its border or axis, signed v, u
     std::vector<std::uint8_t> flags;
     std::vector<std::uint32_t> touched;
+    bool clean = false;
     void reset(std::size_t n) {
         colour.resize(n);
-        dist.assign(n, kInf);
+        if (!clean || dist.size() != n) {
+            dist.assign(n, kInf);
+            flags.assign(n, 0);
+        }
+        clean = false;
         v.resize(n);
         u.resize(n);
-        flags.assign(n, 0);
         touched.clear();
     }
 };
@@ -148,7 +156,11 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
         Rgbm* out = &s.colour[std::size_t(y) * std::size_t(side)];
         for (const Run& run : runs) {
             const glm::vec3 a = row[run.node], d = row[run.node + 1] - row[run.node];
-            for (int x = run.begin; x < run.end; ++x) out[x] = Rgbm(a + d * fx[std::size_t(x)], 0.0f);
+            const Float4 a4{a.r, a.g, a.b, 0.0f}, d4{d.r, d.g, d.b, 0.0f};  // the three channels at once
+            for (int x = run.begin; x < run.end; ++x) {
+                const Float4 c = a4 + d4 * fx[std::size_t(x)];
+                std::memcpy(&out[x], &c, sizeof c);
+            }
         }
     }
 }
@@ -286,6 +298,24 @@ float smoothFall(Real d, Real width) {  // 1 at d <= 0, 0 at d >= width
     if (d <= Real(0)) return 1.0f;
     const Real t = Real(1) - d / width;
     return float(t * t * (Real(3) - Real(2) * t));
+}
+
+// c = c (1 - a) + src a, the four channels at once.
+inline void blend(Rgbm& c, const Rgbm& src, float a) {
+    static_assert(sizeof(Rgbm) == sizeof(Float4));
+    Float4 dst, s;
+    std::memcpy(&dst, &c, sizeof dst);
+    std::memcpy(&s, &src, sizeof s);
+    dst = dst * (1.0f - a) + s * a;
+    std::memcpy(&c, &dst, sizeof dst);
+}
+
+// smoothFall(d, width) of four distances.
+Float4 smoothFall4(Float4 d, float width) {
+    if (width <= 0.0f) return splat(0.0f);
+    const Float4 t = 1.0f - d / width;
+    const Float4 f = t * t * (3.0f - 2.0f * t);
+    return width <= d ? splat(0.0f) : d <= 0.0f ? splat(1.0f) : f;
 }
 
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
@@ -457,10 +487,23 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                 const std::size_t row = std::size_t(y) * std::size_t(side);
                 // Squared distances to the real border along the row (infinite: none near), four
                 // pixels at a time.
+                std::uint8_t* const f = flags + row;
+                int insideCount = 0;
+                for (int x = bx; x < ex; ++x) insideCount += (f[x] & kInside) != 0;
+                Rgbm* const c = colour + row;
+                if (insideCount == ex - bx && !insideNeedsDistance) {  // the whole row at coverage 1, no strip
+                    if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
+                    std::memcpy(c + bx, blockColour + (y - by) * kBlock, sizeof(Rgbm) * std::size_t(ex - bx));
+                    std::memset(f + bx, 0, std::size_t(ex - bx));
+                    continue;
+                }
+                if (insideCount == 0 && local.empty()) continue;  // nothing here (and no flag to clear)
+                // Only rows with a pixel that needs them: outside pixels, or any near the border.
+                const bool distances = !local.empty() && (insideNeedsDistance || insideCount < ex - bx);
                 Float4 d2[kBlock / 4];
                 for (Float4& v : d2) v = splat(kInf);
                 const float qy = float(double(y - by) * px);
-                for (const LocalSegment& l : local) {
+                for (const LocalSegment& l : distances ? local : std::span<const LocalSegment>{}) {
                     const Float4 dx = splat(l.dx), dy = splat(l.dy);
                     const float ry = qy - l.y0;
                     for (int v = 0; v < kBlock / 4; ++v) {
@@ -470,20 +513,28 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                         d2[v] = min4(d2[v], exv * exv + eyv * eyv);
                     }
                 }
-                std::uint8_t* const f = flags + row;
-                Rgbm* const c = colour + row;
+                // From them, four pixels at a time: the coverage of a pixel inside (edgeCoverage of
+                // d) and outside (of -d), and the border strip's fall-off outside (smoothFall).
+                Float4 coverIn[kBlock / 4], coverOut[kBlock / 4], fall[kBlock / 4];
+                if (distances)
+                    for (int v = 0; v < kBlock / 4; ++v) {
+                        const Float4 d = sqrt4(d2[v]), zero = splat(0.0f), one = splat(1.0f);
+                        coverIn[v] = clamp4(d / pxf + 0.5f, zero, one);
+                        coverOut[v] = clamp4(-d / pxf + 0.5f, zero, one);
+                        fall[v] = smoothFall4(d, wff);
+                    }
                 const Rgbm* const surface = blockColour + (y - by) * kBlock - bx;
                 for (int x = bx; x < ex; ++x) {
                     const bool inside = (f[x] & kInside) != 0;
                     f[x] = 0;
                     if (inside ? insideNeedsDistance : !local.empty()) {
-                        const float d = std::sqrt(d2[(x - bx) / 4][(x - bx) % 4]);
-                        const float cov = edgeCoverage(inside ? d / pxf : -d / pxf);
-                        const float stripAlpha = (1.0f - cov) * (inside ? 1.0f : smoothFall(d, wff));
-                        if (stripAlpha > 0.0f) c[x] = c[x] * (1.0f - stripAlpha) + strip * stripAlpha;
+                        const int v = (x - bx) / 4, lane = (x - bx) % 4;
+                        const float cov = inside ? coverIn[v][lane] : coverOut[v][lane];
+                        const float stripAlpha = (1.0f - cov) * (inside ? 1.0f : fall[v][lane]);
+                        if (stripAlpha > 0.0f) blend(c[x], strip, stripAlpha);
                         if (cov <= 0.0f) continue;
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
-                        c[x] = c[x] * (1.0f - cov) + surface[x] * cov;
+                        blend(c[x], surface[x], cov);
                     } else if (inside) {  // coverage 1, no strip
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
                         c[x] = surface[x];
@@ -696,6 +747,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         }
         i = last;
     }
+    canvas.scratch().clean = true;
     resolve(canvas, canvas.scratch(), t, t.rgbm);
     if (counters) {
         std::size_t water = 0;
@@ -712,6 +764,7 @@ std::vector<std::uint8_t> tileTexels(const AppearanceTile& tile) {
     SurfaceShader shader(tile.shade, tile.delta);
     shader.prepare(canvas.box());
     shadeWhole(canvas, shader);
+    canvas.scratch().clean = true;  // shadeWhole sets neither dist nor flags
     std::vector<std::uint8_t> out;
     resolve(canvas, canvas.scratch(), tile, out);
     return out;

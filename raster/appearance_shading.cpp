@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 
 #include <glm/geometric.hpp>
+
+#include "raster/float4.h"
 
 namespace lacet {
 namespace {
@@ -140,10 +143,16 @@ void SurfaceShader::block(Vec2 start, int nx, int ny, Rgbm* out, std::size_t str
     // block's first point down the column (j), then along each row (i).
     const double phase = start.x * direction_.x + start.y * direction_.y;
     const double c0 = fastCos(phase), s0 = fastCos(phase - 0.5 * std::numbers::pi);
+    const Float4 base{base_.r, base_.g, base_.b, 0.0f};
     for (int j = 0; j < ny; ++j) {
         const double c = c0 * cosY_[j] - s0 * sinY_[j], s = s0 * cosY_[j] + c0 * sinY_[j];
+        float factor[kMaxBlock];
+        for (int i = 0; i < nx; ++i) factor[i] = float(1.0 + weight_[0] * (c * cosX_[i] - s * sinX_[i]));
         Rgbm* row = out + std::size_t(j) * stride;
-        for (int i = 0; i < nx; ++i) row[i] = Rgbm(base_ * float(1.0 + weight_[0] * (c * cosX_[i] - s * sinX_[i])), 0.0f);
+        for (int i = 0; i < nx; ++i) {  // base_ * factor, the three channels at once
+            const Float4 v = base * factor[i];
+            std::memcpy(&row[i], &v, sizeof v);
+        }
     }
 }
 

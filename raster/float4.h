@@ -4,6 +4,8 @@
 // lane, in the same order, so a result equals the scalar code's bit for bit (no fused
 // multiply-add is contracted on x86-64's baseline).
 
+#include <cmath>
+
 namespace lacet {
 
 using Float4 = float __attribute__((vector_size(16)));
@@ -14,6 +16,15 @@ inline Float4 min4(Float4 a, Float4 b) { return b < a ? b : a; }
 inline Float4 clamp4(Float4 v, Float4 lo, Float4 hi) {
     const Float4 low = v < lo ? lo : v;
     return hi < v ? hi : low;
+}
+
+// std::sqrt, lane by lane (correctly rounded, as the scalar one).
+inline Float4 sqrt4(Float4 v) {
+#if defined(__SSE__)
+    return __builtin_ia32_sqrtps(v);
+#else
+    return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
+#endif
 }
 
 }  // namespace lacet
