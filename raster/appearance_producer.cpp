@@ -50,6 +50,16 @@ struct Scratch {
     }
 };
 
+// c = c (1 - a) + src a, the four channels at once.
+inline void blend(Rgbm& c, const Rgbm& src, float a) {
+    static_assert(sizeof(Rgbm) == sizeof(Float4));
+    Float4 dst, s;
+    std::memcpy(&dst, &c, sizeof dst);
+    std::memcpy(&s, &src, sizeof s);
+    dst = dst * (1.0f - a) + s * a;
+    std::memcpy(&c, &dst, sizeof dst);
+}
+
 class Canvas {
 public:
     Canvas(const AppearanceTile& t, Scratch& s)
@@ -100,9 +110,7 @@ public:
         s_.touched.clear();
     }
     void over(std::size_t k, glm::vec3 rgb, float mask, float alpha) {
-        if (alpha <= 0.0f) return;
-        Rgbm& c = s_.colour[k];
-        c = c * (1.0f - alpha) + Rgbm(rgb, mask) * alpha;
+        if (alpha > 0.0f) blend(s_.colour[k], Rgbm(rgb, mask), alpha);
     }
 
 private:
@@ -298,16 +306,6 @@ float smoothFall(Real d, Real width) {  // 1 at d <= 0, 0 at d >= width
     if (d <= Real(0)) return 1.0f;
     const Real t = Real(1) - d / width;
     return float(t * t * (Real(3) - Real(2) * t));
-}
-
-// c = c (1 - a) + src a, the four channels at once.
-inline void blend(Rgbm& c, const Rgbm& src, float a) {
-    static_assert(sizeof(Rgbm) == sizeof(Float4));
-    Float4 dst, s;
-    std::memcpy(&dst, &c, sizeof dst);
-    std::memcpy(&s, &src, sizeof s);
-    dst = dst * (1.0f - a) + s * a;
-    std::memcpy(&c, &dst, sizeof dst);
 }
 
 // smoothFall(d, width) of four distances.
