@@ -1,0 +1,127 @@
+#include "raster/appearance_curves.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace lacet::appearance {
+namespace {
+
+// Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
+// and u of the nearest segment, for the pixels within `reach` metres (and a pixel) of the
+// polyline, and lists them as touched. Block by block (kBlock pixels), only the candidate
+// segments (candidatesNear) are measured: wide roads seen from close would otherwise compute
+// every segment of their margin at every texel. Among segments at the same distance the first
+// one wins.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
+    Scratch& s = canvas.scratch();
+    const double px = canvas.pixelSize();
+    const double within = reach + px;
+    Vec2 lo(kInf), hi(-kInf);  // of the finite segments (a non-finite one is nobody's candidate)
+    for (const Segment& sg : segments)
+        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    if (!finite(lo)) return;  // no finite segment
+    const int side = canvas.side();
+    const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
+    std::vector<const Segment*> candidates;
+    for (int by = y0; by < y1; by += kBlock)
+        for (int bx = x0; bx < x1; bx += kBlock) {
+            const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
+            if (candidatesNear(segments, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, within, candidates) > within) continue;
+            for (int y = by; y < ey; ++y)
+                for (int x = bx; x < ex; ++x) {
+                    const Vec2 q = canvas.world(x, y);
+                    float best = kInf;
+                    const Segment* nearest = nullptr;
+                    double bestT = 0.0;
+                    Vec2 bestR(0.0);
+                    for (const Segment* sg : candidates) {
+                        const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
+                        const double len2 = glm::dot(seg, seg);
+                        const double t = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+                        const float d = float(glm::length(r - seg * t));
+                        if (d < best) best = d, nearest = sg, bestT = t, bestR = r;
+                    }
+                    if (!nearest || double(best) > within) continue;
+                    const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
+                    const Vec2 seg = nearest->p1 - nearest->p0;
+                    s.dist[k] = best;
+                    s.v[k] = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
+                    s.u[k] = float(nearest->u0 + (nearest->u1 - nearest->u0) * bestT);
+                    const bool cap = (bestT == 0.0 && nearest->startCap) || (bestT == 1.0 && nearest->endCap);
+                    s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
+                    canvas.touch(k);
+                }
+        }
+}
+
+}  // namespace
+
+void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w), hwf = std::max(hw, 0.5 * double(c.wf));
+    distanceField(canvas, segments, hwf);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    for (std::uint32_t k : s.touched) {
+        const float d = s.dist[k];
+        const float cov = bandCoverage(d / px, float(hw) / px);
+        canvas.over(k, riverBankColour(), 0.0f, (1.0f - cov) * smoothFall(double(d) - hw, hwf - hw));
+    }
+    canvas.clearTouched();
+}
+
+void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    const glm::vec3 water = glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0));
+    for (std::uint32_t k : s.touched) canvas.over(k, water, 1.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
+    canvas.clearTouched();
+}
+
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    const glm::vec3 asphalt = roadColour(c.cls);
+    for (std::uint32_t k : s.touched) canvas.over(k, asphalt, 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
+    canvas.clearTouched();
+}
+
+void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
+    const MarkingGeometry g;
+    const double hw = 0.5 * double(c.w);
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const double px = canvas.pixelSize();
+    const float halfLine = float(0.5 * g.lineWidth / px);
+    const float sideAxis = float((hw - g.sideInset - 0.5 * g.lineWidth) / px);
+    const double laneHalf = 0.5 * (hw - g.sideInset);
+    for (std::uint32_t k : s.touched) {
+        const double d = s.dist[k], v = s.v[k], u = s.u[k];
+        if (d > hw || (s.flags[k] & kCap)) continue;  // no side line around the round end caps
+        // Side lines and the dashed centre line, stopping at junctions.
+        float m = bandCoverage(float(d / px) - sideAxis, halfLine);  // d = |v|: both sides at once
+        double phase = u - g.dashPeriod * std::floor(u / g.dashPeriod);  // [0, period)
+        const double dashCentre = 0.5 * g.dashLength;
+        const double along = std::min(std::abs(phase - dashCentre), std::abs(phase - dashCentre - g.dashPeriod));
+        m = std::max(m, bandCoverage(float(v / px), halfLine) * bandCoverage(float(along / px), float(dashCentre / px)));
+        if (ends.startRadius > 0.0) m *= edgeCoverage(float((u - ends.startRadius) / px));
+        if (ends.endRadius > 0.0) m *= edgeCoverage(float((ends.length - ends.endRadius - u) / px));
+        // Stop lines across the lane that enters the junction (traffic on the right).
+        const auto stopLine = [&](double fromNode, double radius, double laneSide) {
+            const double centre = radius + g.stopLineGap + 0.5 * g.stopLineWidth;
+            return bandCoverage(float((fromNode - centre) / px), float(0.5 * g.stopLineWidth / px)) *
+                   bandCoverage(float((laneSide * v - laneHalf) / px), float(laneHalf / px));
+        };
+        if (ends.startStop) m = std::max(m, stopLine(u, ends.startRadius, 1.0));
+        if (ends.endStop) m = std::max(m, stopLine(ends.length - u, ends.endRadius, -1.0));
+        canvas.over(k, markingColour(), 0.0f, m);
+    }
+    canvas.clearTouched();
+}
+
+}  // namespace lacet::appearance

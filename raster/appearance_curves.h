@@ -1,0 +1,30 @@
+#pragma once
+// Internal to the appearance producer: roads (surface, markings) and rivers (banks, water),
+// drawn from the distance to their polylines (§5.1).
+
+#include <vector>
+
+#include "model/graph.h"
+#include "raster/appearance_segments.h"
+
+namespace lacet::appearance {
+
+// Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
+// rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
+void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
+void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
+
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
+
+// What a road's markings need to know about its ends, from the ancestor graph.
+struct RoadEnds {
+    double length = 0.0;
+    double startRadius = 0.0, endRadius = 0.0;  // junction radius, 0 if not a junction
+    bool startStop = false, endStop = false;
+};
+
+// Side lines, the dashed centre line and stop lines, from the curvilinear coordinate u of the
+// segments (segmentsOf with curve data).
+void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);
+
+}  // namespace lacet::appearance

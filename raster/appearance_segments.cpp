@@ -1,0 +1,77 @@
+#include "raster/appearance_segments.h"
+
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+namespace lacet::appearance {
+namespace {
+
+// Lower bound of the distance from any point of `box` to the segment: the distance from the
+// segment's bounding box to `box`.
+double lowerBound(const Segment& sg, const Box& box) {
+    const Vec2 lo = glm::min(sg.p0, sg.p1), hi = glm::max(sg.p0, sg.p1);
+    const Vec2 gap = glm::max(glm::max(box.min - hi, lo - box.max), Vec2(0.0));
+    return glm::length(gap);
+}
+
+}  // namespace
+
+std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a) {
+    std::vector<Segment> out;
+    for (const ClippedCurve& run : pieces) {
+        Vec2 prev{};
+        double prevU = 0.0;
+        std::size_t k = 0;
+        const std::size_t first = out.size();
+        for (const Vertex& vx : run.vertices) {
+            if (!vx.onCurve) continue;
+            const double u = data ? data->u(l, a, run.s[k]) : 0.0;
+            if (k > 0) out.push_back({prev, vx.p, prevU, u});
+            prev = vx.p;
+            prevU = u;
+            ++k;
+        }
+        if (out.size() > first) {
+            out[first].startCap = run.startsAtNode;
+            out.back().endCap = run.endsAtNode;
+        }
+    }
+    return out;
+}
+
+double segmentDistance(const Segment& sg, Vec2 q) {
+    const Vec2 seg = sg.p1 - sg.p0;
+    const double len2 = glm::dot(seg, seg);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(q - sg.p0, seg) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(q - (sg.p0 + seg * t));
+}
+
+double candidatesNear(const std::vector<Segment>& segments, const Box& box, double reach,
+                      std::vector<const Segment*>& out) {
+    out.clear();
+    for (const Segment& sg : segments)
+        if (lowerBound(sg, box) <= reach) out.push_back(&sg);
+    if (out.empty()) return kInf;
+    // The least upper bound among those in reach bounds the nearest distance at every point of
+    // the box (if that is within reach at all).
+    const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
+    double upper = kInf;
+    for (const Segment* sg : out) {
+        double farthest = 0.0;
+        for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(*sg, c));
+        upper = std::min(upper, farthest);
+    }
+    double nearest = kInf;
+    std::size_t kept = 0;
+    for (const Segment* sg : out) {
+        const double lower = lowerBound(*sg, box);
+        if (lower > upper) continue;
+        out[kept++] = sg;
+        nearest = std::min(nearest, lower);
+    }
+    out.resize(kept);
+    return nearest;
+}
+
+}  // namespace lacet::appearance
