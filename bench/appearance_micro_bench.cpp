@@ -2,6 +2,8 @@
 // remakes (bench edit), timed alone. A viewer 10 m above a field corner of a synthetic scene
 // refines the quadtree (K = 2.8); the leaves within 25 m of the corner that hold a piece of a
 // field without covering the quad are produced, one thread. items_per_second is tiles per second.
+#include <algorithm>
+
 #include <benchmark/benchmark.h>
 
 #include <glm/geometric.hpp>

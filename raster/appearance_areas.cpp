@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <span>
 
 #include <glm/geometric.hpp>
 
+#include "raster/appearance_segments.h"
 #include "raster/area_triangulation.h"
 
 namespace lacet::appearance {
@@ -42,22 +44,26 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
         }
         loops.push_back(std::move(pts));
     }
-    // The canvas pixels the piece can change: the bounding box of its finite points (the
+    std::vector<Triangle> triangles;
+    triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
+    if (counters) counters->triangles += triangles.size();
+    // The canvas pixels the piece can change: the bounding box of its finite points and of its
+    // triangles' vertices (the triangulation may add the intersections of crossing borders; the
     // rasterizer drops a triangle with a non-finite vertex, and no such segment is a candidate),
-    // dilated by the border strip and a few pixels. Every pixel it flags below lies in there, and
-    // is cleared there.
+    // dilated by the border strip and a few pixels. Every pixel flagged below lies in there, and
+    // is cleared there, so the canvas's flags are left clean for the next piece and tile.
     Vec2 reachMin(kInf), reachMax(-kInf);
+    const auto reach = [&](Vec2 p) {
+        if (finite(p)) reachMin = glm::min(reachMin, p), reachMax = glm::max(reachMax, p);
+    };
     for (const auto& pts : loops)
-        for (const Vec2& p : pts)
-            if (finite(p)) reachMin = glm::min(reachMin, p), reachMax = glm::max(reachMax, p);
+        for (const Vec2& p : pts) reach(p);
+    for (const Triangle& tri : triangles)
+        for (const Vec2& p : tri) reach(p);
     if (!finite(reachMin)) return;  // nothing to draw
     const double px = canvas.pixelSize();
     const int side = canvas.side();
     const auto [x0, y0, x1, y1] = canvas.around(reachMin, reachMax, (wf + px) / px + 3.0);
-
-    std::vector<Triangle> triangles;
-    triangulateArea(loops, (t.bounds.min + t.bounds.max) * 0.5, triangles);
-    if (counters) counters->triangles += triangles.size();
     std::uint8_t* const flags = s.flags.data();
     Rgbm* const colour = s.colour.data();
     for (const Triangle& tri : triangles) canvas.triangle(tri, [flags](std::size_t k, int, int) { flags[k] |= kInside; });
@@ -69,6 +75,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     const double reachDistance = wf + px;
     const Rgbm strip(borderStripColour(shade.surface), 0.0f);
     const float wff = float(wf);
+    const float insideFall = wf > 0.0 ? 1.0f : 0.0f;  // smoothFall(0, wf): no strip without a width
     struct LocalSegment {
         float x0, y0, dx, dy, invLen2;
     };
@@ -98,8 +105,6 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
             bool shaded = false;  // the surface's colours over the block, made once when needed
             for (int y = by; y < ey; ++y) {
                 const std::size_t row = std::size_t(y) * std::size_t(side);
-                // Squared distances to the real border along the row (infinite: none near), four
-                // pixels at a time.
                 std::uint8_t* const f = flags + row;
                 int insideCount = 0;
                 for (int x = bx; x < ex; ++x) insideCount += (f[x] & kInside) != 0;
@@ -113,6 +118,8 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                 if (insideCount == 0 && local.empty()) continue;  // nothing here (and no flag to clear)
                 // Only rows with a pixel that needs them: outside pixels, or any near the border.
                 const bool distances = !local.empty() && (insideNeedsDistance || insideCount < ex - bx);
+                // Squared distances to the real border along the row (infinite: none near), four
+                // pixels at a time.
                 Float4 d2[kBlock / 4];
                 for (Float4& v : d2) v = splat(kInf);
                 const float qy = float(double(y - by) * px);
@@ -128,7 +135,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                 }
                 // From them, four pixels at a time: the coverage of a pixel inside (edgeCoverage of
                 // d) and outside (of -d), and the border strip's fall-off outside (smoothFall).
-                Float4 coverIn[kBlock / 4], coverOut[kBlock / 4], fall[kBlock / 4];
+                Float4 coverIn[kBlock / 4] = {}, coverOut[kBlock / 4] = {}, fall[kBlock / 4] = {};
                 if (distances)
                     for (int v = 0; v < kBlock / 4; ++v) {
                         const Float4 d = sqrt4(d2[v]), zero = splat(0.0f), one = splat(1.0f);
@@ -136,21 +143,21 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                         coverOut[v] = clamp4(-d / pxf + 0.5f, zero, one);
                         fall[v] = smoothFall4(d, wff);
                     }
-                const Rgbm* const surface = blockColour + (y - by) * kBlock - bx;
+                const Rgbm* const surface = blockColour + (y - by) * kBlock;  // from pixel bx
                 for (int x = bx; x < ex; ++x) {
                     const bool inside = (f[x] & kInside) != 0;
                     f[x] = 0;
                     if (inside ? insideNeedsDistance : !local.empty()) {
                         const int v = (x - bx) / 4, lane = (x - bx) % 4;
                         const float cov = inside ? coverIn[v][lane] : coverOut[v][lane];
-                        const float stripAlpha = (1.0f - cov) * (inside ? 1.0f : fall[v][lane]);
+                        const float stripAlpha = (1.0f - cov) * (inside ? insideFall : fall[v][lane]);
                         if (stripAlpha > 0.0f) blend(c[x], strip, stripAlpha);
                         if (cov <= 0.0f) continue;
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
-                        blend(c[x], surface[x], cov);
+                        blend(c[x], surface[x - bx], cov);
                     } else if (inside) {  // coverage 1, no strip
                         if (!shaded) shader.block(origin, ex - bx, ey - by, blockColour, kBlock), shaded = true;
-                        c[x] = surface[x];
+                        c[x] = surface[x - bx];
                     }
                 }
             }

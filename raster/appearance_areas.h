@@ -2,8 +2,9 @@
 // Internal to the appearance producer: areas (lakes, fields, forests; §5.1), their surface
 // inside and the border strip of width wf outside.
 
+#include "raster/appearance_canvas.h"
 #include "raster/appearance_producer.h"
-#include "raster/appearance_segments.h"
+#include "raster/appearance_shading.h"
 
 namespace lacet::appearance {
 

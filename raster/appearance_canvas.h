@@ -2,6 +2,7 @@
 // Internal to the appearance producer (raster/appearance_producer.cpp): the canvas a tile is
 // drawn on (supersampled, border included), its per-thread buffers, and the resolve to texels.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "model/graph.h"
+#include "raster/appearance_canvas.h"
 #include "raster/appearance_segments.h"
 
 namespace lacet::appearance {

@@ -1,6 +1,7 @@
 #include "raster/appearance_ground.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 

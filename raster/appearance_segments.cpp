@@ -1,11 +1,14 @@
 #include "raster/appearance_segments.h"
 
 #include <algorithm>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
 namespace lacet::appearance {
 namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Lower bound of the distance from any point of `box` to the segment: the distance from the
 // segment's bounding box to `box`.

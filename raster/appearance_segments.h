@@ -4,8 +4,9 @@
 
 #include <vector>
 
+#include "model/clip_and_refine.h"
 #include "model/curve_data.h"
-#include "raster/appearance_canvas.h"
+#include "raster/float4.h"
 
 namespace lacet::appearance {
 

@@ -45,7 +45,7 @@ public:
     void prepare(const Box& box);
     Rgbm at(Vec2 p) const;  // inline below: it runs at every texel an area covers
     // Blocks, after prepareBlocks(step): at() of the points start + (i step, j step), i < nx,
-    // j < ny (nx, ny <= kMaxBlock), into out[j * stride + i], up to rounding (1e-7 of a
+    // j < ny (nx, ny <= kMaxBlock), into out[j * stride + i], up to rounding (about 1e-7 of a
     // channel). Fields step the furrows' phase along rows and columns by angle addition, with
     // tables made once by prepareBlocks: two cosines per block instead of one per point. Other
     // surfaces call at().
@@ -73,12 +73,13 @@ Rgbm surfaceColour(const SurfaceShade& shade, Vec2 p, double texel);
 // to 4000 km from the origin): reduced to [-pi, pi] in double, then 2 cos^2(x/2) - 1 with
 // cos(x/2), |x/2| <= pi/2, from its Taylor series to x^12. Several times cheaper than libm's cos,
 // which the field pattern calls at every texel. The reduction rounds through an integer, not
-// nearbyint (a libm call on x86-64's baseline); beyond 2^52 turns the quotient is an integer
-// already, and a NaN stays one.
+// nearbyint (a libm call on x86-64's baseline); beyond 2^52 turns, and for infinities and NaN,
+// it is libm's cos.
 inline double fastCos(double x) {
     constexpr double kTwoPi = 2.0 * std::numbers::pi;
     const double q = x * (1.0 / kTwoPi);
-    const double turns = std::abs(q) < 0x1p52 ? double(std::int64_t(q + (q < 0.0 ? -0.5 : 0.5))) : q;
+    if (!(std::abs(q) < 0x1p52)) return std::cos(x);  // huge or not finite: out of the series' range
+    const double turns = double(std::int64_t(q + (q < 0.0 ? -0.5 : 0.5)));
     const double h = 0.5 * (x - kTwoPi * turns);
     const double h2 = h * h;
     const double c = 1.0 + h2 * (-1.0 / 2 + h2 * (1.0 / 24 + h2 * (-1.0 / 720 + h2 * (1.0 / 40320 +

@@ -6,6 +6,10 @@
 
 #include <cmath>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 namespace lacet {
 
 using Float4 = float __attribute__((vector_size(16)));
@@ -21,7 +25,7 @@ inline Float4 clamp4(Float4 v, Float4 lo, Float4 hi) {
 // std::sqrt, lane by lane (correctly rounded, as the scalar one).
 inline Float4 sqrt4(Float4 v) {
 #if defined(__SSE__)
-    return __builtin_ia32_sqrtps(v);
+    return _mm_sqrt_ps(v);
 #else
     return Float4{std::sqrt(v[0]), std::sqrt(v[1]), std::sqrt(v[2]), std::sqrt(v[3])};
 #endif

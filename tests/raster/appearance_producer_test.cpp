@@ -15,6 +15,7 @@
 
 #include "model/random_edits.h"
 #include "model/synthetic_scene.h"
+#include "raster/appearance_canvas.h"
 #include "raster/appearance_shading.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
@@ -357,10 +358,48 @@ TEST(AppearanceProducer, ATileDoesNotDependOnTheTilesMadeBeforeItOnItsThread) {
     for (const Quad* q : quads) forward.push_back(produceAppearance(*q, qt, data, w.dem, {}, &counters));
     for (std::size_t i = quads.size(); i-- > 0;) backward[i] = produceAppearance(*quads[i], qt, data, w.dem, {});
     for (std::size_t i = 0; i < quads.size(); ++i) EXPECT_TRUE(forward[i] == backward[i]) << "quad " << i;
+    // And directly: the thread's canvas is left clean.
+    const appearance::Scratch& scratch = appearance::threadScratch();
+    EXPECT_TRUE(scratch.clean);
+    EXPECT_EQ(std::count(scratch.flags.begin(), scratch.flags.end(), 0), std::ptrdiff_t(scratch.flags.size()));
+    EXPECT_EQ(std::count(scratch.dist.begin(), scratch.dist.end(), appearance::kInf), std::ptrdiff_t(scratch.dist.size()));
     // The scene has every kind of pass.
     EXPECT_GT(counters.areaPieces, 0u);
     EXPECT_GT(counters.curvesDrawn, 0u);
     EXPECT_GT(counters.curvesWithMarkings, 0u);
+}
+
+TEST(AppearanceProducer, AnAreaWithoutAStripBlendsOnlyItsSurfaceOverTheGround) {
+    // A lake with wf = 0: every texel is the ground and the water mixed by the water's coverage
+    // (the mask channel), nothing of the border strip's colour, inside the border or out.
+    test::SceneBuilder lake(64.0);
+    lake.area(kLakesLayer, {lake.circle(kLakesLayer, {32.0, 32.0}, 20.0)}, 0.0f);
+    const Scene bare = test::SceneBuilder(64.0).scene();
+    const Dem dem = test::gentleSlope(bare.extent);
+    DemHeightField heights(dem);
+    auto texels = [&](const Scene& scene) {
+        Quadtree qt(scene, RefineParams{.resolution = 128});
+        qt.subdivide(qt.root());
+        CurveDataCache data(qt, heights);
+        std::vector<std::vector<std::uint8_t>> out;
+        for (const auto& child : qt.root().children) out.push_back(tileTexels(produceAppearance(*child, qt, data, dem, {})));
+        return out;
+    };
+    const auto withLake = texels(lake.scene()), ground = texels(bare);
+    const Rgbm water = surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0);
+    std::size_t border = 0;
+    double worst = 0.0;
+    for (std::size_t k = 0; k < 4; ++k)
+        for (std::size_t i = 0; i < withLake[k].size(); i += 4) {
+            const double m = withLake[k][i + 3] / 255.0;
+            border += m > 0.0 && m < 1.0;
+            for (std::size_t c = 0; c < 3; ++c) {
+                const double expected = ground[k][i + c] * (1.0 - m) + 255.0 * water[int(c)] * m;
+                worst = std::max(worst, std::abs(withLake[k][i + c] - expected));
+            }
+        }
+    EXPECT_GT(border, 200u);  // the circle's border, about a texel wide
+    EXPECT_LT(worst, 1.6) << "levels of 255";
 }
 
 TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
