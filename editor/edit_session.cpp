@@ -1,5 +1,7 @@
 #include "editor/edit_session.h"
 
+#include "editor/cache_fit.h"
+
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -36,11 +38,7 @@ std::size_t elementsOf(const Quad& q) {
     return n;
 }
 
-double viewDistance(const Quad& q, glm::dvec3 viewer) {
-    const Vec2 p(viewer.x, viewer.y);
-    const Vec2 d = glm::max(glm::max(q.bounds.min - p, p - q.bounds.max), Vec2(0.0));
-    return std::sqrt(glm::dot(d, d) + viewer.z * viewer.z);
-}
+double viewDistance(const Quad& q, glm::dvec3 viewer) { return Quadtree::viewDistance(q, viewer); }
 
 }  // namespace
 
@@ -237,7 +235,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     r.refineMs = msSince(t0);
     if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
-    std::vector<const Quad*> needed, ahead;
+    std::vector<const Quad*> viewLeaves, ahead, madeAhead;
     auto isViewLeaf = [&](const Quad& q) {
         // With a predicted viewer the tree is refined for both: a quad is a leaf of the current
         // view when the current viewer alone would not subdivide it.
@@ -252,25 +250,48 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
             r.culled += viewLeaf;
             return;
         }
-        const auto it = cache_.find(keyOf(q));
         if (viewLeaf) {
-            ++r.viewQuads;
-            if (it != cache_.end()) it->second.lastUsed = clock_;
-            // The ancestors' tiles stay too: they are what a renderer shows while a leaf is made.
-            // A tile already marked this frame was reached from a sibling: so were those above it.
-            for (const Quad* a = q.parent; a; a = a->parent) {
-                const auto at = cache_.find(keyOf(*a));
-                if (at == cache_.end()) continue;
-                if (at->second.lastUsed == clock_) break;
-                at->second.lastUsed = clock_;
-            }
+            viewLeaves.push_back(&q);
+            return;
         }
-        if (it == cache_.end() || it->second.dirty) (viewLeaf ? needed : ahead).push_back(&q);
-        else if (!viewLeaf) it->second.lastUsed = clock_;  // made ahead: kept until the view gets there
+        const auto it = cache_.find(keyOf(q));
+        (it == cache_.end() || it->second.dirty ? ahead : madeAhead).push_back(&q);
     });
+    r.viewQuads = viewLeaves.size();
+    // The quads shown: the view's leaves, or, when they and their ancestors are more tiles than
+    // the cache holds, the farthest ancestors in place of their children (editor/cache_fit.h).
+    const CacheFit fit = fitToCache(viewLeaves, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
+    r.shown = fit.shown.size();
+    r.replaced = fit.replaced.size();
+    std::vector<const Quad*> needed;
+    for (const Quad* q : fit.shown) {
+        const auto it = cache_.find(keyOf(*q));
+        if (it != cache_.end()) it->second.lastUsed = clock_;
+        // The ancestors' tiles stay too: they are what a renderer shows while a quad is made. A
+        // tile already marked this frame was reached from a sibling: so were those above it.
+        for (const Quad* a = q->parent; a; a = a->parent) {
+            const auto at = cache_.find(keyOf(*a));
+            if (at == cache_.end()) continue;
+            if (at->second.lastUsed == clock_) break;
+            at->second.lastUsed = clock_;
+        }
+        if (it == cache_.end() || it->second.dirty) needed.push_back(q);
+    }
+    // A replaced leaf's own tile is drawn while it lasts; once dirty it would show what an edit
+    // changed, so it goes (its ancestor's tile is remade instead).
+    for (const Quad* q : fit.replaced)
+        if (const auto it = cache_.find(keyOf(*q)); it != cache_.end() && it->second.dirty) cache_.erase(it);
     auto byDistance = [](glm::dvec3 v) {
         return [v](const Quad* a, const Quad* b) { return viewDistance(*a, v) < viewDistance(*b, v); };
     };
+    // Tiles made ahead are kept until the view gets there, nearest to the predicted viewer first,
+    // in the room the view leaves (its tiles, made this frame or not, and their ancestors').
+    if (predicted) {
+        std::size_t kept = fit.kept;
+        std::stable_sort(madeAhead.begin(), madeAhead.end(), byDistance(*predicted));
+        for (std::size_t i = 0; i < madeAhead.size() && kept < params_.cacheTiles; ++i, ++kept)
+            cache_.at(keyOf(*madeAhead[i])).lastUsed = clock_;
+    }
     std::stable_sort(needed.begin(), needed.end(), byDistance(viewer));
     t0 = Clock::now();
     r.produced = produce(needed, budgetMs, t0);
@@ -300,6 +321,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         for (std::size_t i = 0; i < old.size() && cache_.size() > params_.cacheTiles; ++i) cache_.erase(old[i].second);
     }
     r.cached = cache_.size();
+    for (const auto& [key, t] : cache_) r.kept += t.lastUsed == clock_;
     return r;
 }
 

@@ -7,9 +7,11 @@
 // budget is spent.
 //
 // Tiles: one appearance and one elevation tile per quad, cached by (level, x, y) with an LRU
-// bound (`cacheTiles`, the paper's 784 elevation tiles by default); tiles of the current view, of
+// bound (`cacheTiles`); tiles of the current view, of
 // their ancestors (shown while a leaf is made) and those made ahead for a predicted viewer that
-// still wants them are never evicted. A tile is dirty when its
+// still wants them are not evicted. When the view's leaves and their ancestors are more than the
+// cache holds, the farthest quads are shown instead of their children (editor/cache_fit.h, as in
+// §9.1), so the cache never exceeds its bound. A tile is dirty when its
 // quad's graph changed, or when it used a z-profile that an edit dropped (a river downstream of
 // the edit).
 //
@@ -45,7 +47,12 @@ struct SessionParams {
     RefineParams refine;
     double K = 2.8;            // subdivide quads closer to the viewer than K times their size (§8)
     int maxLevel = 24;
-    std::size_t cacheTiles = 784;
+    // Tile pairs (appearance + elevation) the cache holds: the quads shown and their ancestors'
+    // (editor/cache_fit.h). The paper's caches held 784 elevation and 500 appearance textures for
+    // views that needed up to 708 and 482; on its flight our views need up to about 1,120 pairs
+    // (frustum of 1280 x 800 at 52 degrees), which 1,200 holds; `lacet bench flyover` also flies
+    // with 784, where the farthest quads stand in for their children.
+    std::size_t cacheTiles = 1200;
     // Time a frame may spend subdividing (ms; 0: unlimited): past it, subdivisions wait for the
     // next frames, nearest first, and the leaves stay coarser meanwhile.
     double refineBudgetMs = 0.0;
@@ -76,6 +83,9 @@ struct FrameReport {
     std::size_t cached = 0;
     std::size_t culled = 0;          // leaves outside the view (not produced)
     std::size_t prefetched = 0;      // tiles made for the predicted viewer
+    std::size_t replaced = 0;        // view leaves shown with an ancestor's tile: the cache holds no more (§9.1)
+    std::size_t shown = 0;           // quads shown: the view leaves, or ancestors in place of some
+    std::size_t kept = 0;            // cached tiles the LRU may not evict: shown, their ancestors, made ahead
     bool refineDeferred = false;     // the refine budget left subdivisions for later frames
     double refineMs = 0.0, produceMs = 0.0;
 };

@@ -206,11 +206,14 @@ void Quadtree::merge(Quad& q) {
     for (auto& c : q.children) c.reset();
 }
 
-bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
+double Quadtree::viewDistance(const Quad& q, glm::dvec3 viewer) {
     const Vec2 v(viewer.x, viewer.y);
     const Vec2 d = glm::max(glm::max(q.bounds.min - v, v - q.bounds.max), Vec2(0.0));
-    const double distance = std::sqrt(d.x * d.x + d.y * d.y + viewer.z * viewer.z);
-    return q.level < maxLevel && distance < K * q.bounds.size().x;
+    return std::sqrt(d.x * d.x + d.y * d.y + viewer.z * viewer.z);
+}
+
+bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
+    return q.level < maxLevel && viewDistance(q, viewer) < K * q.bounds.size().x;
 }
 
 bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel,

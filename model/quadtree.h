@@ -101,6 +101,9 @@ public:
                           std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
     // The rule of refineForViewer: q is below maxLevel and closer to `viewer` than K times its size.
     static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel);
+    // The distance from `viewer` (x, y, height above the ground) to q: to the nearest point of its
+    // bounds, at the viewer's height above them (metres).
+    static double viewDistance(const Quad& q, glm::dvec3 viewer);
     // Subdivides this tree exactly where `other` is subdivided (and merges elsewhere).
     void copyStructureOf(const Quadtree& other);
 

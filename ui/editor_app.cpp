@@ -629,7 +629,7 @@ int EditorApp::run() {
             log_["frames"].push_back({{"frame", frames_}, {"update_ms", lastUpdateMs_}, {"refine_ms", lastFrame_.refineMs},
                                       {"produce_ms", lastFrame_.produceMs}, {"produced", lastFrame_.produced},
                                       {"prefetched", lastFrame_.prefetched}, {"pending", lastFrame_.pending},
-                                      {"view_quads", lastFrame_.viewQuads}, {"culled", lastFrame_.culled},
+                                      {"view_quads", lastFrame_.viewQuads}, {"culled", lastFrame_.culled}, {"replaced", lastFrame_.replaced},
                                       {"drawn", ts.drawn}, {"fallback", ts.fallback}, {"missing", ts.missing},
                                       {"uploads", ts.uploads}, {"cached", lastFrame_.cached}, {"gpu_tiles", ts.gpuTiles},
                                       {"render_ms", lastRenderMs_}, {"viewer_height_m", h}});

@@ -83,7 +83,8 @@ void EditorApp::drawPanels() {
     ImGui::Begin("Statistics", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     const TerrainStats& ts = terrain_->stats();
     ImGui::Text("Frame %zu: update %.1f ms, draw %.1f ms", frames_, lastUpdateMs_, lastRenderMs_);
-    ImGui::Text("Quads: %zu in view, %zu culled, %zu drawn (%zu coarser)", lastFrame_.viewQuads, lastFrame_.culled, ts.drawn, ts.fallback);
+    ImGui::Text("Quads: %zu in view, %zu culled, %zu drawn (%zu coarser, %zu for the cache)", lastFrame_.viewQuads, lastFrame_.culled, ts.drawn,
+                ts.fallback, lastFrame_.replaced);
     ImGui::Text("Tiles: %zu made, %zu prefetched, %zu pending", lastFrame_.produced, lastFrame_.prefetched, lastFrame_.pending);
     ImGui::Text("Cache: %zu / %zu tiles, GPU %zu, %zu uploads", lastFrame_.cached, session_->params().cacheTiles, ts.gpuTiles, ts.uploads);
     ImGui::Text("Work: %zu tiles, %zu commands", tilesProduced_, commands_);

@@ -182,6 +182,7 @@ TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
     SessionParams params;
     params.refine.resolution = 64;
     params.maxLevel = 10;
+    params.cacheTiles = 1u << 20;  // every leaf of the view shown
     EditSession session(syntheticDocument(12, 1500), params);
     const Vec2 c = session.document().scene.extent.center();
     const FrameReport first = session.frame({c.x, c.y, 20.0}, 1e-6);  // one batch only
@@ -318,20 +319,61 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
     EXPECT_EQ(second.prefetched, 0u);  // no room left, and nothing evicted to make again
     EXPECT_EQ(second.cached, small.cacheTiles);
     // A cache full of tiles nobody shows any more (the view moved on) is room: it does not stop
-    // prefetching. A probe with a one-tile budget keeps only what the LRU may not evict at
-    // `later` (its view's tiles and their ancestors'); the budget gets 5 more.
-    SessionParams one = params;
-    one.cacheTiles = 1;
-    EditSession probe(SceneDocument(doc), one);
+    // prefetching. The budget is what the LRU may not evict at `later` (its view's tiles and
+    // their ancestors') and 5 more.
+    EditSession probe(SceneDocument(doc), params);
     probe.frame(viewer, 0.0);
     SessionParams room = params;
-    room.cacheTiles = probe.frame(later, 0.0).cached + 5;
+    room.cacheTiles = probe.frame(later, 0.0).kept + 5;
     EditSession full(SceneDocument(doc), room);
     full.frame(viewer, 0.0);
     EXPECT_EQ(full.frame(later, 0.0).cached, room.cacheTiles);  // full, of the old view's tiles too
     const FrameReport third = full.frame(later, 0.0, {}, glm::dvec3(later.x + 400.0, later.y + 300.0, 20.0));
     EXPECT_EQ(third.prefetched, 5u);
     EXPECT_EQ(third.cached, room.cacheTiles);
+}
+
+TEST(EditSession, TheCacheNeverHoldsMoreThanItsBudgetAndEveryLeafStillHasATileToShow) {
+    // A budget below what the view and its ancestors need (§9.1): the farthest quads are shown in
+    // place of their children. Along a flight, with and without prefetching and after edits, the
+    // cache stays within its budget and every visible leaf is drawn with its tile or an
+    // ancestor's, never a dirty one of a leaf an ancestor stands in for.
+    const SceneDocument doc = syntheticDocument(17, 1500);
+    const Vec2 c = doc.scene.extent.center();
+    SessionParams big = smallTiles(11, 1u << 20);
+    EditSession unbounded(SceneDocument(doc), big);
+    const FrameReport all = unbounded.frame({c.x, c.y, 15.0}, 0.0);
+    ASSERT_EQ(all.replaced, 0u);
+    SessionParams params = smallTiles(11, all.kept / 2);
+    for (const bool prefetch : {false, true}) {
+        EditSession session(SceneDocument(doc), params);
+        std::mt19937_64 rng(31);
+        std::size_t replaced = 0;
+        for (int f = 0; f < 40; ++f) {
+            const glm::dvec3 viewer(c.x + 12.0 * f, c.y - 7.0 * f, 15.0 + 2.0 * f);
+            if (f % 10 == 5) {  // an edit: tiles go dirty
+                const auto cmd = randomCommand(session.document().scene, rng);
+                if (cmd) {
+                    try {
+                        session.execute(*cmd);
+                    } catch (const EditError&) {
+                    }
+                }
+            }
+            const FrameReport r = session.frame(viewer, 0.0, {}, prefetch ? std::optional(viewer + glm::dvec3(60.0, -35.0, 10.0)) : std::nullopt);
+            replaced += r.replaced;
+            ASSERT_LE(r.cached, params.cacheTiles) << "frame " << f << " prefetch " << prefetch << " kept " << r.kept << " shown " << r.shown << " replaced " << r.replaced << " view " << r.viewQuads << " prefetched " << r.prefetched << " produced " << r.produced;
+            EXPECT_EQ(r.pending, 0u);
+            session.quadtree().forEachQuad([&](const Quad& q) {
+                if (!q.isLeaf()) return;
+                const Quad* a = &q;
+                while (a && !session.tile(keyOf(*a))) a = a->parent;
+                ASSERT_NE(a, nullptr) << "a leaf with nothing to show, frame " << f;
+                EXPECT_FALSE(session.tile(keyOf(*a))->dirty) << "frame " << f;
+            });
+        }
+        EXPECT_GT(replaced, 0u);
+    }
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {

@@ -1,0 +1,64 @@
+#include "editor/cache_fit.h"
+
+#include <algorithm>
+#include <queue>
+#include <tuple>
+#include <unordered_set>
+
+namespace lacet {
+namespace {
+
+// Farthest first, then by level and position: a strict order, so the result does not depend on
+// where the quads lie in memory.
+using Rank = std::tuple<double, int, std::uint32_t, std::uint32_t>;
+Rank rankOf(const Quad& q, glm::dvec3 viewer) { return {Quadtree::viewDistance(q, viewer), q.level, q.tx, q.ty}; }
+
+}  // namespace
+
+CacheFit fitToCache(std::span<const Quad* const> leaves, std::size_t capacity, glm::dvec3 viewer,
+                    const std::function<bool(const Quad&)>& hasTile) {
+    std::unordered_set<const Quad*> shown(leaves.begin(), leaves.end()), ancestors;
+    CacheFit fit;
+    fit.kept = shown.size();
+    for (const Quad* q : leaves)
+        for (const Quad* a = q->parent; a && ancestors.insert(a).second; a = a->parent) fit.kept += hasTile(*a);
+    if (fit.kept <= capacity) {
+        fit.shown.assign(leaves.begin(), leaves.end());
+        return fit;
+    }
+    // Candidates, farthest first: the parents of shown quads. A candidate stands in for its
+    // children when none of them is an ancestor of a shown quad (each is shown or not needed);
+    // that is checked when it is taken, and its parent becomes a candidate after it.
+    std::priority_queue<std::pair<Rank, const Quad*>> candidates;
+    std::unordered_set<const Quad*> queued;
+    const auto offer = [&](const Quad* p) {
+        if (p && queued.insert(p).second) candidates.push({rankOf(*p, viewer), p});
+    };
+    for (const Quad* q : leaves) offer(q->parent);
+    while (fit.kept > capacity && !candidates.empty()) {
+        const Quad* p = candidates.top().second;
+        candidates.pop();
+        queued.erase(p);
+        if (!ancestors.count(p)) continue;
+        const bool standsIn = std::none_of(p->children.begin(), p->children.end(),
+                                           [&](const auto& c) { return c && ancestors.count(c.get()); });
+        if (!standsIn) continue;  // offered again when one of its children stands in
+        std::size_t children = 0;
+        for (const auto& c : p->children) children += c && shown.count(c.get());
+        const std::size_t added = hasTile(*p) ? 0 : 1;  // its tile, if it is not kept already
+        if (children <= added) continue;  // nothing to gain
+        for (const auto& c : p->children)
+            if (c) shown.erase(c.get());
+        fit.kept -= children - added;
+        ancestors.erase(p);
+        shown.insert(p);
+        offer(p->parent);
+    }
+    for (const Quad* q : leaves)
+        if (!shown.count(q)) fit.replaced.push_back(q);
+    fit.shown.assign(shown.begin(), shown.end());
+    std::sort(fit.shown.begin(), fit.shown.end(), [&](const Quad* a, const Quad* b) { return rankOf(*a, viewer) < rankOf(*b, viewer); });
+    return fit;
+}
+
+}  // namespace lacet
