@@ -1,7 +1,5 @@
 #include "editor/edit_session.h"
 
-#include "editor/cache_fit.h"
-
 #include <algorithm>
 #include <atomic>
 #include <memory>
@@ -13,6 +11,8 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+
+#include "editor/cache_fit.h"
 
 namespace lacet {
 namespace {
