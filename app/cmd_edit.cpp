@@ -18,6 +18,8 @@ void addEditCommand(CLI::App& app) {
     cmd->add_option("--width", o->width, "Window width (pixels)");
     cmd->add_option("--height", o->height, "Window height (pixels)");
     cmd->add_option("--budget", o->budgetMs, "Tile production budget per frame (ms)");
+    cmd->add_option("--cache-tiles", o->cacheTiles, "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
+        ->check(CLI::PositiveNumber);
     cmd->callback([o] {
         if (!o->script.empty()) std::filesystem::create_directories(o->outDir);
         ui::EditorApp editor(*o);

@@ -42,6 +42,7 @@ struct EditorOptions {
     std::string outDir = ".";   // where a script's screenshots and log go
     int width = 1280, height = 800;
     double budgetMs = 12.0;     // tile production per frame
+    std::size_t cacheTiles = SessionParams{}.cacheTiles;  // tile pairs the session keeps (editor/cache_fit.h)
     bool vsync = true;
 };
 
