@@ -19,7 +19,7 @@ namespace lacet {
 struct CacheFit {
     std::vector<const Quad*> shown;     // the leaves given, or ancestors standing for some of them
     std::vector<const Quad*> replaced;  // the leaves given that an ancestor stands for
-    std::size_t kept = 0;               // shown quads and their ancestors: the tiles kept
+    std::size_t kept = 0;               // shown quads and their ancestors that have tiles: the tiles kept
 };
 
 // The quads to show for `leaves` (distinct quads of one tree, none above another: those the view
