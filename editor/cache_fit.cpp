@@ -43,13 +43,12 @@ CacheFit fitToCache(std::span<const Quad* const> leaves, std::size_t capacity, g
         const bool standsIn = std::none_of(p->children.begin(), p->children.end(),
                                            [&](const auto& c) { return c && ancestors.count(c.get()); });
         if (!standsIn) continue;  // offered again when one of its children stands in
+        // Its tile, if not kept already, for its shown children (at least one): a single child and
+        // no tile gains nothing here, but lets the quads above stand in.
         std::size_t children = 0;
-        for (const auto& c : p->children) children += c && shown.count(c.get());
-        const std::size_t added = hasTile(*p) ? 0 : 1;  // its tile, if it is not kept already
-        if (children <= added) continue;  // nothing to gain
         for (const auto& c : p->children)
-            if (c) shown.erase(c.get());
-        fit.kept -= children - added;
+            if (c) children += shown.erase(c.get());
+        fit.kept = fit.kept - children + (hasTile(*p) ? 0 : 1);
         ancestors.erase(p);
         shown.insert(p);
         offer(p->parent);

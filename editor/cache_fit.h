@@ -26,8 +26,8 @@ struct CacheFit {
 // needs) within `capacity` tiles, counting each shown quad and each ancestor of one that
 // `hasTile`. When they fit, the leaves are shown. Otherwise, farthest from `viewer` first
 // (Quadtree::viewDistance), a quad whose shown descendants are all its children is shown in their
-// place when that keeps fewer tiles, until the count fits or no quad is left to stand in for its
-// children; `kept` may then still exceed the capacity (a capacity below the tree's depth).
+// place, until the count fits: with the root alone shown, one tile is kept, so `kept` exceeds
+// the capacity only when that is 0.
 CacheFit fitToCache(std::span<const Quad* const> leaves, std::size_t capacity, glm::dvec3 viewer,
                     const std::function<bool(const Quad&)>& hasTile);
 

@@ -277,10 +277,6 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         }
         if (it == cache_.end() || it->second.dirty) needed.push_back(q);
     }
-    // A replaced leaf's own tile is drawn while it lasts; once dirty it would show what an edit
-    // changed, so it goes (its ancestor's tile is remade instead).
-    for (const Quad* q : fit.replaced)
-        if (const auto it = cache_.find(keyOf(*q)); it != cache_.end() && it->second.dirty) cache_.erase(it);
     auto byDistance = [](glm::dvec3 v) {
         return [v](const Quad* a, const Quad* b) { return viewDistance(*a, v) < viewDistance(*b, v); };
     };
@@ -312,6 +308,10 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
             r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
     }
     r.produceMs = msSince(t0);
+    // A dirty tile nobody keeps this frame (a replaced leaf's, one between it and the quad standing
+    // in for it, one below a replaced view leaf, a culled leaf's) is not made again now: the
+    // window would draw what an edit changed, so it goes, and the window draws an ancestor's.
+    std::erase_if(cache_, [&](const auto& entry) { return entry.second.dirty && entry.second.lastUsed != clock_; });
     // LRU: drop the least recently used tiles outside the view beyond the budget.
     if (cache_.size() > params_.cacheTiles) {
         std::vector<std::pair<std::uint64_t, QuadKey>> old;

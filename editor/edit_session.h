@@ -7,13 +7,13 @@
 // budget is spent.
 //
 // Tiles: one appearance and one elevation tile per quad, cached by (level, x, y) with an LRU
-// bound (`cacheTiles`); tiles of the current view, of
-// their ancestors (shown while a leaf is made) and those made ahead for a predicted viewer that
-// still wants them are not evicted. When the view's leaves and their ancestors are more than the
-// cache holds, the farthest quads are shown instead of their children (editor/cache_fit.h, as in
-// §9.1), so the cache never exceeds its bound. A tile is dirty when its
-// quad's graph changed, or when it used a z-profile that an edit dropped (a river downstream of
-// the edit).
+// bound (`cacheTiles`); tiles of the current view, of their ancestors (shown while a leaf is
+// made) and those made ahead for a predicted viewer that still wants them are not evicted. When
+// the view's leaves and their ancestors are more than the cache holds, the farthest quads are
+// shown instead of their children (editor/cache_fit.h, as in §9.1), so the cache never exceeds
+// its bound (of one tile or more). A tile is dirty when its quad's graph changed, or when it used
+// a z-profile that an edit dropped (a river downstream of the edit); a dirty tile that the frame
+// neither shows nor keeps as an ancestor's is dropped (nothing would make it again).
 //
 // Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
 // leaves' tiles; the window draws a leaf whose tile is not made yet with its nearest ancestor's.

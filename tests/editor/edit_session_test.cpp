@@ -335,37 +335,37 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
 
 TEST(EditSession, TheCacheNeverHoldsMoreThanItsBudgetAndEveryLeafStillHasATileToShow) {
     // A budget below what the view and its ancestors need (§9.1): the farthest quads are shown in
-    // place of their children. Along a flight, with and without prefetching and after edits, the
-    // cache stays within its budget and every visible leaf is drawn with its tile or an
-    // ancestor's, never a dirty one of a leaf an ancestor stands in for.
+    // place of their children. Along a flight, with and without prefetching, behind a frustum-like
+    // half-plane (parents with one visible child) and with edits, the cache stays within its
+    // budget and every visible leaf is drawn with its tile or an ancestor's, never a dirty one.
     const SceneDocument doc = syntheticDocument(17, 1500);
     const Vec2 c = doc.scene.extent.center();
     SessionParams big = smallTiles(11, 1u << 20);
     EditSession unbounded(SceneDocument(doc), big);
     const FrameReport all = unbounded.frame({c.x, c.y, 15.0}, 0.0);
     ASSERT_EQ(all.replaced, 0u);
-    SessionParams params = smallTiles(11, all.kept / 2);
+    const SessionParams params = smallTiles(11, all.kept / 3);
     for (const bool prefetch : {false, true}) {
         EditSession session(SceneDocument(doc), params);
         std::mt19937_64 rng(31);
-        std::size_t replaced = 0;
+        std::size_t replaced = 0, dirtied = 0;
         for (int f = 0; f < 40; ++f) {
             const glm::dvec3 viewer(c.x + 12.0 * f, c.y - 7.0 * f, 15.0 + 2.0 * f);
-            if (f % 10 == 5) {  // an edit: tiles go dirty
-                const auto cmd = randomCommand(session.document().scene, rng);
-                if (cmd) {
+            const QuadVisibility visible = [&](const Quad& q) { return q.bounds.max.x + q.bounds.max.y > viewer.x + viewer.y - 150.0; };
+            for (int e = 0; e < (f % 3 == 1 ? 4 : 0); ++e)  // edits: tiles go dirty
+                if (const auto cmd = randomCommand(session.document().scene, rng)) {
                     try {
-                        session.execute(*cmd);
+                        dirtied += session.execute(*cmd).dirtyTiles;
                     } catch (const EditError&) {
                     }
                 }
-            }
-            const FrameReport r = session.frame(viewer, 0.0, {}, prefetch ? std::optional(viewer + glm::dvec3(60.0, -35.0, 10.0)) : std::nullopt);
+            const auto ahead = prefetch ? std::optional(viewer + glm::dvec3(60.0, -35.0, 10.0)) : std::nullopt;
+            const FrameReport r = session.frame(viewer, 0.0, visible, ahead);
             replaced += r.replaced;
-            ASSERT_LE(r.cached, params.cacheTiles) << "frame " << f << " prefetch " << prefetch << " kept " << r.kept << " shown " << r.shown << " replaced " << r.replaced << " view " << r.viewQuads << " prefetched " << r.prefetched << " produced " << r.produced;
+            ASSERT_LE(r.cached, params.cacheTiles) << "frame " << f << ", prefetch " << prefetch;
             EXPECT_EQ(r.pending, 0u);
             session.quadtree().forEachQuad([&](const Quad& q) {
-                if (!q.isLeaf()) return;
+                if (!q.isLeaf() || !visible(q)) return;
                 const Quad* a = &q;
                 while (a && !session.tile(keyOf(*a))) a = a->parent;
                 ASSERT_NE(a, nullptr) << "a leaf with nothing to show, frame " << f;
@@ -373,7 +373,57 @@ TEST(EditSession, TheCacheNeverHoldsMoreThanItsBudgetAndEveryLeafStillHasATileTo
             });
         }
         EXPECT_GT(replaced, 0u);
+        EXPECT_GT(dirtied, 0u);
     }
+}
+
+TEST(EditSession, AnEditedLeafThatAnAncestorStandsInForIsNotDrawnStale) {
+    // Far leaves get their own tiles while the view is small; then the whole view needs more
+    // than the cache holds, ancestors stand in for them, and the one the cache has room for keeps
+    // its clean tile. An edit then dirties that tile: the next frame must not leave it to be drawn.
+    const SceneDocument doc = syntheticDocument(17, 1500);
+    const Vec2 c = doc.scene.extent.center();
+    const glm::dvec3 viewer(c.x, c.y, 15.0);
+    EditSession unbounded(SceneDocument(doc), smallTiles(11, 1u << 20));
+    const std::size_t need = unbounded.frame(viewer, 0.0).kept;
+    EditSession session(SceneDocument(doc), smallTiles(11, need / 3));
+    const double far = 600.0;
+    const QuadVisibility farOnly = [&](const Quad& q) { return Quadtree::viewDistance(q, viewer) > far; };
+    ASSERT_EQ(session.frame(viewer, 0.0, farOnly).replaced, 0u);
+    const FrameReport whole = session.frame(viewer, 0.0);
+    ASSERT_GT(whole.replaced, 0u);
+    // The farthest leaf that kept its tile (the cache had room for it), and a node inside it.
+    const Quad* leaf = nullptr;
+    session.quadtree().forEachQuad([&](const Quad& q) {
+        if (q.isLeaf() && session.tile(keyOf(q)) && (!leaf || Quadtree::viewDistance(q, viewer) > Quadtree::viewDistance(*leaf, viewer)))
+            leaf = &q;
+    });
+    ASSERT_NE(leaf, nullptr);
+    ASSERT_GT(Quadtree::viewDistance(*leaf, viewer), far);
+    // A node of a curve or area the leaf holds, moved by half a metre.
+    std::optional<MoveNodeCmd> move;
+    const auto& layers = session.document().scene.layers;
+    for (LayerId l = 0; l < leaf->layers.size() && !move; ++l) {
+        ElementId curve = kNoElement;
+        if (!leaf->layers[l].curves.empty()) curve = leaf->layers[l].curves.begin()->first;
+        else if (!leaf->layers[l].areas.empty()) curve = layers[l].areas[leaf->layers[l].areas.begin()->first].loops.front().front().curve;
+        if (curve == kNoElement) continue;
+        const ElementId node = layers[l].curves[curve].start;
+        move = MoveNodeCmd{l, node, layers[l].nodes[node].p + Vec2(0.5, 0.25)};
+    }
+    ASSERT_TRUE(move.has_value());
+    session.execute(*move);
+    ASSERT_TRUE(session.tile(keyOf(*leaf)) && session.tile(keyOf(*leaf))->dirty);
+    const FrameReport after = session.frame(viewer, 0.0);
+    ASSERT_GT(after.replaced, 0u);
+    EXPECT_EQ(session.tile(keyOf(*leaf)), nullptr) << "replaced, so not made again: dropped";
+    session.quadtree().forEachQuad([&](const Quad& q) {
+        if (!q.isLeaf()) return;
+        const Quad* a = &q;
+        while (a && !session.tile(keyOf(*a))) a = a->parent;
+        ASSERT_NE(a, nullptr);
+        EXPECT_FALSE(session.tile(keyOf(*a))->dirty) << "level " << q.level;
+    });
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
