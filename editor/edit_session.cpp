@@ -38,8 +38,6 @@ std::size_t elementsOf(const Quad& q) {
     return n;
 }
 
-double viewDistance(const Quad& q, glm::dvec3 viewer) { return Quadtree::viewDistance(q, viewer); }
-
 }  // namespace
 
 QuadKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
@@ -278,7 +276,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         if (it == cache_.end() || it->second.dirty) needed.push_back(q);
     }
     auto byDistance = [](glm::dvec3 v) {
-        return [v](const Quad* a, const Quad* b) { return viewDistance(*a, v) < viewDistance(*b, v); };
+        return [v](const Quad* a, const Quad* b) { return Quadtree::viewDistance(*a, v) < Quadtree::viewDistance(*b, v); };
     };
     // Tiles made ahead are kept until the view gets there, nearest to the predicted viewer first,
     // in the room the view leaves (its tiles, made this frame or not, and their ancestors').

@@ -56,6 +56,15 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
         }
 }
 
+// The band within hw metres of the polyline, in one colour and water mask, by coverage.
+void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask) {
+    distanceField(canvas, segments, hw);
+    Scratch& s = canvas.scratch();
+    const float px = float(canvas.pixelSize());
+    for (std::uint32_t k : s.touched) canvas.over(k, rgb, mask, bandCoverage(s.dist[k] / px, float(hw) / px));
+    canvas.clearTouched();
+}
+
 }  // namespace
 
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
@@ -72,23 +81,11 @@ void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const 
 }
 
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
-    const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
-    Scratch& s = canvas.scratch();
-    const float px = float(canvas.pixelSize());
-    const glm::vec3 water = glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0));
-    for (std::uint32_t k : s.touched) canvas.over(k, water, 1.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
-    canvas.clearTouched();
+    drawBand(canvas, segments, 0.5 * double(c.w), glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0)), 1.0f);
 }
 
 void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
-    const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
-    Scratch& s = canvas.scratch();
-    const float px = float(canvas.pixelSize());
-    const glm::vec3 asphalt = roadColour(c.cls);
-    for (std::uint32_t k : s.touched) canvas.over(k, asphalt, 0.0f, bandCoverage(s.dist[k] / px, float(hw) / px));
-    canvas.clearTouched();
+    drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f);
 }
 
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {

@@ -5,6 +5,7 @@
 
 #include <bit>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -333,6 +334,18 @@ TEST(EditSession, OnlyVisibleLeavesAreMadeAndPrefetchingMakesThePredictedViewers
     EXPECT_EQ(third.cached, room.cacheTiles);
 }
 
+// Every visible leaf has a tile to draw, its own or its nearest ancestor's (as the window
+// draws it), and that tile is clean.
+void expectEveryLeafDrawsACleanTile(const EditSession& session, const QuadVisibility& visible, const std::string& when) {
+    session.quadtree().forEachQuad([&](const Quad& q) {
+        if (!q.isLeaf() || (visible && !visible(q))) return;
+        const Quad* a = &q;
+        while (a && !session.tile(keyOf(*a))) a = a->parent;
+        ASSERT_NE(a, nullptr) << "a leaf with nothing to show, " << when;
+        EXPECT_FALSE(session.tile(keyOf(*a))->dirty) << when << ", level " << q.level;
+    });
+}
+
 TEST(EditSession, TheCacheNeverHoldsMoreThanItsBudgetAndEveryLeafStillHasATileToShow) {
     // A budget below what the view and its ancestors need (§9.1): the farthest quads are shown in
     // place of their children. Along a flight, with and without prefetching, behind a frustum-like
@@ -364,13 +377,7 @@ TEST(EditSession, TheCacheNeverHoldsMoreThanItsBudgetAndEveryLeafStillHasATileTo
             replaced += r.replaced;
             ASSERT_LE(r.cached, params.cacheTiles) << "frame " << f << ", prefetch " << prefetch;
             EXPECT_EQ(r.pending, 0u);
-            session.quadtree().forEachQuad([&](const Quad& q) {
-                if (!q.isLeaf() || !visible(q)) return;
-                const Quad* a = &q;
-                while (a && !session.tile(keyOf(*a))) a = a->parent;
-                ASSERT_NE(a, nullptr) << "a leaf with nothing to show, frame " << f;
-                EXPECT_FALSE(session.tile(keyOf(*a))->dirty) << "frame " << f;
-            });
+            expectEveryLeafDrawsACleanTile(session, visible, "frame " + std::to_string(f));
         }
         EXPECT_GT(replaced, 0u);
         EXPECT_GT(dirtied, 0u);
@@ -417,13 +424,7 @@ TEST(EditSession, AnEditedLeafThatAnAncestorStandsInForIsNotDrawnStale) {
     const FrameReport after = session.frame(viewer, 0.0);
     ASSERT_GT(after.replaced, 0u);
     EXPECT_EQ(session.tile(keyOf(*leaf)), nullptr) << "replaced, so not made again: dropped";
-    session.quadtree().forEachQuad([&](const Quad& q) {
-        if (!q.isLeaf()) return;
-        const Quad* a = &q;
-        while (a && !session.tile(keyOf(*a))) a = a->parent;
-        ASSERT_NE(a, nullptr);
-        EXPECT_FALSE(session.tile(keyOf(*a))->dirty) << "level " << q.level;
-    });
+    expectEveryLeafDrawsACleanTile(session, {}, "after the edit");
 }
 
 TEST(EditSession, DisplayedHeightIsTheDeepestTilesHeightAndTheDemElsewhere) {
