@@ -12,6 +12,20 @@
 // The first rule that matches a feature wins; a feature no rule matches is skipped (and counted).
 // Attribute values are read from the feature's fields, and for OSM data from its "other_tags"
 // field ("key"=>"value" pairs) too. bridge=yes and tunnel=yes set the curve flags.
+//
+// The file is checked strictly, since a typo that was silently ignored would import a scene that
+// looks right and is not: every object takes only the keys above, and no key twice.
+//   layers  required, a non-empty array; each layer: "name" (a non-empty string, unique) and "kind"
+//           (one of the kinds above), both required.
+//   rules   required, a non-empty array; each rule: "geometry", "match" and "layer" required;
+//           "match" a non-empty object whose values are non-empty arrays of non-empty strings;
+//           "layer" the name of a layer, of kind roads or rivers for line rules and of another
+//           kind for area rules; "class" an integer in 0..65535 (default 0); "w", line rules only,
+//           the width in metres, 0..10000 (default 0); "wf" the footprint width (of a line) or
+//           border width (of an area) in metres, w..10000 (default w).
+//   keep    optional, an array of distinct non-empty strings.
+// Every MappingError names the source, the JSON path of the value and what is wrong with it:
+//   mapping.json: rules[3].class: must be an integer in 0..65535, got 3.7
 
 #include <map>
 #include <optional>
@@ -55,9 +69,10 @@ struct FeatureMapping {
 // The default: OSM highway=* (widths by class), waterway=river|stream|canal, natural=water,
 // landuse=farmland|meadow|forest, natural=wood.
 FeatureMapping defaultMapping();
-// Reads a mapping file; MappingError names the file and what is wrong (bad JSON, unknown layer
-// kind, a rule naming an unknown layer, wf < w...).
+// Reads a mapping file; MappingError names the file and what is wrong (it cannot be read, with the
+// system's reason; bad JSON; a value breaking the rules above, with its JSON path).
 FeatureMapping loadMapping(const std::string& path);
+// Parses mapping JSON; `source` (a file name) starts every error message.
 FeatureMapping parseMapping(const std::string& json, const std::string& source);
 
 // Parses OSM's other_tags ("k"=>"v","k2"=>"v2") into `out`; malformed pairs are ignored.

@@ -44,7 +44,7 @@ TEST(FeatureMapping, BadMappingFilesNameTheFileAndTheReason) {
         FAIL();
     } catch (const MappingError& e) {
         EXPECT_NE(std::string(e.what()).find("bad_mapping.json"), std::string::npos);
-        EXPECT_NE(std::string(e.what()).find("unknown layer kind 'motorways'"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("layers[0].kind: unknown layer kind \"motorways\""), std::string::npos);
     }
     EXPECT_THROW(parseMapping("{", "inline"), MappingError);
     EXPECT_THROW(parseMapping(R"({"layers":[{"name":"r","kind":"roads"}],"rules":[{"geometry":"line","match":{"a":["b"]},"layer":"x"}]})", "inline"),
