@@ -67,7 +67,7 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, const st
     report.unmapped = data.unmapped;
     report.problems = data.problems;
     say("projecting");
-    const DemSourceInfo demInfo = demSourceInfo(o.dem);
+    const DemSourceInfo demInfo = demSourceInfo({o.dem});
     const Box demLonLat = demInfo.lonLat;
     auto insideDem = [&](glm::dvec2 p) { return demLonLat.contains(p); };
     Box bounds{{1e300, 1e300}, {-1e300, -1e300}};
@@ -101,7 +101,7 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, const st
     double cell = o.demCell;
     if (!(cell > 0.0)) cell = sourceResolution(demLonLat, demInfo.width, demInfo.height, report.lat0);
     SceneDocument doc;
-    doc.dem = importDem(o.dem, frame, report.extent, cell, report.dem);
+    doc.dem = importDem(demInfo, frame, report.extent, cell, report.dem);
     say("building the network and fitting splines");
     doc.scene = buildScene(data, mapping, frame, report.extent, insideDem, SplineFitParams{o.fitTolerance}, report.network,
                            &doc.attributes);

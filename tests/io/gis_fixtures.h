@@ -1,8 +1,10 @@
 #pragma once
 // Fixtures of the import tests: a small GeoTIFF DEM written at test time (WGS84, lon 1.50-1.55,
-// lat 42.50-42.55, a tilted plane with a valley along x = 1.53 and a block of nodata voids), and
-// paths of the vector corpus in tests/data/vectors.
+// lat 42.50-42.55, a tilted plane with a valley along x = 1.53 and a block of nodata voids),
+// SRTM-like tiles of the same height function over any lon/lat window (for mosaics), and paths of
+// the vector corpus in tests/data/vectors.
 
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -47,6 +49,36 @@ inline std::string writeFixtureDem(const std::filesystem::path& dir, bool withVo
     if (b->RasterIO(GF_Write, 0, 0, 100, 100, v.data(), 100, 100, GDT_Float32, 0, 0) != CE_None) std::abort();
     GDALClose(ds);
     return path;
+}
+
+// Writes an SRTM-like GeoTIFF tile at `path`: (nx + 1) x (ny + 1) samples `step` degrees apart,
+// from (lonWest, latSouth) to (lonWest + nx step, latSouth + ny step), its footprint half a step
+// beyond (pixel-is-area, as SRTM's), so that tiles nx steps apart share their border column and
+// tiles ny steps apart their border row, as SRTM's do. Heights: fixtureHeight + `offset` metres
+// (float32, nodata -32768). `crs`: the CRS written, WGS84 when empty, else any string
+// OGRSpatialReference::SetFromUserInput takes (the geotransform stays in degrees).
+inline std::string writeDemTile(const std::filesystem::path& path, double lonWest, double latSouth, int nx, int ny, double step,
+                                double offset = 0.0, const std::string& crs = "") {
+    GDALAllRegister();
+    GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+    GDALDataset* ds = gtiff->Create(path.string().c_str(), nx + 1, ny + 1, 1, GDT_Float32, nullptr);
+    if (!ds) std::abort();
+    double gt[6] = {lonWest - step / 2, step, 0.0, latSouth + ny * step + step / 2, 0.0, -step};
+    ds->SetGeoTransform(gt);
+    OGRSpatialReference srs;
+    if (crs.empty()) srs.SetWellKnownGeogCS("WGS84");
+    else if (srs.SetFromUserInput(crs.c_str()) != OGRERR_NONE) std::abort();
+    ds->SetSpatialRef(&srs);
+    std::vector<float> v(std::size_t(nx + 1) * std::size_t(ny + 1));
+    for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i)
+            v[std::size_t(j) * std::size_t(nx + 1) + std::size_t(i)] =
+                float(fixtureHeight(lonWest + i * step, latSouth + (ny - j) * step) + offset);
+    GDALRasterBand* b = ds->GetRasterBand(1);
+    b->SetNoDataValue(-32768.0);
+    if (b->RasterIO(GF_Write, 0, 0, nx + 1, ny + 1, v.data(), nx + 1, ny + 1, GDT_Float32, 0, 0) != CE_None) std::abort();
+    GDALClose(ds);
+    return path.string();
 }
 
 }  // namespace lacet::test
