@@ -20,6 +20,7 @@
 #include "io/gpkg_dem.h"
 #include "io/le_bytes.h"
 #include "io/scene_checksum.h"
+#include "io/scene_features.h"
 #include "io/sqlite_db.h"
 #include "model/validate.h"
 
@@ -312,6 +313,7 @@ void writeTables(const std::string& path, const SceneDocument& doc) {
     writeCurves(db, doc.scene);
     writeAreas(db, doc.scene);
     writeAttributes(db, doc);
+    writeFeatureTables(db, doc);
     // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
     db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
     db.exec("COMMIT");

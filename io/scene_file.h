@@ -19,6 +19,12 @@
 //                 edge count and per edge a u32 curve id and a u8 reversed flag).
 //   lacet_attributes  layer, kind (0 node, 1 curve, 2 area), id, key, value: attributes kept from the
 //                 source data (names, bridge, tunnel, layer...), in the document's order.
+//   feature tables  the alive curves and areas of each layer as GeoPackage LINESTRING and POLYGON
+//                 features in the scene CRS, sampled from the Bezier splines within 0.1 m, with their
+//                 id, class, widths, flags and source attributes as columns and an R-tree index, so
+//                 QGIS and ogrinfo see them (io/scene_features.h: names, columns, SRS). Derived data,
+//                 rewritten by every save: loadScene ignores them, the checksum does not cover them,
+//                 and files without them (written before them) load the same.
 // All binary values are little-endian. Every slot is stored, deleted ones too (alive = 0), so ids
 // survive. The lacet_* tables are 'attributes' entries of gpkg_contents. Doubles and floats in REAL
 // columns are exact (SQLite REAL is a 64-bit double), except the two values SQLite cannot keep in a

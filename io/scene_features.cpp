@@ -1,0 +1,486 @@
+#include "io/scene_features.h"
+
+#include <sqlite3.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+#include "io/gpkg_dem.h"
+#include "io/le_bytes.h"
+
+namespace lacet {
+namespace {
+
+// Halvings of one Bezier piece stop here: a piece within kMaxCoordinate (model/validate.h) is flat
+// within 2e9 / 4^24 < 1e-5 m after 24, so any tolerance above that is met; a smaller one is not
+// worth 16 million points per piece.
+constexpr int kMaxHalvings = 24;
+
+// GDAL numbers the CRSs it cannot identify from 100000; a new row for the scene's WKT does too.
+constexpr std::int64_t kFirstCustomSrsId = 100000;
+constexpr std::int64_t kUndefinedCartesianSrsId = -1;
+
+constexpr const char* kGeometryColumn = "geom";
+constexpr const char* kRtreeDefinition = "http://www.geopackage.org/spec120/#extension_rtree";
+
+bool isLayerOfLines(LayerKind kind) { return kind == LayerKind::Roads || kind == LayerKind::Rivers; }
+
+bool isAsciiAlnum(char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9'); }
+bool isAsciiLetter(char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z'); }
+
+// Lowercase ASCII letters and digits; every run of other bytes becomes one '_'; no '_' at the ends.
+std::string identifierPart(std::string_view s) {
+    std::string out;
+    for (char ch : s) {
+        if (isAsciiAlnum(ch))
+            out += (ch >= 'A' && ch <= 'Z') ? char(ch - 'A' + 'a') : ch;
+        else if (!out.empty() && out.back() != '_')
+            out += '_';
+    }
+    while (!out.empty() && out.back() == '_') out.pop_back();
+    return out;
+}
+
+bool reservedTableName(const std::string& s) {
+    return s == "dem" || s.starts_with("lacet_") || s.starts_with("gpkg_") || s.starts_with("rtree_") ||
+           s.starts_with("sqlite_");
+}
+
+// `base`, else `base`_2, _3... : the first not in `taken`, which it joins.
+std::string uniqueName(const std::string& base, std::set<std::string>& taken) {
+    std::string name = base;
+    for (int k = 2; taken.contains(name); ++k) name = base + "_" + std::to_string(k);
+    taken.insert(name);
+    return name;
+}
+
+std::string quoted(const std::string& identifier) {
+    std::string out = "\"";
+    for (char ch : identifier) out += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return out + "\"";
+}
+
+// ---- geometry ----
+
+void flattenPiece(const BezierPiece& b, double tolerance, int depth, std::vector<Vec2>& out) {
+    if (depth >= kMaxHalvings || flatness(b) <= tolerance) {
+        if (out.back() != b.end()) out.push_back(b.end());
+        return;
+    }
+    const auto [left, right] = splitHalf(b);
+    flattenPiece(left, tolerance, depth + 1, out);
+    flattenPiece(right, tolerance, depth + 1, out);
+}
+
+// Twice the signed area of a closed ring (first point repeated last): > 0 counter-clockwise.
+double twiceSignedArea(const std::vector<Vec2>& ring) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i + 1 < ring.size(); ++i)
+        sum += (ring[i].x - ring[0].x) * (ring[i + 1].y - ring[0].y) - (ring[i + 1].x - ring[0].x) * (ring[i].y - ring[0].y);
+    return sum;
+}
+
+// Exterior ring first (counter-clockwise), then the holes (clockwise), in loop order.
+std::vector<std::vector<Vec2>> polygonRings(const Layer& layer, const Area& area, double tolerance) {
+    std::vector<std::vector<Vec2>> rings;
+    std::vector<double> areas;
+    for (const auto& loop : area.loops) {
+        const std::vector<Vertex> chain = loopVertices(layer, loop);
+        std::vector<Vec2> ring = flattenSpline(chain, tolerance);
+        if (ring.empty()) continue;  // an empty loop: validate() refuses it
+        ring.back() = ring.front();  // the chain is closed; make the ring so bit for bit
+        areas.push_back(twiceSignedArea(ring));
+        rings.push_back(std::move(ring));
+    }
+    std::size_t outer = 0;
+    for (std::size_t k = 1; k < rings.size(); ++k)
+        if (std::abs(areas[k]) > std::abs(areas[outer])) outer = k;
+    std::vector<std::vector<Vec2>> ordered;
+    ordered.reserve(rings.size());
+    for (std::size_t k = 0; k < rings.size(); ++k) {
+        const bool wantCounterClockwise = k == outer;
+        if ((areas[k] > 0.0) != wantCounterClockwise && areas[k] != 0.0) std::reverse(rings[k].begin(), rings[k].end());
+        if (k == outer)
+            ordered.insert(ordered.begin(), std::move(rings[k]));
+        else
+            ordered.push_back(std::move(rings[k]));
+    }
+    return ordered;
+}
+
+struct Envelope {
+    double minX = std::numeric_limits<double>::infinity(), maxX = -std::numeric_limits<double>::infinity();
+    double minY = std::numeric_limits<double>::infinity(), maxY = -std::numeric_limits<double>::infinity();
+    void add(Vec2 p) {
+        minX = std::min(minX, p.x);
+        maxX = std::max(maxX, p.x);
+        minY = std::min(minY, p.y);
+        maxY = std::max(maxY, p.y);
+    }
+    void add(const Envelope& e) {
+        minX = std::min(minX, e.minX);
+        maxX = std::max(maxX, e.maxX);
+        minY = std::min(minY, e.minY);
+        maxY = std::max(maxY, e.maxY);
+    }
+    bool empty() const { return !(minX <= maxX); }
+};
+
+// GeoPackage binary geometry (GPKG 1.2 §2.1.3): "GP", version 0, flags (little-endian header, an
+// [minx, maxx, miny, maxy] envelope), srs_id, the envelope, then little-endian WKB (ISO 2D).
+constexpr std::uint8_t kGpFlagsLittleEndianXyEnvelope = 0x01 | (1u << 1);
+constexpr std::uint32_t kWkbLineString = 2, kWkbPolygon = 3;
+
+void gpHeader(ByteWriter& w, std::int64_t srsId, const Envelope& e) {
+    w.clear();
+    w.u8('G');
+    w.u8('P');
+    w.u8(0);
+    w.u8(kGpFlagsLittleEndianXyEnvelope);
+    w.u32(std::uint32_t(std::int32_t(srsId)));
+    w.f64(e.minX);
+    w.f64(e.maxX);
+    w.f64(e.minY);
+    w.f64(e.maxY);
+}
+
+void wkbPoints(ByteWriter& w, const std::vector<Vec2>& points) {
+    w.u32(std::uint32_t(points.size()));
+    for (Vec2 p : points) {
+        w.f64(p.x);
+        w.f64(p.y);
+    }
+}
+
+Envelope lineStringBlob(ByteWriter& w, const std::vector<Vec2>& points, std::int64_t srsId) {
+    Envelope e;
+    for (Vec2 p : points) e.add(p);
+    gpHeader(w, srsId, e);
+    w.u8(1);  // WKB little-endian
+    w.u32(kWkbLineString);
+    wkbPoints(w, points);
+    return e;
+}
+
+Envelope polygonBlob(ByteWriter& w, const std::vector<std::vector<Vec2>>& rings, std::int64_t srsId) {
+    Envelope e;
+    for (const auto& ring : rings)
+        for (Vec2 p : ring) e.add(p);
+    gpHeader(w, srsId, e);
+    w.u8(1);
+    w.u32(kWkbPolygon);
+    w.u32(std::uint32_t(rings.size()));
+    for (const auto& ring : rings) wkbPoints(w, ring);
+    return e;
+}
+
+// ---- the SRS ----
+
+std::int64_t featureSrsId(SqliteDb& db, const SceneDocument& doc) {
+    if (!doc.georeference.valid || doc.georeference.crsWkt.empty()) return kUndefinedCartesianSrsId;
+    if (doc.dem) {
+        auto s = db.prepare("SELECT srs_id FROM gpkg_contents WHERE table_name = ?");
+        s.bindText(1, kDemRasterTable);
+        // GDAL leaves the raster at -1 or 0 (undefined) when it could not read the WKT.
+        if (s.step() && s.type(0) == SQLITE_INTEGER && s.integer(0) > 0) return s.integer(0);
+    }
+    const std::int64_t srsId =
+        std::max(kFirstCustomSrsId, db.queryInteger("SELECT coalesce(max(srs_id), 0) + 1 FROM gpkg_spatial_ref_sys"));
+    auto s = db.prepare(
+        "INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, definition, "
+        "description) VALUES ('Lacet scene CRS', ?, 'NONE', ?, ?, 'Transverse Mercator of the scene (io/georeference.h)')");
+    s.bind(1, srsId);
+    s.bind(2, srsId);
+    s.bindText(3, doc.georeference.crsWkt);
+    s.step();
+    return srsId;
+}
+
+// ---- attributes ----
+
+struct ElementKey {
+    LayerId layer;
+    ElementKind kind;
+    ElementId id;
+    auto operator<=>(const ElementKey&) const = default;
+};
+
+// (layer, kind, id) -> key -> first value.
+using AttributeIndex = std::map<ElementKey, std::map<std::string, std::string>>;
+
+AttributeIndex indexAttributes(const SceneDocument& doc) {
+    AttributeIndex index;
+    for (const ElementAttribute& a : doc.attributes) index[{a.layer, a.kind, a.id}].emplace(a.key, a.value);
+    return index;
+}
+
+// Source keys of the table's elements, in key order, with their column names.
+std::vector<std::pair<std::string, std::string>> attributeColumns(const FeatureTable& t, const AttributeIndex& index) {
+    const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
+    std::set<std::string> keys;
+    for (ElementId id : t.elements)
+        if (const auto it = index.find({t.layer, kind, id}); it != index.end())
+            for (const auto& entry : it->second) keys.insert(entry.first);
+    std::set<std::string> taken = {"fid", kGeometryColumn, "lacet_id", "class", "w", "wf", "bridge", "tunnel"};
+    std::vector<std::pair<std::string, std::string>> columns;
+    for (const std::string& key : keys) {
+        std::string name = identifierPart(key);
+        if (name.empty())
+            name = "attr";
+        else if (!isAsciiLetter(name[0]) || taken.contains(name))
+            name = "attr_" + name;
+        columns.emplace_back(key, uniqueName(name, taken));
+    }
+    return columns;
+}
+
+// ---- one table ----
+
+void createTable(SqliteDb& db, const FeatureTable& t, const std::vector<std::pair<std::string, std::string>>& columns) {
+    std::string sql = "CREATE TABLE " + quoted(t.name) + " (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, " +
+                      kGeometryColumn + (t.polygons ? " POLYGON" : " LINESTRING") +
+                      ", lacet_id INTEGER NOT NULL, class INTEGER NOT NULL";
+    sql += t.polygons ? ", wf REAL NOT NULL" : ", w REAL NOT NULL, wf REAL NOT NULL, bridge BOOLEAN NOT NULL, tunnel BOOLEAN NOT NULL";
+    for (const auto& column : columns) sql += ", " + quoted(column.second) + " TEXT";
+    db.exec(sql + ")");
+}
+
+// Writes the features; returns their envelope (empty without features).
+Envelope insertFeatures(SqliteDb& db, const SceneDocument& doc, const FeatureTable& t,
+                        const std::vector<std::pair<std::string, std::string>>& columns, const AttributeIndex& index,
+                        std::int64_t srsId, double tolerance) {
+    const int fixed = t.polygons ? 4 : 7;  // geom, lacet_id, class, wf (w, wf, bridge, tunnel)
+    std::string sql = "INSERT INTO " + quoted(t.name) + " (" + kGeometryColumn + ", lacet_id, class" +
+                      (t.polygons ? ", wf" : ", w, wf, bridge, tunnel");
+    for (const auto& column : columns) sql += ", " + quoted(column.second);
+    sql += ") VALUES (?";
+    for (std::size_t k = 1; k < std::size_t(fixed) + columns.size(); ++k) sql += ", ?";
+    auto s = db.prepare(sql + ")");
+    auto rtree = db.prepare("INSERT INTO " + quoted("rtree_" + t.name + "_" + kGeometryColumn) + " VALUES (?, ?, ?, ?, ?)");
+    const Layer& layer = doc.scene.layers[t.layer];
+    const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
+    ByteWriter blob;
+    Envelope all;
+    std::int64_t fid = 0;
+    for (ElementId id : t.elements) {
+        Envelope e;
+        if (t.polygons) {
+            const Area& a = layer.areas[id];
+            e = polygonBlob(blob, polygonRings(layer, a, tolerance), srsId);
+            s.bindBlob(1, blob.bytes());
+            s.bind(2, std::int64_t(id));
+            s.bind(3, std::int64_t(a.cls));
+            s.bind(4, double(a.wf));
+        } else {
+            const Curve& c = layer.curves[id];
+            e = lineStringBlob(blob, flattenSpline(c.vertices, tolerance), srsId);
+            s.bindBlob(1, blob.bytes());
+            s.bind(2, std::int64_t(id));
+            s.bind(3, std::int64_t(c.cls));
+            s.bind(4, double(c.w));
+            s.bind(5, double(c.wf));
+            s.bind(6, std::int64_t((c.flags & kBridge) != 0));
+            s.bind(7, std::int64_t((c.flags & kTunnel) != 0));
+        }
+        if (const auto it = index.find({t.layer, kind, id}); it != index.end())
+            for (std::size_t k = 0; k < columns.size(); ++k)
+                if (const auto value = it->second.find(columns[k].first); value != it->second.end())
+                    s.bindText(fixed + 1 + int(k), value->second);
+        s.step();
+        s.reset();
+        ++fid;  // the table is new: AUTOINCREMENT gives 1, 2, 3...
+        rtree.bind(1, fid);
+        rtree.bind(2, e.minX);
+        rtree.bind(3, e.maxX);
+        rtree.bind(4, e.minY);
+        rtree.bind(5, e.maxY);
+        rtree.step();
+        rtree.reset();
+        all.add(e);
+    }
+    return all;
+}
+
+std::string description(const Layer& layer, const FeatureTable& t, double tolerance) {
+    char tol[32];
+    std::snprintf(tol, sizeof tol, "%g", tolerance);
+    return "Lacet " + std::string(toString(layer.kind)) + " layer '" + layer.name + "': " +
+           (t.polygons ? "areas" : "curves") + " sampled within " + tol +
+           " m of their Bezier splines (derived; the truth is in lacet_curves and lacet_areas)";
+}
+
+void registerTable(SqliteDb& db, const Layer& layer, const FeatureTable& t, const Envelope& e, std::int64_t srsId,
+                   double tolerance) {
+    auto s = db.prepare(
+        "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, min_x, min_y, max_x, "
+        "max_y, srs_id) VALUES (?, 'features', ?, ?, strftime('%Y-%m-%dT%H:%M:%fZ', 'now'), ?, ?, ?, ?, ?)");
+    s.bindText(1, t.name);
+    s.bindText(2, t.name);
+    s.bindText(3, description(layer, t, tolerance));
+    if (!e.empty()) {
+        s.bind(4, e.minX);
+        s.bind(5, e.minY);
+        s.bind(6, e.maxX);
+        s.bind(7, e.maxY);
+    }
+    s.bind(8, srsId);
+    s.step();
+    auto g = db.prepare(
+        "INSERT INTO gpkg_geometry_columns (table_name, column_name, geometry_type_name, srs_id, z, m) "
+        "VALUES (?, ?, ?, ?, 0, 0)");
+    g.bindText(1, t.name);
+    g.bindText(2, kGeometryColumn);
+    g.bindText(3, t.polygons ? "POLYGON" : "LINESTRING");
+    g.bind(4, srsId);
+    g.step();
+}
+
+// The R-tree and its extension row; the triggers come after the features, which fill it directly.
+void createRtree(SqliteDb& db, const FeatureTable& t) {
+    db.exec("CREATE VIRTUAL TABLE " + quoted("rtree_" + t.name + "_" + kGeometryColumn) +
+            " USING rtree(id, minx, maxx, miny, maxy)");
+    auto s = db.prepare(
+        "INSERT INTO gpkg_extensions (table_name, column_name, extension_name, definition, scope) "
+        "VALUES (?, ?, 'gpkg_rtree_index', ?, 'write-only')");
+    s.bindText(1, t.name);
+    s.bindText(2, kGeometryColumn);
+    s.bindText(3, kRtreeDefinition);
+    s.step();
+}
+
+// The triggers of GeoPackage 1.2 Annex F.3 (as GDAL writes them), which keep the index right when a
+// GIS tool edits the table.
+void createRtreeTriggers(SqliteDb& db, const FeatureTable& t) {
+    const std::string table = quoted(t.name), c = std::string("\"") + kGeometryColumn + "\"",
+                      rtree = quoted("rtree_" + t.name + "_" + kGeometryColumn),
+                      prefix = "rtree_" + t.name + "_" + kGeometryColumn;
+    const std::string insertRow = "INSERT OR REPLACE INTO " + rtree + " VALUES (NEW.\"fid\", ST_MinX(NEW." + c +
+                                  "), ST_MaxX(NEW." + c + "), ST_MinY(NEW." + c + "), ST_MaxY(NEW." + c + "));";
+    const std::string nonEmpty = "(NEW." + c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + "))";
+    const std::string empty = "(NEW." + c + " ISNULL OR ST_IsEmpty(NEW." + c + "))";
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_insert") + " AFTER INSERT ON " + table + " WHEN " + nonEmpty +
+            " BEGIN " + insertRow + " END");
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_update1") + " AFTER UPDATE OF " + c + " ON " + table +
+            " WHEN OLD.\"fid\" = NEW.\"fid\" AND " + nonEmpty + " BEGIN " + insertRow + " END");
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_update2") + " AFTER UPDATE OF " + c + " ON " + table +
+            " WHEN OLD.\"fid\" = NEW.\"fid\" AND " + empty + " BEGIN DELETE FROM " + rtree +
+            " WHERE id = OLD.\"fid\"; END");
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_update3") + " AFTER UPDATE ON " + table +
+            " WHEN OLD.\"fid\" != NEW.\"fid\" AND " + nonEmpty + " BEGIN DELETE FROM " + rtree +
+            " WHERE id = OLD.\"fid\"; " + insertRow + " END");
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_update4") + " AFTER UPDATE ON " + table +
+            " WHEN OLD.\"fid\" != NEW.\"fid\" AND " + empty + " BEGIN DELETE FROM " + rtree +
+            " WHERE id IN (OLD.\"fid\", NEW.\"fid\"); END");
+    db.exec("CREATE TRIGGER " + quoted(prefix + "_delete") + " AFTER DELETE ON " + table + " WHEN OLD." + c +
+            " NOT NULL BEGIN DELETE FROM " + rtree + " WHERE id = OLD.\"fid\"; END");
+}
+
+// GDAL's cached feature count (gpkg_ogr_contents) and the triggers that keep it, as GDAL writes them.
+void recordFeatureCount(SqliteDb& db, const FeatureTable& t) {
+    auto s = db.prepare("INSERT INTO gpkg_ogr_contents (table_name, feature_count) VALUES (?, ?)");
+    s.bindText(1, t.name);
+    s.bind(2, std::int64_t(t.elements.size()));
+    s.step();
+    std::string literal = "'";
+    for (char ch : t.name) literal += ch == '\'' ? std::string("''") : std::string(1, ch);
+    literal += "'";
+    db.exec("CREATE TRIGGER " + quoted("trigger_insert_feature_count_" + t.name) + " AFTER INSERT ON " +
+            quoted(t.name) + " BEGIN UPDATE gpkg_ogr_contents SET feature_count = feature_count + 1 WHERE "
+            "lower(table_name) = lower(" + literal + "); END");
+    db.exec("CREATE TRIGGER " + quoted("trigger_delete_feature_count_" + t.name) + " AFTER DELETE ON " +
+            quoted(t.name) + " BEGIN UPDATE gpkg_ogr_contents SET feature_count = feature_count - 1 WHERE "
+            "lower(table_name) = lower(" + literal + "); END");
+}
+
+constexpr const char* kCreateGpkgVectorTables = R"sql(
+CREATE TABLE IF NOT EXISTS gpkg_geometry_columns (
+  table_name TEXT NOT NULL, column_name TEXT NOT NULL, geometry_type_name TEXT NOT NULL,
+  srs_id INTEGER NOT NULL, z TINYINT NOT NULL, m TINYINT NOT NULL,
+  CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name),
+  CONSTRAINT uk_gc_table_name UNIQUE (table_name),
+  CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
+  CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id));
+CREATE TABLE IF NOT EXISTS gpkg_extensions (
+  table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, definition TEXT NOT NULL,
+  scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name));
+)sql";
+
+}  // namespace
+
+std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double tolerance) {
+    if (!(tolerance > 0.0)) throw std::invalid_argument("flattenSpline: tolerance must be > 0 m");
+    std::vector<Vec2> out;
+    if (vertices.empty()) return out;
+    out.push_back(vertices.front().p);
+    forEachPiece(vertices, [&](const BezierPiece& b, std::size_t) { flattenPiece(b, tolerance, 0, out); });
+    if (out.size() == 1) out.push_back(out.front());
+    return out;
+}
+
+std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std::vector<std::string>& takenNames) {
+    std::set<std::string> taken(takenNames.begin(), takenNames.end());
+    std::vector<FeatureTable> tables;
+    for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+        const Layer& layer = doc.scene.layers[l];
+        FeatureTable lines{.name = {}, .layer = LayerId(l), .polygons = false, .elements = {}};
+        FeatureTable areas{.name = {}, .layer = LayerId(l), .polygons = true, .elements = {}};
+        for (std::size_t id = 0; id < layer.areas.size(); ++id)
+            if (layer.areas[id].alive) areas.elements.push_back(ElementId(id));
+        for (std::size_t id = 0; id < layer.curves.size(); ++id) {
+            const Curve& c = layer.curves[id];
+            const bool bordersAnArea = std::any_of(c.areas.begin(), c.areas.end(), [&](ElementId a) {
+                return a < layer.areas.size() && layer.areas[a].alive;
+            });
+            if (c.alive && !bordersAnArea) lines.elements.push_back(ElementId(id));
+        }
+        std::string base = identifierPart(layer.name);
+        if (base.empty())
+            base = "layer";
+        else if (!isAsciiLetter(base[0]) || reservedTableName(base))
+            base = "layer_" + base;
+        const bool linesFirst = isLayerOfLines(layer.kind);
+        FeatureTable& first = linesFirst ? lines : areas;
+        FeatureTable& second = linesFirst ? areas : lines;
+        first.name = uniqueName(base, taken);
+        tables.push_back(std::move(first));
+        if (!second.elements.empty()) {
+            second.name = uniqueName(base + (linesFirst ? "_areas" : "_lines"), taken);
+            tables.push_back(std::move(second));
+        }
+    }
+    return tables;
+}
+
+std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc, const FeatureTableParams& params) {
+    if (!(params.tolerance > 0.0)) throw std::invalid_argument("writeFeatureTables: tolerance must be > 0 m");
+    db.exec(kCreateGpkgVectorTables);
+    std::vector<std::string> taken;
+    {
+        auto s = db.prepare("SELECT lower(name) FROM sqlite_master");
+        while (s.step()) taken.push_back(s.text(0));
+    }
+    const bool gdalCounts = db.hasTable("gpkg_ogr_contents");
+    const std::vector<FeatureTable> tables = planFeatureTables(doc, taken);
+    const std::int64_t srsId = featureSrsId(db, doc);
+    const AttributeIndex index = indexAttributes(doc);
+    for (const FeatureTable& t : tables) {
+        const Layer& layer = doc.scene.layers[t.layer];
+        const auto columns = attributeColumns(t, index);
+        createTable(db, t, columns);
+        createRtree(db, t);
+        const Envelope e = insertFeatures(db, doc, t, columns, index, srsId, params.tolerance);
+        registerTable(db, layer, t, e, srsId, params.tolerance);
+        createRtreeTriggers(db, t);
+        if (gdalCounts) recordFeatureCount(db, t);
+    }
+    return tables;
+}
+
+}  // namespace lacet

@@ -1,0 +1,83 @@
+#pragma once
+// The feature tables of the scene file: the scene's layers as GeoPackage vector features, so that
+// QGIS, ogrinfo and gdal_rasterize see the roads, rivers and areas. They are derived data, written
+// by saveScene (io/scene_file.h) beside the exact Bezier tables (lacet_*), which stay the truth:
+// loadScene ignores them and the checksum does not cover them.
+//
+// Order of calls: saveScene opens its SQLite transaction, writes the lacet_* tables, then calls
+// writeFeatureTables on the same connection, inside the same transaction.
+//
+// What is written, per layer (only alive elements):
+//   - a LINESTRING table of its curves that belong to no alive area (every curve of a road or river
+//     layer; an axial curve or a loose curve of an area layer), one feature per curve;
+//   - a POLYGON table of its alive areas, one feature per area: the loop of largest absolute area is
+//     the exterior ring (counter-clockwise), the others interior rings (clockwise), each ring closed.
+// Roads and rivers layers always get their LINESTRING table and a POLYGON table only when they hold
+// areas; the other kinds the reverse. Each feature's geometry is the exact Bezier spline flattened
+// by de Casteljau halving until each piece's control points lie within `tolerance` of its chord,
+// so the polyline and the spline are within `tolerance` of each other (Hausdorff).
+//
+// Columns: fid, geom, lacet_id (the element id), class (cls), w (curves only), wf, bridge and tunnel
+// (curves only, booleans from CurveFlag), then one TEXT column per source attribute key present on
+// the table's elements (SceneDocument::attributes; NULL where an element lacks it; the first value
+// when an element has a key twice). Column names are the key in lowercase ASCII letters, digits and
+// '_' (every run of other characters becomes one '_', none at the ends), prefixed with "attr_" when
+// that clashes with a fixed column or does not start with a letter ("attr" when empty), then
+// suffixed "_2", "_3"... until unique.
+//
+// Table names are the layer name made the same way ("layer" when empty; prefixed "layer_" when not
+// starting with a letter, or equal to "dem" or starting with "lacet_", "gpkg_", "rtree_" or "sqlite_"), the
+// second table of a layer suffixed "_areas" (roads, rivers) or "_lines" (other kinds), then "_2",
+// "_3"... until the name is free in the file. gpkg_contents.description starts with
+// "Lacet <kind> layer" (kind as toString(LayerKind)), so scripts can pick tables by kind.
+//
+// Coordinates are scene CRS metres. The SRS (gpkg_spatial_ref_sys) is the DEM raster's when the
+// georeference is valid and GDAL registered one for the DEM; else, with a valid georeference, its
+// WKT in a new row (srs_id 100000 or above, as GDAL numbers CRSs it cannot identify); without a
+// georeference, -1 ("undefined Cartesian coordinate reference system").
+//
+// Each table gets an R-tree spatial index (GeoPackage extension gpkg_rtree_index, with the standard
+// triggers, which call the ST_* functions GIS tools register) and, when the file has GDAL's
+// gpkg_ogr_contents table, its feature count and GDAL's count triggers, as GDAL writes them.
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "io/scene_file.h"
+#include "io/sqlite_db.h"
+
+namespace lacet {
+
+struct FeatureTableParams {
+    // Largest distance (metres, > 0) between a feature's polyline and its Bezier spline, both ways.
+    // 0.1 m is a tenth of the finest DEM cells Lacet imports and below what GIS data states.
+    double tolerance = 0.1;
+};
+
+// One feature table, as planned and written.
+struct FeatureTable {
+    std::string name;         // SQLite table name
+    LayerId layer = 0;
+    bool polygons = false;    // POLYGON of areas, else LINESTRING of curves
+    std::vector<ElementId> elements;  // the features' element ids, in fid order (fid = index + 1)
+};
+
+// The tables writeFeatureTables makes for `doc`, with their names as if `takenNames` (lowercase
+// table names already in the file) were all the file holds. Pure: no database.
+std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std::vector<std::string>& takenNames);
+
+// Writes the feature tables of `doc` (above) into `db`, a GeoPackage with its required tables
+// (gpkg_contents, gpkg_spatial_ref_sys), inside the caller's open transaction; `doc.scene` passes
+// validate() (model/validate.h), as saveScene checks first. Throws SqliteError
+// when SQLite fails and std::invalid_argument for a tolerance that is not > 0. Returns the tables.
+std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc,
+                                             const FeatureTableParams& params = {});
+
+// The polyline of a vertex chain (on-curve, 0..2 controls, on-curve...): its first point, then the
+// end of each flat sub-piece of each Bezier piece, halved until flatness() <= tolerance (metres,
+// > 0); a point equal to the one before it is left out, except that a chain gives two points at least.
+std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double tolerance);
+
+}  // namespace lacet
