@@ -1,10 +1,16 @@
 // `lacet render`: produces the tiles of a region at one level of a scene (a scene file, or a
 // synthetic scene) and writes them as one mosaic image (the appearance colour, elevation as a
-// hillshade, or the footprint).
+// hillshade, or the footprint). The mosaic's size is known from the scene's extent, the region
+// and the level before anything is clipped, so a mosaic over --max-pixels is refused up front
+// instead of running out of memory half-way.
+#include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "app/commands.h"
+#include "app/progress_bar.h"
 #include "bench/bench_util.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
@@ -26,82 +32,207 @@ struct RenderOptions {
     std::string out = "render.png";
     int demResolution = 5000;
     std::string scene;  // a scene file instead of the synthetic scene
+    std::int64_t maxPixels = std::int64_t(1) << 28;  // 16384 x 16384: 768 MiB of RGB; signed, so that -1 is refused
 };
 
+// Tiles go to the producers in batches of this many, so that progress moves and only one
+// batch of tiles is held at a time (a whole level's would take more memory than its mosaic).
+constexpr std::size_t kBatchTiles = 64;
+
+// The cells of one axis at `level` that meet [a, b]: [lo, hi] halved `level` times at its
+// midpoint exactly as Quadtree::childBounds halves a quad's bounds, cells closed as
+// Box::intersects takes them. [a, b] must meet [lo, hi].
+struct CellRange {
+    std::uint32_t first = 0, last = 0;
+    std::uint64_t count() const { return std::uint64_t(last - first) + 1; }
+};
+CellRange meetingCells(double lo, double hi, double a, double b, int level) {
+    CellRange r;
+    double firstLo = lo, firstHi = hi, lastLo = lo, lastHi = hi;
+    for (int l = 0; l < level; ++l) {
+        // The first cell is in the lower half when that half meets [a, b], the last in the upper.
+        const double firstMid = (firstLo + firstHi) * 0.5;
+        if (a <= firstMid) {
+            firstHi = firstMid;
+            r.first = 2 * r.first;
+        } else {
+            firstLo = firstMid;
+            r.first = 2 * r.first + 1;
+        }
+        const double lastMid = (lastLo + lastHi) * 0.5;
+        if (lastMid <= b) {
+            lastLo = lastMid;
+            r.last = 2 * r.last + 1;
+        } else {
+            lastHi = lastMid;
+            r.last = 2 * r.last;
+        }
+    }
+    return r;
+}
+
+// The tiles of a level meeting a region, and the mosaic they make.
+struct MosaicPlan {
+    CellRange columns, rows;
+    int texels = 0;  // per tile side
+    std::uint64_t tiles() const { return columns.count() * rows.count(); }
+    std::uint64_t width() const { return columns.count() * std::uint64_t(texels); }
+    std::uint64_t height() const { return rows.count() * std::uint64_t(texels); }
+    double pixels() const { return double(width()) * double(height()); }  // exact below 2^53
+};
+
+MosaicPlan planMosaic(const Box& extent, const Box& region, int level, int texels) {
+    return {meetingCells(extent.min.x, extent.max.x, region.min.x, region.max.x, level),
+            meetingCells(extent.min.y, extent.max.y, region.min.y, region.max.y, level), texels};
+}
+
+// 268,435,456
+std::string grouped(double v) {
+    char digits[64];
+    std::snprintf(digits, sizeof digits, "%.0f", v);
+    const std::string plain = digits;
+    std::string s;
+    for (std::size_t i = 0; i < plain.size(); ++i) {
+        if (i > 0 && (plain.size() - i) % 3 == 0) s += ',';
+        s += plain[i];
+    }
+    return s;
+}
+
+// Throws when the mosaic of `plan` is over the limit, saying what it would be and what fits.
+void checkMosaicSize(const MosaicPlan& plan, const Box& extent, const Box& region, const RenderOptions& o) {
+    constexpr std::uint64_t kMaxSide = std::numeric_limits<int>::max();  // image files' limit
+    const auto tooWide = [&](const MosaicPlan& p) { return p.width() > kMaxSide || p.height() > kMaxSide; };
+    const auto over = [&](const MosaicPlan& p) { return p.pixels() > double(o.maxPixels) || tooWide(p); };
+    if (!over(plan)) return;
+    int fits = o.level;
+    while (fits >= 0 && over(planMosaic(extent, region, fits, plan.texels))) --fits;
+    std::ostringstream m;
+    m << "render: level " << o.level << " of " << (o.region.empty() ? "the whole scene" : "--region") << " is "
+      << grouped(double(plan.tiles())) << " tiles (" << grouped(double(plan.columns.count())) << " x "
+      << grouped(double(plan.rows.count())) << ") of " << plan.texels << " x " << plan.texels << " texels: a "
+      << grouped(double(plan.width())) << " x " << grouped(double(plan.height())) << " pixel image ("
+      << grouped(plan.pixels()) << " pixels, " << grouped(plan.pixels() * 3.0) << " bytes of RGB), ";
+    if (tooWide(plan)) m << "wider than an image file can be (" << grouped(double(kMaxSide)) << " pixels a side)";
+    else m << "over the limit of " << grouped(double(o.maxPixels)) << " pixels (--max-pixels)";
+    m << ". Choose a smaller --region or a lower --level";
+    if (fits >= 0) m << " (level " << fits << " is the deepest that fits)";
+    throw std::invalid_argument(m.str());
+}
+
 // Subdivides every quad meeting `region` down to `level`; collects the quads of that level.
-void refineRegion(Quadtree& qt, Quad& q, const Box& region, int level, std::vector<const Quad*>& out) {
+void refineRegion(Quadtree& qt, Quad& q, const Box& region, int level, std::vector<const Quad*>& out, Progress& progress) {
     if (!q.bounds.intersects(region)) return;
     if (q.level == level) {
         out.push_back(&q);
+        progress.advance();
         return;
     }
     qt.subdivide(q);
-    for (auto& c : q.children) refineRegion(qt, *c, region, level, out);
+    for (auto& c : q.children) refineRegion(qt, *c, region, level, out, progress);
 }
 
 void run(const RenderOptions& o) {
     using namespace lacet::bench;
+    Box region;
+    if (!o.region.empty()) {
+        const auto& r = o.region;
+        if (r.size() != 4 || !std::isfinite(r[0]) || !std::isfinite(r[1]) || !std::isfinite(r[2]) || !std::isfinite(r[3]) ||
+            !(r[0] < r[2]) || !(r[1] < r[3]))
+            throw std::invalid_argument("--region must be four finite numbers X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1 (metres)");
+        region = {{r[0], r[1]}, {r[2], r[3]}};
+    }
+    const bool appearance = o.layer == "appearance";
+    const RefineParams refine;
+    const int n = appearance ? refine.resolution : refine.elevationResolution;
+    // Refuses a region or a mosaic of a scene of this extent before any work on it.
+    const auto check = [&](const Box& extent) {
+        if (o.region.empty()) region = extent;
+        if (!region.intersects(extent)) {
+            std::ostringstream m;
+            m << "--region " << region.min.x << "," << region.min.y << "," << region.max.x << "," << region.max.y
+              << " does not meet the scene, whose extent is " << extent.min.x << "," << extent.min.y << ","
+              << extent.max.x << "," << extent.max.y << " (metres)";
+            throw std::invalid_argument(m.str());
+        }
+        const MosaicPlan plan = planMosaic(extent, region, o.level, n);
+        checkMosaicSize(plan, extent, region, o);
+        return plan;
+    };
+
     auto t0 = Clock::now();
     SceneDocument doc;
     if (!o.scene.empty()) {
         doc = loadScene(o.scene);
         if (!doc.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
     } else {
+        const double side = syntheticExtentSide(o.curves);
+        check(Box{Vec2(0.0), Vec2(side)});  // before generating: the scene's extent depends on its size only
         doc.scene = makeSyntheticScene({o.seed, o.curves});
         doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
     }
     const Scene& scene = doc.scene;
     const Dem& dem = *doc.dem;
+    const MosaicPlan plan = check(scene.extent);
     const double prepareMs = msSince(t0);
-    Box region = scene.extent;
-    if (!o.region.empty()) {
-        if (o.region.size() != 4 || !(o.region[0] < o.region[2]) || !(o.region[1] < o.region[3]))
-            throw std::invalid_argument("--region must be X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1 (metres)");
-        region = {{o.region[0], o.region[1]}, {o.region[2], o.region[3]}};
-    }
-    Quadtree qt(scene);
+
+    TerminalProgress progress;
+    Quadtree qt(scene, refine);
     std::vector<const Quad*> quads;
+    quads.reserve(std::size_t(plan.tiles()));
     t0 = Clock::now();
-    refineRegion(qt, qt.root(), region, o.level, quads);
+    progress.begin("clipping", std::size_t(plan.tiles()), "quads");
+    refineRegion(qt, qt.root(), region, o.level, quads, progress);
+    progress.end();
     const double clipMs = msSince(t0);
-    if (quads.empty()) throw std::invalid_argument("--region does not meet the scene extent");
+    if (quads.size() != plan.tiles())
+        throw std::logic_error("render: clipping made " + std::to_string(quads.size()) + " quads of the region where " +
+                               std::to_string(plan.tiles()) + " were planned");
+
     DemHeightField heights(dem);
     CurveDataCache data(qt, heights);
     ElevationCounters counters;
     AppearanceCounters appearanceCounters;
-    const bool appearance = o.layer == "appearance";
-    const int n = appearance ? qt.params().resolution : qt.params().elevationResolution;
-    std::vector<std::vector<std::uint8_t>> images(quads.size());
+    const std::size_t width = std::size_t(plan.width()), height = std::size_t(plan.height());
+    std::vector<std::uint8_t> mosaic(width * height * 3, 0);
+    std::vector<std::uint8_t> image;
+    // Copies a tile's picture into the mosaic, north up.
+    const auto place = [&](const Quad& q) {
+        const std::size_t ox = std::size_t(q.tx - plan.columns.first) * std::size_t(n);
+        const std::size_t oy = std::size_t(plan.rows.last - q.ty) * std::size_t(n);
+        for (std::size_t r = 0; r < std::size_t(n); ++r)
+            std::copy_n(image.begin() + std::ptrdiff_t(r * std::size_t(n) * 3), n * 3,
+                        mosaic.begin() + std::ptrdiff_t(((oy + r) * width + ox) * 3));
+    };
     t0 = Clock::now();
-    if (appearance) {
-        const auto tiles = produceAppearanceTiles(quads, qt, data, dem, {}, &appearanceCounters);
-        for (std::size_t k = 0; k < quads.size(); ++k) appearanceImage(tiles[k], images[k]);
-    } else {
-        const auto tiles = produceElevationTiles(quads, qt, data, dem, {}, &counters);
-        for (std::size_t k = 0; k < quads.size(); ++k) {
-            if (o.layer == "footprint") footprintImage(tiles[k], images[k]);
-            else hillshade(tiles[k], images[k]);
+    progress.begin("producing " + o.layer + " tiles", quads.size(), "tiles");
+    for (std::size_t begin = 0; begin < quads.size(); begin += kBatchTiles) {
+        const std::span<const Quad* const> batch(quads.data() + begin, std::min(kBatchTiles, quads.size() - begin));
+        if (appearance) {
+            const auto tiles = produceAppearanceTiles(batch, qt, data, dem, {}, &appearanceCounters);
+            for (std::size_t k = 0; k < batch.size(); ++k) {
+                appearanceImage(tiles[k], image);
+                place(*batch[k]);
+            }
+        } else {
+            const auto tiles = produceElevationTiles(batch, qt, data, dem, {}, &counters);
+            for (std::size_t k = 0; k < batch.size(); ++k) {
+                if (o.layer == "footprint") footprintImage(tiles[k], image);
+                else hillshade(tiles[k], image);
+                place(*batch[k]);
+            }
         }
+        progress.advance(batch.size());
     }
+    progress.end();
     const double produceMs = msSince(t0);
 
-    std::uint32_t x0 = UINT32_MAX, y0 = UINT32_MAX, x1 = 0, y1 = 0;
-    for (const Quad* q : quads) {
-        x0 = std::min(x0, q->tx), y0 = std::min(y0, q->ty);
-        x1 = std::max(x1, q->tx), y1 = std::max(y1, q->ty);
-    }
-    const int width = int(x1 - x0 + 1) * n, height = int(y1 - y0 + 1) * n;
-    std::vector<std::uint8_t> mosaic(std::size_t(width) * std::size_t(height) * 3, 0);
-    for (std::size_t k = 0; k < quads.size(); ++k) {
-        const int ox = int(quads[k]->tx - x0) * n, oy = int(y1 - quads[k]->ty) * n;  // north up
-        for (int r = 0; r < n; ++r)
-            std::copy_n(images[k].begin() + std::ptrdiff_t(r) * n * 3, n * 3,
-                        mosaic.begin() + (std::ptrdiff_t(oy + r) * width + ox) * 3);
-    }
-    writeImage8(o.out, width, height, 3, mosaic);
+    t0 = Clock::now();
+    writeImage8(o.out, int(width), int(height), 3, mosaic);
+    const double writeMs = msSince(t0);
     std::cout << "Wrote " << o.out << " (" << width << "x" << height << "): " << quads.size() << " tiles of level "
               << o.level << ", " << o.layer << "; scene and DEM " << prepareMs << " ms, clipping " << clipMs
-              << " ms, producing " << produceMs << " ms; elevation curves drawn " << counters.curvesDrawn << ", skipped as thin "
+              << " ms, producing " << produceMs << " ms, writing " << writeMs << " ms; elevation curves drawn " << counters.curvesDrawn << ", skipped as thin "
               << counters.curvesSkippedThin << ", lakes " << counters.lakesDrawn << ", z-profiles computed "
               << data.counters().zProfiles << "; appearance tiles " << appearanceCounters.tiles << " (uniform "
               << appearanceCounters.uniformTiles << "), curves drawn " << appearanceCounters.curvesDrawn << ", with markings "
@@ -124,6 +255,8 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
+    cmd->add_option("--max-pixels", o->maxPixels, "Refuse a mosaic of more pixels than this (default 2^28 = 16384 x 16384, 768 MiB of RGB)")
+        ->check(CLI::Range(std::int64_t(1), std::numeric_limits<std::int64_t>::max()));
     cmd->callback([o] { run(*o); });
 }
 
