@@ -1,5 +1,8 @@
 // `lacet check incremental`: random edits on a synthetic scene; after each, the incrementally
 // updated quadtree is compared with a rebuild from scratch. Exits non-zero on any mismatch.
+// `lacet check fit`: the Hausdorff distance between a scene's curves and the GIS sources they
+// were imported from, per layer (io/fit_check.h). Exits non-zero when anything is farther than
+// the tolerance.
 #include <iostream>
 #include <map>
 #include <random>
@@ -8,6 +11,7 @@
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
+#include "io/fit_check.h"
 #include "model/quadtree_compare.h"
 #include "model/random_edits.h"
 #include "model/synthetic_scene.h"
@@ -77,6 +81,35 @@ int run(const CheckOptions& o) {
     return mismatches == 0 && valid ? 0 : 2;
 }
 
+struct FitOptions {
+    std::string scene;
+    std::vector<std::string> sources;
+    std::string mapping;
+    FitCheckParams params;
+    bool json = false;
+};
+
+int runFit(const FitOptions& o) {
+    const SceneDocument doc = loadScene(o.scene);
+    const FeatureMapping mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
+    VectorData data;
+    for (const std::string& path : o.sources) readVectors(path, mapping, data);
+    const FitCheckReport r = checkFit(doc, data, mapping, o.params);
+    if (o.json) {
+        std::cout << r.json().dump(2) << "\n";
+    } else {
+        std::cout << "Fit of " << o.scene << " against its sources (tolerance " << o.params.tolerance << " m, measured within "
+                  << o.params.precision << " m):\n";
+        for (const FitCheckLayer& l : r.layers)
+            std::cout << "  " << l.name << ": " << l.curves << " curves (" << l.vertices << " vertices, " << l.onCurveVertices
+                      << " on-curve), curve to source <= " << l.curveToSourceUpper << " m, source to curve <= "
+                      << l.sourceToCurveUpper << " m; over the tolerance: " << l.curvesOver << " curves, " << l.sourcesOver
+                      << " sources\n";
+        std::cout << "  sources outside the scene (not measured): " << r.sourcesOutside << "; " << r.ms / 1000.0 << " s\n";
+    }
+    return r.passed() ? 0 : 2;
+}
+
 }  // namespace
 
 void addCheckCommand(CLI::App& app) {
@@ -92,6 +125,18 @@ void addCheckCommand(CLI::App& app) {
     inc->add_flag("--json", o->json, "Print JSON");
     inc->callback([o] {
         if (const int rc = run(*o); rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto f = std::make_shared<FitOptions>();
+    CLI::App* fit = check->add_subcommand("fit", "Hausdorff distance between a scene's curves and their GIS sources, per layer");
+    fit->add_option("scene", f->scene, "Scene file (from lacet import)")->required();
+    fit->add_option("--source", f->sources, "The vector files it was imported from")->required();
+    fit->add_option("--mapping", f->mapping, "The mapping file of the import (default: the OSM mapping)");
+    fit->add_option("--tolerance", f->params.tolerance, "Fit tolerance to check against (m)")->check(CLI::Range(0.0, 1000.0));
+    fit->add_option("--precision", f->params.precision, "Precision of the measure (m)")->check(CLI::Range(1e-6, 10.0));
+    fit->add_flag("--json", f->json, "Print JSON");
+    fit->callback([f] {
+        if (const int rc = runFit(*f); rc != 0) throw CLI::RuntimeError(rc);
     });
 }
 

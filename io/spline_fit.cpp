@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/bezier.h"
+#include "model/hausdorff.h"
 
 namespace lacet {
 namespace {
@@ -47,6 +48,14 @@ constexpr double kMinHandleFraction = 1e-6;
 // A span whose end tangents are within this angle (radians, as a sine) of its chord, and whose
 // points all lie within tolerance of the chord, becomes a line piece (C1 with its neighbours).
 constexpr double kStraightSine = 1e-9;
+
+// The dense Hausdorff measure of a piece is certified within min(precision, this share of the
+// tolerance), so that a piece is not refused for the measure's own slack; never below
+// kMinPrecision metres (a zero tolerance accepts exact pieces only).
+constexpr double kPrecisionShare = 0.05;
+constexpr double kMinPrecision = 1e-9;
+// Metres: the reported error is measured within no finer a precision than this.
+constexpr double kMinReportPrecision = 1e-4;
 
 // Projection of a point onto a cubic: samples of t per piece to start from, then damped Newton.
 constexpr int kProjectionSamples = 16;
@@ -166,6 +175,12 @@ Joint jointAt(std::span<const Vec2> q, std::size_t i, bool closed, double reach)
     return j;
 }
 
+// Whether the polyline turns by more than kCornerCosine's angle at q[i] (jointAt's test).
+bool isCorner(std::span<const Vec2> q, std::size_t i, bool closed, double reach) {
+    const Joint j = jointAt(q, i, closed, reach);
+    return j.back != -j.forward;
+}
+
 // Cumulative chord length of d, normalised to [0, 1] (d has distinct consecutive points).
 std::vector<double> chordLengthParameters(std::span<const Vec2> d, double& length) {
     std::vector<double> u(d.size(), 0.0);
@@ -271,7 +286,8 @@ struct Span {
 class Fitter {
 public:
     Fitter(std::span<const Vec2> q, const SplineFitParams& params, bool closed)
-        : q_(q), params_(params), closed_(closed), reach_(kTangentReachTolerances * params.tolerance) {
+        : q_(q), params_(params), closed_(closed), reach_(kTangentReachTolerances * params.tolerance),
+          precision_(std::max(std::min(params.precision, kPrecisionShare * params.tolerance), kMinPrecision)) {
         result_.vertices.push_back(Vertex{q.front(), true});
         result_.inputPoints = q.size();
     }
@@ -292,17 +308,18 @@ public:
     }
 
     SplineFitResult take() { return std::move(result_); }
+    double precision() const { return precision_; }
 
 private:
     // Emits the span's piece when it fits and returns nothing, or returns the index to split at.
     std::optional<std::size_t> fitSpan(const Span& s) {
         const std::span<const Vec2> d = q_.subspan(s.first, s.last - s.first + 1);
         if (d.size() == 2) {
-            emitLine(s.last, 0.0);
+            emitLine(s.last);
             return std::nullopt;
         }
-        if (const auto error = straightError(d, s)) {
-            emitLine(s.last, *error);
+        if (straight(d, s)) {
+            emitLine(s.last);
             return std::nullopt;
         }
 
@@ -322,44 +339,57 @@ private:
         }
         if (!(best.maxError <= params_.tolerance)) return s.first + best.worst;
 
-        // Accepted: the reported error is the projection of every point (each no larger than the
-        // bound the attempt was accepted with, as projectedDistance starts from the same hint).
-        double error = 0.0;
-        for (std::size_t i = 1; i + 1 < d.size(); ++i)
-            error = std::max(error, projectedDistance(best.piece, d[i], best.u[i]));
+        // The points are within tolerance; the whole piece and every source segment must be too
+        // (a long segment between two points can lie far from a curve through both).
+        HausdorffParams dense;
+        dense.precision = precision_;
+        dense.giveUpAbove = params_.tolerance;
+        dense.goodEnough = params_.tolerance;
+        const Hausdorff h = hausdorff(best.piece, d, dense);
+        if (!(h.upper() <= params_.tolerance)) {
+            const DistanceBound& worst = h.curveToSource.lower >= h.sourceToCurve.lower ? h.curveToSource : h.sourceToCurve;
+            return s.first + nearestInterior(d, worst.where);
+        }
         result_.vertices.push_back(Vertex{best.piece.p[1], false});
         result_.vertices.push_back(Vertex{best.piece.p[2], false});
         result_.vertices.push_back(Vertex{q_[s.last], true});
-        result_.maxError = std::max(result_.maxError, error);
         return std::nullopt;
     }
 
-    // The largest distance of d's points to its chord when a line piece can replace the cubic:
-    // end tangents along the chord, and every point within tolerance of it.
-    std::optional<double> straightError(std::span<const Vec2> d, const Span& s) const {
+    // Index (in d) of the interior point nearest to p: where a span that strays is split.
+    static std::size_t nearestInterior(std::span<const Vec2> d, Vec2 p) {
+        std::size_t best = 1;
+        double bestDistance = kInfinity;
+        for (std::size_t i = 1; i + 1 < d.size(); ++i) {
+            const double e = glm::length(d[i] - p);
+            if (e < bestDistance) bestDistance = e, best = i;
+        }
+        return best;
+    }
+
+    // Whether a line piece can replace the cubic: end tangents along the chord, and every point
+    // within tolerance of it. The chord and the polyline are then within tolerance of each other
+    // both ways: segments between points within tolerance of the chord are too (convexity), and
+    // each chord point has a polyline point with the same projection on the chord's line.
+    bool straight(std::span<const Vec2> d, const Span& s) const {
         const Vec2 along = unitOrZero(d.back() - d.front());
-        if (along == Vec2(0.0)) return std::nullopt;
+        if (along == Vec2(0.0)) return false;
         const auto aligned = [](Vec2 t, Vec2 dir) {
             return glm::dot(t, dir) > 0.0 && std::abs(cross(t, dir)) <= kStraightSine;
         };
-        if (!aligned(s.t1, along) || !aligned(s.t2, -along)) return std::nullopt;
-        double error = 0.0;
-        for (std::size_t i = 1; i + 1 < d.size(); ++i) {
-            error = std::max(error, distanceToSegment(d[i], d.front(), d.back()));
-            if (!(error <= params_.tolerance)) return std::nullopt;
-        }
-        return error;
+        if (!aligned(s.t1, along) || !aligned(s.t2, -along)) return false;
+        for (std::size_t i = 1; i + 1 < d.size(); ++i)
+            if (!(distanceToSegment(d[i], d.front(), d.back()) <= params_.tolerance)) return false;
+        return true;
     }
 
-    void emitLine(std::size_t last, double error) {
-        result_.vertices.push_back(Vertex{q_[last], true});
-        result_.maxError = std::max(result_.maxError, error);
-    }
+    void emitLine(std::size_t last) { result_.vertices.push_back(Vertex{q_[last], true}); }
 
     std::span<const Vec2> q_;
     SplineFitParams params_;
     bool closed_;
     double reach_;
+    double precision_;  // metres: of the dense Hausdorff measure
     SplineFitResult result_;
 };
 
@@ -370,6 +400,8 @@ SplineFitResult fitSpline(std::span<const Vec2> points, const SplineFitParams& p
     if (!std::isfinite(params.tolerance) || params.tolerance < 0.0)
         throw std::invalid_argument("fitSpline: tolerance must be finite and >= 0");
     if (params.maxIterations < 0) throw std::invalid_argument("fitSpline: maxIterations must be >= 0");
+    if (!(params.precision > 0.0) || !std::isfinite(params.precision))
+        throw std::invalid_argument("fitSpline: precision must be finite and > 0");
     for (const Vec2& p : points)
         if (!std::isfinite(p.x) || !std::isfinite(p.y))
             throw std::invalid_argument("fitSpline: non-finite coordinate");
@@ -394,12 +426,23 @@ SplineFitResult fitSpline(std::span<const Vec2> points, const SplineFitParams& p
                                         std::to_string(points.size()) + " points)");
         breaks.push_back(index[k]);
     }
+    // Corners stay corners: split there, each side with its own tangent.
+    const double reach = kTangentReachTolerances * params.tolerance;
+    for (std::size_t i = 1; i + 1 < q.size(); ++i)
+        if (isCorner(q, i, closed, reach)) breaks.push_back(i);
     std::sort(breaks.begin(), breaks.end());
     breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
 
     Fitter fitter(q, params, closed);
     for (std::size_t b = 0; b + 1 < breaks.size(); ++b) fitter.fit(breaks[b], breaks[b + 1]);
-    return fitter.take();
+    SplineFitResult result = fitter.take();
+    // Every piece was proven within tolerance of its stretch, so the whole curve is; the reported
+    // error is the whole curve's Hausdorff distance to the whole polyline, measured (a plateau of
+    // the distance within a tiny precision can exhaust the measure: the proof still bounds it).
+    HausdorffParams measure;
+    measure.precision = std::max(fitter.precision(), kMinReportPrecision);
+    result.maxError = std::min(hausdorff(result.vertices, q, measure).upper(), params.tolerance);
+    return result;
 }
 
 }  // namespace lacet

@@ -14,8 +14,14 @@
 namespace lacet {
 
 struct SplineFitParams {
-    double tolerance = 0.5;  // metres: the fitted curve stays within this distance of every input point (>= 0)
+    // Metres (>= 0): the Hausdorff distance between the fitted curve and the input polyline, both
+    // ways, along the whole of both (every point of the curve is within it of the polyline, and
+    // every point of every input segment within it of the curve).
+    double tolerance = 0.5;
     int maxIterations = 4;   // Newton reparameterisation steps per attempt (Schneider), >= 0
+    // Metres (> 0): the dense measure of each piece (model/hausdorff.h) is certified within
+    // min(precision, tolerance / 20); the reported error exceeds the true one by at most that.
+    double precision = 0.01;
 };
 
 struct SplineFitResult {
@@ -23,9 +29,9 @@ struct SplineFitResult {
     // on-curve vertex is an input point. Cubic pieces (2 controls between on-curve vertices), or
     // line pieces (no control) where 2 points remain or the points lie on a straight span.
     std::vector<Vertex> vertices;
-    // Metres: largest distance from an input point to the piece fitted to it, measured by
-    // projecting the point onto that piece (the distance to a point of the curve, so never below
-    // the true distance to the curve); <= tolerance.
+    // Metres, <= tolerance: an upper bound (within the precision above) of the largest Hausdorff
+    // distance between a piece and the stretch of input polyline it was fitted to, measured along
+    // both densely; the whole curve's Hausdorff distance to the input polyline is no larger.
     double maxError = 0.0;
     std::size_t inputPoints = 0;  // after dropping consecutive duplicates
 };
@@ -33,8 +39,12 @@ struct SplineFitResult {
 // Fits a polyline (scene metres) with a C1-continuous-where-possible chain of cubic Bezier
 // pieces: chord-length parameterisation, least-squares cubic with fixed end tangents,
 // Newton-Raphson reparameterisation, split at the point of largest error (with the tangent there
-// shared by both halves) until every point is within tolerance. At a point where the polyline
-// turns sharply (a corner, or a reversal) the two halves take one-sided tangents instead.
+// shared by both halves) until every point is within tolerance; then a piece is kept only when
+// its dense Hausdorff distance to its stretch of polyline is within tolerance (a curve through
+// every point can still bulge between two distant ones), else it is split at the input point
+// nearest to where it strays. A span of two points is its segment, exactly. The polyline is split
+// first at every point where it turns sharply (a corner, or a reversal): corners stay corners,
+// the two sides taking one-sided tangents.
 //
 // Consecutive duplicate points are dropped first. `keep` lists indices (into the input) of points
 // that must stay on-curve vertices exactly (e.g. shared OSM nodes that become junctions later);

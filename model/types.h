@@ -2,7 +2,9 @@
 // Basic value types of the model: positions, element ids, vertices of Bezier splines, boxes.
 // All positions are in the scene's projected CRS, in metres, as doubles.
 
+#include <cmath>
 #include <cstdint>
+
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
 
@@ -44,6 +46,11 @@ struct Box {
     }
     bool contains(Vec2 p) const { return min.x <= p.x && p.x <= max.x && min.y <= p.y && p.y <= max.y; }
     bool contains(const Box& o) const { return contains(o.min) && contains(o.max); }
+    // Distance from p to the box (0 inside): a lower bound of the distance to anything in it.
+    double distanceTo(Vec2 p) const {
+        const Vec2 d = glm::max(glm::max(min - p, p - max), Vec2(0.0));
+        return std::sqrt(d.x * d.x + d.y * d.y);
+    }
     friend bool operator==(const Box&, const Box&) = default;
 };
 
