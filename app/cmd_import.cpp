@@ -1,10 +1,14 @@
-// `lacet import`: a DEM and GIS vector files into one scene file (GeoPackage), with a progress
-// line per stage on stderr and the report at the end; `lacet info`: what a scene file holds.
+// `lacet import`: a DEM and GIS vector files into one scene file (GeoPackage), with progress on
+// stderr (app/progress_bar.h) and the report at the end; `lacet info`: what a scene file holds.
+// The import checks every path before any work (io/import_paths.h) and fails, writing nothing,
+// when an input cannot be read or nothing would be kept (io/scene_import.h).
 #include <iostream>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/progress_bar.h"
+#include "io/import_paths.h"
 #include "io/scene_import.h"
 
 namespace lacet::app {
@@ -13,6 +17,7 @@ namespace {
 struct ImportCli {
     ImportOptions options;
     std::string out;
+    bool force = false;
     bool json = false;
 };
 
@@ -24,7 +29,8 @@ void printSummary(const ImportReport& r, const std::string& out) {
         std::cout << "  " << l["name"].get<std::string>() << ": curves by class " << l["curves_by_class"].dump() << ", areas by class "
                   << l["areas_by_class"].dump() << ", nodes " << l["nodes"] << ", junctions " << l["junctions"] << ", bridges "
                   << l["bridges"] << "\n";
-    std::cout << "  fit: " << j["fit"].dump() << "\n  dem: " << j["dem"].dump() << "\n  crs: " << j["crs"].dump()
+    std::cout << "  fit: " << j["fit"].dump() << "\n  duplicates: " << j["duplicates"].dump() << "\n  dem: " << j["dem"].dump()
+              << "\n  crs: " << j["crs"].dump()
               << "\n  river nodes below their surroundings: " << r.riverNodesBelowSurroundings * 100.0 << " % of "
               << r.riverNodesChecked << "\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
 }
@@ -53,18 +59,28 @@ nlohmann::json sceneInfo(const SceneDocument& doc, const std::string& path) {
 void addImportCommand(CLI::App& app) {
     auto o = std::make_shared<ImportCli>();
     CLI::App* cmd = app.add_subcommand("import", "Import a DEM and GIS vector layers into a scene file");
-    cmd->add_option("--dem", o->options.dem, "DEM (GeoTIFF, SRTM .hgt, /vsizip/...: anything GDAL reads)")->required();
-    cmd->add_option("--vectors", o->options.vectors, "Vector files (OSM PBF/XML, Shapefile, GeoJSON, GeoPackage)")->required();
+    cmd->add_option("--dem", o->options.dem,
+                    "DEM rasters (GeoTIFF, SRTM .hgt, /vsizip/...: anything GDAL reads), VRTs or directories of tiles; "
+                    "several make a mosaic. None: flat ground (--flat-height)");
+    cmd->add_option("--vectors", o->options.vectors, "Vector files (OSM PBF/XML, Shapefile, GeoJSON, GeoPackage). None: a DEM-only scene");
     cmd->add_option("--mapping", o->options.mapping, "Mapping file (JSON; default: OSM roads, rivers, lakes, fields, forests)");
-    cmd->add_option("--tolerance", o->options.fitTolerance, "Spline fitting tolerance (m)");
-    cmd->add_option("--dem-cell", o->options.demCell, "Scene DEM cell (m; default: the source's resolution)");
+    cmd->add_option("--tolerance", o->options.fitTolerance,
+                    "Spline fitting tolerance: the Hausdorff distance between each curve and its source (m, 0 to 100)");
+    cmd->add_option("--dem-cell", o->options.demCell, "Scene DEM cell (m, 0.1 to 10000; default: the source's resolution)");
+    cmd->add_option("--flat-height", o->options.flatHeight, "Height of the flat ground when no DEM is given (m)");
+    cmd->add_option("--min-kept", o->options.minKept, "Fail unless the vectors give at least this many curves and areas (default 1)");
+    cmd->add_flag("--allow-empty", o->options.allowEmpty, "Accept an import that keeps fewer than --min-kept features");
     cmd->add_option("--out", o->out, "Scene file to write (GeoPackage)")->required();
+    cmd->add_flag("--force", o->force, "Replace --out even when it is not a Lacet scene");
     cmd->add_flag("--json", o->json, "Print the report as JSON");
     cmd->callback([o] {
+        checkImportOptions(o->options);
+        checkImportPaths({o->options.dem, o->options.vectors, o->options.mapping, o->out, o->force});
         ImportReport report;
-        const SceneDocument doc = importScene(o->options, report, [](const std::string& stage) { std::cerr << "[import] " << stage << "\n"; });
-        std::cerr << "[import] saving " << o->out << "\n";
+        TerminalProgress progress;
+        const SceneDocument doc = importScene(o->options, report, &progress);
         saveScene(o->out, doc);
+        for (const std::string& w : report.warnings) std::cerr << "lacet import: warning: " << w << "\n";
         if (o->json) std::cout << report.json().dump(2) << "\n";
         else printSummary(report, o->out);
     });

@@ -1,8 +1,11 @@
 #include "io/network_builder.h"
 
+#include <algorithm>
 #include <bit>
 #include <memory>
+#include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace lacet {
 namespace {
@@ -14,6 +17,43 @@ struct PointKey {
 };
 struct PointHash {
     std::size_t operator()(const PointKey& k) const { return std::hash<std::uint64_t>()(k.x * 0x9e3779b97f4a7c15ULL ^ k.y); }
+};
+
+// A segment between two points, in either direction.
+struct SegmentKey {
+    PointKey a, b;
+    SegmentKey(Vec2 p, Vec2 q) : a(p), b(q) {
+        if (std::tie(b.x, b.y) < std::tie(a.x, a.y)) std::swap(a, b);
+    }
+    friend bool operator==(const SegmentKey&, const SegmentKey&) = default;
+};
+struct SegmentHash {
+    std::size_t operator()(const SegmentKey& k) const { return PointHash()(k.a) * 0x100000001b3ULL ^ PointHash()(k.b); }
+};
+
+// The rings of an area, independent of where each ring starts and of its direction.
+std::vector<std::uint64_t> ringsKey(const std::vector<std::vector<Vec2>>& rings) {
+    std::vector<std::uint64_t> key;
+    for (const std::vector<Vec2>& ring : rings) {
+        std::vector<std::pair<std::uint64_t, std::uint64_t>> pts;
+        for (std::size_t i = 0; i + 1 < ring.size(); ++i) {
+            const PointKey k(ring[i]);
+            pts.push_back({k.x, k.y});
+        }
+        const auto first = std::min_element(pts.begin(), pts.end());
+        std::rotate(pts.begin(), first, pts.end());
+        if (pts.size() > 2 && pts.back() < pts[1]) std::reverse(pts.begin() + 1, pts.end());
+        key.push_back(pts.size());
+        for (const auto& [x, y] : pts) key.insert(key.end(), {x, y});
+    }
+    return key;
+}
+struct KeyHash {
+    std::size_t operator()(const std::vector<std::uint64_t>& k) const {
+        std::size_t h = 0xcbf29ce484222325ULL;
+        for (std::uint64_t v : k) h = (h ^ v) * 0x100000001b3ULL;
+        return h;
+    }
 };
 
 // A piece of a way between two nodes, in scene metres.
@@ -42,11 +82,37 @@ public:
                  NetworkReport& report, std::vector<ElementAttribute>* attributes)
         : layer_(layer), id_(id), summary_(summary), mapping_(mapping), fit_(fit), report_(report), attributes_(attributes) {}
 
-    void addWay(std::vector<Vec2> points, std::size_t rule, std::uint16_t flags, const std::map<std::string, std::string>& kept) {
-        ways_.push_back({std::move(points), rule, flags, 0, 0, &kept});
+    // Adds the stretches of the way made of segments not imported before in this layer.
+    void addWay(const std::vector<Vec2>& points, std::size_t rule, std::uint16_t flags, const std::map<std::string, std::string>& kept,
+                const SourceRef& source) {
+        std::vector<Vec2> run;
+        std::size_t seen = 0;
+        auto flush = [&] {
+            if (run.size() >= 2) ways_.push_back({std::move(run), rule, flags, 0, 0, &kept});
+            run.clear();
+        };
+        for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+            if (!segments_.insert(SegmentKey(points[i], points[i + 1])).second) {
+                ++seen;
+                flush();
+                continue;
+            }
+            if (run.empty()) run.push_back(points[i]);
+            run.push_back(points[i + 1]);
+        }
+        flush();
+        const std::size_t total = points.size() - 1;
+        if (seen == total) {
+            ++report_.duplicateLines;
+            report_.problems.push_back({source, "duplicate: every segment was imported before (the same way twice, or a relation over its ways)", true});
+        } else if (seen > 0) {
+            report_.duplicateLineSegments += seen;
+            report_.problems.push_back({source, "overlaps earlier features (the shared segments removed, the rest imported)", false});
+        }
+        summary_.inputPoints += points.size();
     }
 
-    void buildCurves() {
+    void buildCurves(Progress* progress) {
         // Nodes: way ends and shared points.
         std::unordered_map<PointKey, int, PointHash> uses;
         for (const Piece& w : ways_)
@@ -69,9 +135,8 @@ public:
             // Pieces have >= 2 points, no consecutive duplicates and finite coordinates (the reader
             // checked them), and importScene checked the tolerance: the fit cannot refuse them.
             SplineFitResult r = fitSpline(p.points, fit_);
-            report_.outputVertices += r.vertices.size();
-            for (const Vertex& v : r.vertices) report_.onCurveVertices += v.onCurve;
-            report_.maxFitError = std::max(report_.maxFitError, r.maxError);
+            countFit(r);
+            progressAdvance(progress);
             const MappingRule& rule = mapping_.rules[p.rule];
             Curve c;
             c.vertices = std::move(r.vertices);
@@ -90,16 +155,22 @@ public:
         summary_.nodes = layer_.nodes.size();
     }
 
-    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule, const std::map<std::string, std::string>& kept) {
+    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule, const std::map<std::string, std::string>& kept,
+                 const SourceRef& source, Progress* progress) {
+        if (!areaKeys_.insert(ringsKey(rings)).second) {
+            ++report_.duplicateAreas;
+            report_.problems.push_back({source, "duplicate: an area with the same rings was imported before", true});
+            return;
+        }
+        for (const std::vector<Vec2>& ring : rings) summary_.inputPoints += ring.size() - 1;
         const MappingRule& r = mapping_.rules[rule];
         Area area;
         area.wf = r.wf;
         area.cls = r.cls;
         for (const std::vector<Vec2>& ring : rings) {
             SplineFitResult fit = fitSpline(ring, fit_);
-            report_.outputVertices += fit.vertices.size();
-            for (const Vertex& v : fit.vertices) report_.onCurveVertices += v.onCurve;
-            report_.maxFitError = std::max(report_.maxFitError, fit.maxError);
+            countFit(fit);
+            progressAdvance(progress);
             const ElementId n = layer_.addNode(ring.front());
             Curve c;
             c.vertices = std::move(fit.vertices);
@@ -115,6 +186,17 @@ public:
     }
 
 private:
+    void countFit(const SplineFitResult& r) {
+        std::size_t onCurve = 0;
+        for (const Vertex& v : r.vertices) onCurve += v.onCurve;
+        report_.outputVertices += r.vertices.size();
+        report_.onCurveVertices += onCurve;
+        report_.maxFitError = std::max(report_.maxFitError, r.maxError);
+        summary_.outputVertices += r.vertices.size();
+        summary_.onCurveVertices += onCurve;
+        summary_.maxFitError = std::max(summary_.maxFitError, r.maxError);
+    }
+
     void keep(ElementKind kind, ElementId id, const std::map<std::string, std::string>& kept) {
         if (!attributes_) return;
         for (const auto& [k, v] : kept) attributes_->push_back({id_, kind, id, k, v});
@@ -182,6 +264,8 @@ private:
     NetworkReport& report_;
     std::vector<ElementAttribute>* attributes_;
     std::vector<Piece> ways_;
+    std::unordered_set<SegmentKey, SegmentHash> segments_;
+    std::unordered_set<std::vector<std::uint64_t>, KeyHash> areaKeys_;
     std::unordered_map<PointKey, std::size_t, PointHash> nodeIndex_;
     std::vector<Vec2> nodePoints_;
     std::vector<ElementId> nodeIds_;
@@ -191,7 +275,7 @@ private:
 
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
                  const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
-                 std::vector<ElementAttribute>* attributes) {
+                 std::vector<ElementAttribute>* attributes, Progress* progress) {
     Scene scene;
     scene.extent = extent;
     report = {};
@@ -199,7 +283,9 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
         scene.layers.emplace_back();
         scene.layers.back().name = ml.name;
         scene.layers.back().kind = ml.kind;
-        report.layers.push_back({ml.name, ml.kind, {}, {}, 0, 0, 0, 0, 0});
+        report.layers.emplace_back();
+        report.layers.back().name = ml.name;
+        report.layers.back().kind = ml.kind;
     }
     auto outside = [&](const std::vector<glm::dvec2>& pts) {
         if (!insideDem) return false;
@@ -210,17 +296,21 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
     std::vector<std::unique_ptr<LayerBuilder>> builders;
     for (std::size_t l = 0; l < scene.layers.size(); ++l)
         builders.push_back(std::make_unique<LayerBuilder>(scene.layers[l], LayerId(l), report.layers[l], mapping, fit, report, attributes));
-    for (const RawLine& line : data.lines) {
-        if (outside(line.lonLat)) {
-            report.problems.push_back({line.source, "outside the DEM", true});
+    // Ways before the parts of multi-line features (relations over those ways), in file order.
+    std::vector<const RawLine*> lines;
+    for (const RawLine& line : data.lines) lines.push_back(&line);
+    std::stable_partition(lines.begin(), lines.end(), [](const RawLine* l) { return !l->inMulti; });
+    for (const RawLine* line : lines) {
+        if (outside(line->lonLat)) {
+            report.problems.push_back({line->source, "outside the DEM", true});
             continue;
         }
-        std::vector<Vec2> pts = project(frame, line.lonLat);
+        const std::vector<Vec2> pts = project(frame, line->lonLat);
         if (pts.size() < 2) continue;
-        report.inputPoints += pts.size();
-        builders[mapping.rules[line.rule].layer]->addWay(std::move(pts), line.rule, line.flags, line.kept);
+        builders[mapping.rules[line->rule].layer]->addWay(pts, line->rule, line->flags, line->kept, line->source);
     }
-    for (auto& b : builders) b->buildCurves();
+    progressBegin(progress, "fitting splines", 0, "curves");
+    for (auto& b : builders) b->buildCurves(progress);
     for (const RawArea& area : data.areas) {
         bool out = false;
         for (const auto& ring : area.rings) out = out || outside(ring);
@@ -232,7 +322,6 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
         for (const auto& ring : area.rings) {
             rings.push_back(project(frame, ring));
             if (rings.back().back() != rings.back().front()) rings.back().push_back(rings.back().front());
-            report.inputPoints += rings.back().size() - 1;
         }
         bool degenerate = false;
         for (const auto& ring : rings) degenerate = degenerate || ring.size() < 4;
@@ -240,8 +329,10 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
             report.problems.push_back({area.source, "degenerate ring after projection", true});
             continue;
         }
-        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule, area.kept);
+        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule, area.kept, area.source, progress);
     }
+    progressEnd(progress);
+    for (const LayerSummary& l : report.layers) report.inputPoints += l.inputPoints;
     return scene;
 }
 

@@ -10,6 +10,12 @@
 // Polygons (lakes, fields, forests): each ring becomes one closed curve from a node to itself,
 // fitted the same way; the outer ring and the holes make the area's loops. Borders shared between
 // neighbouring polygons are not merged into shared curves (each polygon keeps its own).
+// One feature, one curve: a way segment (two consecutive points) already imported in the layer is
+// not imported again: a feature all of whose segments were seen (the same way in two files, an
+// OSM route or waterway relation over its member ways) is skipped, one that partly overlaps keeps
+// its new stretches; ways of single-line features are taken before parts of multi-line ones, so
+// the ways keep their own attributes. An area whose rings repeat an earlier area's is skipped.
+// All are counted and reported.
 // Features with a point outside the DEM are skipped and reported. The attributes the mapping keeps
 // (names, bridge, tunnel, layer...) go to `attributes`, per curve or area; chains merge only
 // where they agree.
@@ -20,6 +26,7 @@
 #include "io/scene_frame.h"
 #include "io/spline_fit.h"
 #include "io/vector_import.h"
+#include "model/progress.h"
 
 namespace lacet {
 
@@ -29,6 +36,8 @@ struct LayerSummary {
     std::map<std::uint16_t, std::size_t> curvesByClass;  // roads and rivers
     std::map<std::uint16_t, std::size_t> areasByClass;   // area layers
     std::size_t nodes = 0, junctions = 0, bridges = 0, tunnels = 0, holes = 0;
+    std::size_t inputPoints = 0, outputVertices = 0, onCurveVertices = 0;
+    double maxFitError = 0.0;  // metres: the largest curve's Hausdorff distance to its source (SplineFitResult)
 };
 
 struct NetworkReport {
@@ -38,12 +47,15 @@ struct NetworkReport {
     std::size_t onCurveVertices = 0; // of which on-curve
     double maxFitError = 0.0;        // metres, measured
     std::size_t chainsMerged = 0;
+    std::size_t duplicateLines = 0;          // skipped: every segment imported before
+    std::size_t duplicateLineSegments = 0;   // removed from lines that partly overlap earlier ones
+    std::size_t duplicateAreas = 0;          // skipped: the same rings as an earlier area
     std::vector<FeatureProblem> problems;
 };
 
 // `insideDem(lonLat)`: whether the DEM covers a point (null: no DEM check).
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
                  const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
-                 std::vector<ElementAttribute>* attributes = nullptr);
+                 std::vector<ElementAttribute>* attributes = nullptr, Progress* progress = nullptr);
 
 }  // namespace lacet

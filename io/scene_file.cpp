@@ -707,6 +707,19 @@ void saveScene(const std::string& path, const SceneDocument& doc) {
     }
 }
 
+bool isLacetScene(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0) return false;
+    try {
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        if (db.queryInteger("PRAGMA application_id") != kGpkgApplicationId || !db.hasTable("lacet_meta")) return false;
+        auto s = db.prepare("SELECT value FROM lacet_meta WHERE key = 'format'");
+        return s.step() && s.text(0) == kFormatName;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
 SceneDocument loadScene(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw SceneFileError(systemError(path + ": cannot open"));

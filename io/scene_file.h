@@ -83,4 +83,9 @@ void saveScene(const std::string& path, const SceneDocument& doc);
 // is of a later format version, or one whose model fails validate() (model/validate.h).
 SceneDocument loadScene(const std::string& path);
 
+// Whether `path` is a file Lacet wrote: a GeoPackage whose lacet_meta says it is a Lacet scene.
+// Reads only the header and one table (not the checksum); never throws. The import replaces an
+// existing file only when this says so (or when forced): it never overwrites what it does not own.
+bool isLacetScene(const std::string& path);
+
 }  // namespace lacet

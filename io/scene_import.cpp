@@ -4,17 +4,73 @@
 #include <chrono>
 #include <cmath>
 
+#include <optional>
+#include <sstream>
+
 #include "model/validate.h"
 
 namespace lacet {
 namespace {
 
-// Metres per source sample, from the DEM's bounds and size (for the default grid).
-double sourceResolution(const Box& lonLat, int width, int height, double lat) {
-    constexpr double kMetresPerDegree = 111320.0;
-    const double dx = lonLat.size().x / width * kMetresPerDegree * std::cos(lat * 3.14159265358979 / 180.0);
-    const double dy = lonLat.size().y / height * kMetresPerDegree;
-    return std::max(1.0, std::min(dx, dy));
+std::string numberText(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+std::string boxText(const Box& b) {
+    std::ostringstream s;
+    s << "(" << b.min.x << ", " << b.min.y << ") - (" << b.max.x << ", " << b.max.y << ")";
+    return s.str();
+}
+
+// A lon/lat box's image in the frame (unshifted metres), sampled along its border: `outer` bounds
+// it, `inner` is the axis-aligned rectangle inside it (the box's edges curve under the projection).
+void projectBox(const SceneFrame& frame, const Box& lonLat, Box& outer, Box& inner) {
+    constexpr int kSamples = 32;
+    outer = {{1e300, 1e300}, {-1e300, -1e300}};
+    inner = outer;
+    inner.min = Vec2(-1e300);
+    inner.max = Vec2(1e300);
+    for (int k = 0; k <= kSamples; ++k) {
+        const double f = double(k) / kSamples;
+        const Vec2 west = frame.forward({lonLat.min.x, lonLat.min.y + f * lonLat.size().y});
+        const Vec2 east = frame.forward({lonLat.max.x, lonLat.min.y + f * lonLat.size().y});
+        const Vec2 south = frame.forward({lonLat.min.x + f * lonLat.size().x, lonLat.min.y});
+        const Vec2 north = frame.forward({lonLat.min.x + f * lonLat.size().x, lonLat.max.y});
+        for (const Vec2 q : {west, east, south, north}) outer = {glm::min(outer.min, q), glm::max(outer.max, q)};
+        inner.min.x = std::max(inner.min.x, west.x);
+        inner.max.x = std::min(inner.max.x, east.x);
+        inner.min.y = std::max(inner.min.y, south.y);
+        inner.max.y = std::min(inner.max.y, north.y);
+    }
+}
+
+// The scene's square (unshifted frame metres). With features: around them by `margin`, moved
+// along each axis to lie inside the DEM's coverage when its side fits there (still holding the
+// features). Without: the largest square inside the DEM's coverage.
+Box sceneSquare(const SceneFrame& frame, const std::optional<Box>& features, const std::optional<Box>& demLonLat, double margin) {
+    Box demOuter, demInner;
+    if (demLonLat) projectBox(frame, *demLonLat, demOuter, demInner);
+    if (!features) {
+        const double side = std::floor(std::max(std::min(demInner.size().x, demInner.size().y), 1.0));
+        const Vec2 c = demInner.center();
+        return {c - side / 2.0, c + side / 2.0};
+    }
+    Box f, unused;
+    projectBox(frame, *features, f, unused);
+    const Box wanted = f.dilated(margin);
+    const double side = std::ceil(std::max({wanted.size().x, wanted.size().y, 1.0}));
+    Vec2 min = wanted.center() - side / 2.0;
+    if (demLonLat)
+        for (int axis = 0; axis < 2; ++axis) {
+            // The square must hold the features: min in [f.max - side, f.min]; inside the DEM:
+            // min in [inner.min, inner.max - side]. Take the nearest to centred in both, if any.
+            const double lo = std::max(f.max[axis] - side, demInner.min[axis]);
+            const double hi = std::min(f.min[axis], demInner.max[axis] - side);
+            if (lo <= hi) min[axis] = std::clamp(min[axis], lo, hi);
+        }
+    return {min, min + side};
 }
 
 std::map<std::string, std::size_t> countByReason(const std::vector<FeatureProblem>& problems) {
@@ -46,75 +102,149 @@ void checkRivers(const Scene& s, const Dem& dem, ImportReport& r) {
 
 }  // namespace
 
-SceneDocument importScene(const ImportOptions& o, ImportReport& report, const std::function<void(const std::string&)>& progress) {
-    const auto t0 = std::chrono::steady_clock::now();
-    auto say = [&](const std::string& s) {
-        if (progress) progress(s);
+void checkImportOptions(const ImportOptions& o) {
+    auto range = [](double v, double lo, double hi, const char* what) {
+        if (!(v >= lo && v <= hi))  // NaN fails too
+            throw ImportError(std::string(what) + " must be in [" + numberText(lo) + ", " + numberText(hi) + "], not " + numberText(v));
     };
+    range(o.fitTolerance, 0.0, kMaxFitTolerance, "the fit tolerance (--tolerance, metres)");
+    if (o.demCell != 0.0) range(o.demCell, kMinDemCell, kMaxDemCell, "the DEM cell (--dem-cell, metres; 0: the source's)");
+    range(o.margin, 0.0, kMaxMargin, "the margin (metres)");
+    range(o.flatHeight, -500.0, 9000.0, "the flat ground's height (--flat-height, metres)");
+    if (o.dem.empty() && o.vectors.empty()) throw ImportError("nothing to import: give a DEM (--dem), vector files (--vectors), or both");
+}
+
+SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress* progress) {
+    const auto t0 = std::chrono::steady_clock::now();
     report = {};
-    if (!std::isfinite(o.fitTolerance) || o.fitTolerance < 0.0)
-        throw std::invalid_argument("the spline fitting tolerance must be a finite number of metres >= 0");
-    if (!std::isfinite(o.demCell) || o.demCell < 0.0)
-        throw std::invalid_argument("the DEM cell must be a finite number of metres >= 0 (0: the source's resolution)");
-    if (!std::isfinite(o.margin) || o.margin < 0.0) throw std::invalid_argument("the margin must be a finite number of metres >= 0");
+    checkImportOptions(o);
     const FeatureMapping mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
+    // The DEM is checked (every file opened, CRS compared) before the vectors are read.
+    std::optional<DemSourceInfo> demInfo;
+    if (!o.dem.empty()) demInfo = demSourceInfo(o.dem);
+
     VectorData data;
     for (std::size_t i = 0; i < o.vectors.size(); ++i) {
-        say("reading " + o.vectors[i] + " (" + std::to_string(i + 1) + "/" + std::to_string(o.vectors.size()) + ")");
+        progressBegin(progress, "reading " + o.vectors[i], 0, "features");
+        const std::size_t before = data.featuresRead;
         readVectors(o.vectors[i], mapping, data);
+        progressAdvance(progress, data.featuresRead - before);
+        progressEnd(progress);
+    }
+    if (!data.fileErrors.empty()) {
+        std::string why;
+        for (const std::string& e : data.fileErrors) why += "\n  " + e;
+        throw ImportError("cannot import: " + std::to_string(data.fileErrors.size()) + " input" +
+                          (data.fileErrors.size() > 1 ? "s" : "") + " could not be read whole:" + why);
     }
     report.featuresRead = data.featuresRead;
     report.unmapped = data.unmapped;
+    report.duplicateOsmIds = data.duplicateOsmIds;
     report.problems = data.problems;
-    say("projecting");
-    const DemSourceInfo demInfo = demSourceInfo({o.dem});
-    const Box demLonLat = demInfo.lonLat;
-    auto insideDem = [&](glm::dvec2 p) { return demLonLat.contains(p); };
+
+    // Features inside the DEM's coverage (all of them on flat ground) frame the scene.
+    std::function<bool(glm::dvec2)> insideDem;
+    if (demInfo) insideDem = [&](glm::dvec2 p) { return demInfo->covers(p); };
     Box bounds{{1e300, 1e300}, {-1e300, -1e300}};
     auto grow = [&](const std::vector<glm::dvec2>& pts) {
-        bool in = true;
-        for (const glm::dvec2& p : pts) in = in && insideDem(p);
-        if (!in) return;
+        for (const glm::dvec2& p : pts)
+            if (insideDem && !insideDem(p)) return;
         for (const glm::dvec2& p : pts) bounds = {glm::min(bounds.min, p), glm::max(bounds.max, p)};
     };
     for (const RawLine& l : data.lines) grow(l.lonLat);
     for (const RawArea& a : data.areas)
         for (const auto& ring : a.rings) grow(ring);
-    if (!(bounds.min.x <= bounds.max.x)) bounds = demLonLat;  // no feature inside the DEM: the DEM's own bounds
-    report.lon0 = bounds.center().x;
-    report.lat0 = bounds.center().y;
+    const bool anyFeature = bounds.min.x <= bounds.max.x;
+    if (!anyFeature && !o.vectors.empty() && !o.allowEmpty)
+        throw ImportError(demInfo ? "no feature of the vector files lies inside the DEM (" + std::to_string(data.featuresRead) +
+                                        " features read, " + std::to_string(data.unmapped) + " not mapped): nothing to keep (--allow-empty accepts it)"
+                                  : "no feature of the vector files could be imported (" + std::to_string(data.featuresRead) +
+                                        " read, " + std::to_string(data.unmapped) + " not mapped; see the problems)");
+    if (!anyFeature && !demInfo) throw ImportError("no feature to import and no DEM: the scene would have no extent");
+    const Box centreBox = anyFeature ? bounds : demInfo->lonLat;
+    report.lon0 = centreBox.center().x;
+    report.lat0 = centreBox.center().y;
     SceneFrame frame(report.lon0, report.lat0);
-    Box projected{{1e300, 1e300}, {-1e300, -1e300}};
-    for (int j = 0; j <= 16; ++j)
-        for (int i = 0; i <= 16; ++i) {
-            const Vec2 q = frame.forward(bounds.min + bounds.size() * glm::dvec2(i / 16.0, j / 16.0));
-            projected = {glm::min(projected.min, q), glm::max(projected.max, q)};
-        }
-    projected = projected.dilated(o.margin);
-    const double side = std::ceil(std::max(projected.size().x, projected.size().y));
-    const Vec2 centre = projected.center();
-    frame.setOriginShift(Vec2(side / 2.0) - centre);
-    report.extent = {{0.0, 0.0}, {side, side}};
+    const Box square = sceneSquare(frame, anyFeature ? std::optional<Box>(bounds) : std::nullopt,
+                                   demInfo ? std::optional<Box>(demInfo->lonLat) : std::nullopt, o.margin);
+    frame.setOriginShift(-square.min);
+    report.extent = {{0.0, 0.0}, square.size()};
     report.largestScaleError = frame.largestScaleError(report.extent);
+    if (!(report.largestScaleError <= kMaxScaleError))
+        throw ImportError("the scene would be " + numberText(report.extent.size().x / 1000.0) +
+                          " km across: one transverse Mercator frame would distort it by " + numberText(report.largestScaleError * 100.0) +
+                          " % (the limit is " + numberText(kMaxScaleError * 100.0) + " %); import a smaller region");
 
-    say("reading the DEM " + o.dem);
-    double cell = o.demCell;
-    if (!(cell > 0.0)) cell = sourceResolution(demLonLat, demInfo.width, demInfo.height, report.lat0);
     SceneDocument doc;
-    doc.dem = importDem(demInfo, frame, report.extent, cell, report.dem);
-    say("building the network and fitting splines");
+    if (demInfo) {
+        progressBegin(progress, "reading the DEM", 0, "rasters");
+        const double cell = o.demCell > 0.0 ? o.demCell : std::max(1.0, std::min(demInfo->resolution.x, demInfo->resolution.y));
+        doc.dem = importDem(*demInfo, frame, report.extent, cell, report.dem);
+        progressEnd(progress);
+        if (report.dem.outsideFraction > 0.0)
+            report.warnings.push_back(numberText(report.dem.outsideFraction * 100.0) + " % of the scene lies outside the DEM (which covers " +
+                                      boxText(report.dem.demExtent) + " m of " + boxText(report.extent) +
+                                      " m): no heights are stored there; the ground continues the DEM's border and is shown as void");
+        if (report.dem.uncoveredFilled > 0)
+            report.warnings.push_back(std::to_string(report.dem.uncoveredFilled) +
+                                      " DEM cells inside the DEM's extent have no data (a missing tile, or the border's curvature) and were "
+                                      "filled from their neighbours");
+    } else {
+        report.flatGround = true;
+        report.flatHeight = o.flatHeight;
+        const int n = std::max(2, int(std::ceil(report.extent.size().x / kFlatGroundCell)));
+        doc.dem.emplace(report.extent, n, n, std::vector<float>(std::size_t(n) * std::size_t(n), float(o.flatHeight)));
+        report.warnings.push_back("no DEM: flat ground at " + numberText(o.flatHeight) + " m");
+    }
+    if (o.vectors.empty()) report.warnings.push_back("no vector files: a DEM-only scene");
+
     doc.scene = buildScene(data, mapping, frame, report.extent, insideDem, SplineFitParams{o.fitTolerance}, report.network,
-                           &doc.attributes);
+                           &doc.attributes, progress);
     report.problems.insert(report.problems.end(), report.network.problems.begin(), report.network.problems.end());
     report.linesKept = data.lines.size();
     report.areasKept = data.areas.size();
-    say("validating");
+    std::size_t kept = 0;
+    for (const Layer& l : doc.scene.layers) {
+        for (const Curve& c : l.curves) kept += c.alive && l.kind != LayerKind::Fields && l.kind != LayerKind::Forests &&
+                                               l.kind != LayerKind::Lakes && l.kind != LayerKind::Other;
+        for (const Area& a : l.areas) kept += a.alive;
+    }
+    if (!o.vectors.empty() && kept < o.minKept && !o.allowEmpty)
+        throw ImportError("the vector files gave " + std::to_string(kept) + " curves and areas, fewer than " + std::to_string(o.minKept) +
+                          " (" + std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped, " +
+                          std::to_string(report.problems.size()) + " problems; --allow-empty accepts it)");
     validateOrThrow(doc.scene);
     doc.georeference = frame.georeference();
     checkRivers(doc.scene, *doc.dem, report);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return doc;
 }
+
+namespace {
+
+nlohmann::json demJson(const DemImportReport& dem) {
+    nlohmann::json seams = nlohmann::json::array();
+    for (const DemSeam& s : dem.seams)
+        seams.push_back({{"files", {s.fileA, s.fileB}}, {"points", s.points}, {"largest_step_m", s.largestStep}, {"at_lon_lat", {s.where.x, s.where.y}}});
+    return {{"path", dem.path},
+            {"files", dem.files},
+            {"source_size", {dem.sourceWidth, dem.sourceHeight}},
+            {"window_read", {dem.windowX, dem.windowY, dem.windowWidth, dem.windowHeight}},
+            {"source_resolution_m", {dem.sourceResolution.x, dem.sourceResolution.y}},
+            {"voids_filled", dem.voids},
+            {"uncovered_cells_filled", dem.uncoveredFilled},
+            {"outside_fraction", dem.outsideFraction},
+            {"dem_extent_m", {dem.demExtent.min.x, dem.demExtent.min.y, dem.demExtent.max.x, dem.demExtent.max.y}},
+            {"cell_m", dem.cellSize},
+            {"grid", {dem.width, dem.height}},
+            {"height_range_m", {dem.minHeight, dem.maxHeight}},
+            {"seams_checked", dem.seamsChecked},
+            {"largest_seam_step_m", dem.largestSeamStep},
+            {"seams", seams},
+            {"ms", dem.ms}};
+}
+
+}  // namespace
 
 nlohmann::json ImportReport::json() const {
     nlohmann::json layers = nlohmann::json::array();
@@ -124,7 +254,9 @@ nlohmann::json ImportReport::json() const {
         for (const auto& [c, n] : l.areasByClass) areas[std::to_string(c)] = n;
         layers.push_back({{"name", l.name}, {"kind", std::string(toString(l.kind))}, {"curves_by_class", byClass},
                           {"areas_by_class", areas}, {"nodes", l.nodes}, {"junctions", l.junctions}, {"bridges", l.bridges},
-                          {"tunnels", l.tunnels}, {"holes", l.holes}});
+                          {"tunnels", l.tunnels}, {"holes", l.holes},
+                          {"fit", {{"input_points", l.inputPoints}, {"output_vertices", l.outputVertices},
+                                   {"output_on_curve_vertices", l.onCurveVertices}, {"max_hausdorff_m", l.maxFitError}}}});
     }
     nlohmann::json problemList = nlohmann::json::array();
     for (std::size_t i = 0; i < problems.size() && i < 200; ++i)
@@ -139,10 +271,15 @@ nlohmann::json ImportReport::json() const {
                      {"output_on_curve_vertices", network.onCurveVertices},
                      {"on_curve_reduction", network.inputPoints ? 1.0 - double(network.onCurveVertices) / double(network.inputPoints) : 0.0},
                      {"max_error_m", network.maxFitError},
+                     {"max_error_is", "the largest Hausdorff distance between a curve and its source polyline, both ways, measured "
+                                      "densely (an upper bound within 1 cm)"},
                      {"chains_merged", network.chainsMerged}}},
-            {"dem", {{"path", dem.path}, {"source_size", {dem.sourceWidth, dem.sourceHeight}}, {"voids_filled", dem.voids},
-                     {"outside_fraction", dem.outsideFraction}, {"cell_m", dem.cellSize}, {"grid", {dem.width, dem.height}},
-                     {"height_range_m", {dem.minHeight, dem.maxHeight}}, {"ms", dem.ms}}},
+            {"duplicates", {{"osm_elements_in_several_files", duplicateOsmIds},
+                            {"lines_skipped", network.duplicateLines},
+                            {"line_segments_removed", network.duplicateLineSegments},
+                            {"areas_skipped", network.duplicateAreas}}},
+            {"dem", flatGround ? nlohmann::json{{"flat_ground_m", flatHeight}} : demJson(dem)},
+            {"warnings", warnings},
             {"crs", {{"projection", "transverse Mercator (WGS84), scale 1 on the central meridian"}, {"lon0", lon0}, {"lat0", lat0},
                      {"largest_scale_error", largestScaleError}}},
             {"extent_m", {extent.min.x, extent.min.y, extent.max.x, extent.max.y}},

@@ -3,7 +3,20 @@
 // features read and mapped (io/vector_import.h), a transverse Mercator frame centred on them
 // (io/scene_frame.h), the DEM resampled onto the scene's grid (io/dem_import.h), topology and
 // splines (io/network_builder.h), the scene validated. The report says what came in, what was
-// skipped and why, the fit error and the vertex reduction, voids, the scale error and the time.
+// skipped and why, the fit error (a measured Hausdorff distance) per layer and the vertex
+// reduction, duplicates dropped, voids, what lies outside the DEM, the scale error and the time.
+//
+// What a user can give:
+//   - a DEM (one raster, several tiles, a directory or a VRT) and vectors: the scene's square
+//     extent surrounds the features the DEM covers, by `margin`, and is moved (never shrunk) to lie
+//     inside the DEM when it can; what still lies outside is reported, not invented;
+//   - vectors without a DEM: flat ground at `flatHeight` metres, said so in the report;
+//   - a DEM without vectors: the largest square the DEM covers, an empty network, said so.
+// Failures (an ImportError naming the files and reasons, before anything is written): nothing to
+// import, an input that could not be read (truncated, no CRS, undeclared projected coordinates),
+// knob values out of range (their range in the message), an extent too large for one transverse
+// Mercator frame, or vectors that keep fewer than `minKept` features (by default: nothing kept)
+// unless `allowEmpty`.
 
 #include <functional>
 
@@ -12,23 +25,46 @@
 #include "io/dem_import.h"
 #include "io/network_builder.h"
 #include "io/scene_file.h"
+#include "model/progress.h"
 
 namespace lacet {
 
-struct ImportOptions {
-    std::string dem;
-    std::vector<std::string> vectors;
-    std::string mapping;           // empty: the default OSM mapping
-    double fitTolerance = 0.5;     // metres (SplineFitParams::tolerance)
-    double demCell = 0.0;          // metres; 0: the source's own resolution
-    double margin = 200.0;         // metres of scene around the features
+class ImportError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
 };
+
+struct ImportOptions {
+    std::vector<std::string> dem;      // rasters, VRTs or directories; empty: flat ground
+    std::vector<std::string> vectors;  // empty: a DEM-only scene
+    std::string mapping;               // empty: the default OSM mapping
+    double fitTolerance = 0.5;         // metres, in [0, kMaxFitTolerance] (SplineFitParams::tolerance)
+    double demCell = 0.0;              // metres, 0 (the source's resolution) or in [kMinDemCell, kMaxDemCell]
+    double margin = 200.0;             // metres of scene around the features, in [0, kMaxMargin]
+    double flatHeight = 0.0;           // metres: the ground's height when no DEM is given, in [-500, 9000]
+    std::size_t minKept = 1;           // features (curves and areas) the vectors must give, or the import fails
+    bool allowEmpty = false;           // accept fewer than minKept (an explicit choice)
+};
+
+inline constexpr double kMaxFitTolerance = 100.0;  // metres
+inline constexpr double kMinDemCell = 0.1;         // metres
+inline constexpr double kMaxDemCell = 10000.0;     // metres
+inline constexpr double kMaxMargin = 100000.0;     // metres
+// The largest |scale - 1| of the transverse Mercator frame over the scene (about 570 km across on
+// the central meridian's sides): beyond it distances and areas drift by more than 0.1 %.
+inline constexpr double kMaxScaleError = 1e-3;
+// Cell of the flat ground made when no DEM is given (metres): heights are constant, any cell works.
+inline constexpr double kFlatGroundCell = 100.0;
 
 struct ImportReport {
     DemImportReport dem;
+    bool flatGround = false;  // no DEM given: flat at flatHeight
+    double flatHeight = 0.0;
     NetworkReport network;
     std::size_t featuresRead = 0, unmapped = 0, linesKept = 0, areasKept = 0;
+    std::size_t duplicateOsmIds = 0;
     std::vector<FeatureProblem> problems;  // reading and building
+    std::vector<std::string> warnings;     // things the user must know (the scene beyond the DEM...)
     double largestScaleError = 0.0;
     double riverNodesBelowSurroundings = 0.0;  // fraction of river nodes lower than the median around them
     std::size_t riverNodesChecked = 0;
@@ -38,9 +74,11 @@ struct ImportReport {
     nlohmann::json json() const;
 };
 
-// Throws std::invalid_argument for bad options, DemImportError, VectorImportError, MappingError
-// or ValidationError (file-level problems); per-feature problems go to the report.
-SceneDocument importScene(const ImportOptions& options, ImportReport& report,
-                          const std::function<void(const std::string& stage)>& progress = {});
+// Checks the knobs of `options` (ImportError with the valid range).
+void checkImportOptions(const ImportOptions& options);
+
+// Throws ImportError (see the header), DemImportError, VectorImportError, MappingError or
+// ValidationError; per-feature problems go to the report.
+SceneDocument importScene(const ImportOptions& options, ImportReport& report, Progress* progress = nullptr);
 
 }  // namespace lacet

@@ -48,11 +48,17 @@ bool points(const OGRSimpleCurve& c, OGRCoordinateTransformation* ct, std::vecto
 
 class Reader {
 public:
-    Reader(const std::string& path, const FeatureMapping& mapping, VectorData& out) : path_(path), mapping_(mapping), out_(out) {}
+    Reader(const std::string& path, const FeatureMapping& mapping, VectorData& out, bool osm)
+        : path_(path), mapping_(mapping), out_(out), osm_(osm) {}
 
     void feature(OGRLayer& layer, OGRFeature& f, OGRCoordinateTransformation* ct) {
         ++out_.featuresRead;
         const SourceRef src{path_, layer.GetName(), f.GetFID()};
+        if (osm_ && !firstOsmElement(layer, f)) {
+            ++out_.duplicateOsmIds;
+            problem(src, "duplicate OpenStreetMap element (read before from another file)");
+            return;
+        }
         std::map<std::string, std::string> attributes;
         for (int i = 0; i < f.GetFieldCount(); ++i) {
             if (!f.IsFieldSetAndNotNull(i)) continue;
@@ -80,6 +86,7 @@ public:
             ++out_.unmapped;
             return;
         }
+        ++rangeCounts[layer.GetName()].first;
         std::map<std::string, std::string> kept;
         for (const std::string& k : mapping_.keep)
             if (attributes.count(k)) kept[k] = attributes[k];
@@ -91,7 +98,20 @@ public:
         out_.problems.push_back({src, std::move(reason), skipped});
     }
 
+    // Per layer: features with a geometry, and those refused for a coordinate out of range.
+    std::map<std::string, std::pair<std::size_t, std::size_t>> rangeCounts;
+
 private:
+    // Whether this OSM element (layer and osm_id or osm_way_id) is seen for the first time.
+    bool firstOsmElement(OGRLayer& layer, OGRFeature& f) {
+        for (const char* field : {"osm_id", "osm_way_id"}) {
+            const int i = f.GetFieldIndex(field);
+            if (i >= 0 && f.IsFieldSetAndNotNull(i))
+                return out_.osmIds.insert(std::string(layer.GetName()) + ":" + field + ":" + f.GetFieldAsString(i)).second;
+        }
+        return true;
+    }
+
     void lines(const OGRGeometry& g, OGRwkbGeometryType type, std::size_t rule, const std::map<std::string, std::string>& attributes,
                const std::map<std::string, std::string>& kept, const SourceRef& src, OGRCoordinateTransformation* ct) {
         std::vector<const OGRLineString*> parts;
@@ -103,9 +123,11 @@ private:
             l.rule = rule;
             l.source = src;
             l.kept = kept;
+            l.inMulti = type == wkbMultiLineString;
             std::size_t duplicates = 0;
             if (!points(*part, ct, l.lonLat, duplicates)) {
                 problem(src, "non-finite or out-of-range coordinate");
+                ++rangeCounts[src.layer].second;
                 continue;
             }
             if (l.lonLat.size() < 2) {
@@ -151,6 +173,7 @@ private:
                 std::vector<glm::dvec2> pts;
                 if (!points(*ring, ct, pts, duplicates)) {
                     problem(src, "non-finite or out-of-range coordinate");
+                    ++rangeCounts[src.layer].second;
                     ok = false;
                     break;
                 }
@@ -179,6 +202,7 @@ private:
     std::string path_;
     const FeatureMapping& mapping_;
     VectorData& out_;
+    bool osm_;
 };
 
 }  // namespace
@@ -193,7 +217,7 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
         const std::string why = CPLGetLastErrorMsg();
         throw VectorImportError(path + ": cannot open as vector data" + (why.empty() ? std::string() : " (" + why + ")"));
     }
-    Reader reader(path, mapping, out);
+    Reader reader(path, mapping, out, std::string(ds->GetDriverName()) == "OSM");
     OGRSpatialReference wgs84;
     wgs84.SetWellKnownGeogCS("WGS84");
     wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
@@ -228,11 +252,12 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
                     transforms[layer].reset(OGRCreateCoordinateTransformation(&source, &wgs84));
                     if (!transforms[layer]) {
                         unknownCrs[layer] = true;
-                        reader.problem({path, layer->GetName(), -1}, "no transformation from the layer's CRS to WGS84: its features are skipped");
+                        out.fileErrors.push_back(path + " layer '" + layer->GetName() + "': no transformation from its CRS to WGS84");
                     }
                 }
             } else {
-                reader.problem({path, layer->GetName(), -1}, "unknown CRS (the layer has none): its features are skipped");
+                out.fileErrors.push_back(path + " layer '" + layer->GetName() +
+                                         "': no coordinate reference system (a Shapefile without its .prj?)");
             }
         }
         if (unknownCrs[layer]) {
@@ -241,8 +266,13 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
         }
         reader.feature(*layer, *f, transforms[layer].get());
     }
-    if (readError) reader.problem({path, "", -1}, "read error (" + err + "): what followed it may be missing");
-    if (out.featuresRead == before) reader.problem({path, "", -1}, "no features (empty file or empty layers)");
+    if (readError) out.fileErrors.push_back(path + ": read error (" + err + "): the file is truncated or malformed");
+    else if (out.featuresRead == before) out.fileErrors.push_back(path + ": no features (an empty file, or empty layers)");
+    for (const auto& [layer, counts] : reader.rangeCounts)
+        if (counts.first > 0 && counts.second == counts.first)
+            out.fileErrors.push_back(path + " layer '" + layer + "': every coordinate (" + std::to_string(counts.first) +
+                                     " features) is outside longitude/latitude ranges: projected data whose CRS the file does not "
+                                     "declare? (GeoJSON is WGS84 unless a \"crs\" member says otherwise)");
 }
 
 }  // namespace lacet

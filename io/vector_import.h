@@ -6,14 +6,18 @@
 // Per-feature problems (file, layer, feature id, reason): no geometry; a non-finite coordinate; a
 // way of fewer than 2 distinct points (zero length); a ring that is not closed, or has fewer than
 // 3 distinct points; a self-intersecting or otherwise invalid polygon (GEOS, when GDAL has it);
-// a layer with no CRS, or one OGR cannot transform to WGS84 (its features are skipped). Consecutive
-// duplicate points are removed and reported, and the feature is kept. An empty file, and a read
-// error of the driver (a truncated file), are problems too.
-// A file OGR cannot open throws VectorImportError naming the file and the reason.
+// an OpenStreetMap element already read from another file (the same layer and osm_id: overlapping
+// extracts). Consecutive duplicate points are removed and reported, and the feature is kept.
+// File-level failures, after which the file's contents cannot be trusted, go to `fileErrors`
+// (the import fails on them): a read error of the driver (a truncated or malformed file, an XML
+// entity bomb), a layer with no CRS or one OGR cannot transform to WGS84, a layer whose every
+// coordinate is outside longitude/latitude ranges (projected data that does not say so), an
+// empty file. A file OGR cannot open throws VectorImportError naming the file and the reason.
 
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -42,6 +46,7 @@ struct FeatureProblem {
 struct RawLine {
     std::size_t rule = 0;
     std::vector<glm::dvec2> lonLat;
+    bool inMulti = false;     // a part of a multi-line feature (an OSM route or waterway relation)
     std::uint16_t flags = 0;  // CurveFlag
     std::map<std::string, std::string> kept;
     SourceRef source;
@@ -58,8 +63,11 @@ struct VectorData {
     std::vector<RawLine> lines;
     std::vector<RawArea> areas;
     std::vector<FeatureProblem> problems;
+    std::vector<std::string> fileErrors;  // "file: reason", each a reason to fail the import
     std::size_t featuresRead = 0;
     std::size_t unmapped = 0;  // features no rule matched (not problems)
+    std::size_t duplicateOsmIds = 0;  // OSM elements read before from another file, skipped
+    std::unordered_set<std::string> osmIds;  // "layer:osm_id" of the OSM elements read
 };
 
 // Appends the features of one file.

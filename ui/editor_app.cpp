@@ -139,7 +139,7 @@ void EditorApp::loadInitialDocument() {
     } else if (std::filesystem::exists(pbf) && std::filesystem::exists(dem)) {
         // Andorra (© OpenStreetMap contributors, ODbL; SRTM).
         ImportOptions io;
-        io.dem = "/vsizip/" + dem + "/N42E001.hgt";
+        io.dem = {"/vsizip/" + dem + "/N42E001.hgt"};
         io.vectors = {pbf};
         ImportReport report;
         doc = importScene(io, report);

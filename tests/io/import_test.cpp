@@ -83,8 +83,8 @@ TEST(VectorImport, MissingTruncatedAndEmptyFiles) {
     }
     EXPECT_THROW(readVectors(test::vectorData("truncated.geojson"), defaultMapping(), d), VectorImportError);
     readVectors(test::vectorData("empty.geojson"), defaultMapping(), d);
-    ASSERT_EQ(d.problems.size(), 1u);
-    EXPECT_EQ(d.problems[0].reason, "no features (empty file or empty layers)");
+    ASSERT_EQ(d.fileErrors.size(), 1u);  // a reason to fail the import
+    EXPECT_NE(d.fileErrors[0].find("empty.geojson: no features"), std::string::npos) << d.fileErrors[0];
 }
 
 TEST(VectorImport, TruncatedOsmPbfNeverCrashes) {
@@ -103,8 +103,9 @@ TEST(VectorImport, TruncatedOsmPbfNeverCrashes) {
         VectorData d;
         try {
             readVectors(cut, defaultMapping(), d);
-            // Opened: whatever was read is reported, with a problem saying the rest was not.
-            EXPECT_FALSE(d.problems.empty()) << bytes << " bytes";
+            // Opened: a file-level error says the rest was not read (the import fails on it).
+            ASSERT_FALSE(d.fileErrors.empty()) << bytes << " bytes";
+            EXPECT_NE(d.fileErrors[0].find(cut), std::string::npos) << d.fileErrors[0];
         } catch (const VectorImportError& e) {
             EXPECT_NE(std::string(e.what()).find(cut), std::string::npos);
         }
@@ -197,7 +198,7 @@ TEST(SceneFrame, ProjectionRoundTripsAndItsScaleErrorIsSmallNearTheCentre) {
 TEST(SceneImport, GeoJsonAndDemIntoAValidSceneWithJunctionsBridgesAndHoles) {
     const auto dir = test::scratchDir("import");
     ImportOptions o;
-    o.dem = test::writeFixtureDem(dir);
+    o.dem = {test::writeFixtureDem(dir)};
     o.vectors = {test::vectorData("good.geojson"), test::vectorData("faults.geojson")};
     ImportReport r;
     const SceneDocument doc = importScene(o, r);
@@ -269,7 +270,7 @@ std::string writeShapefile(const std::filesystem::path& dir, bool withCrs) {
     return path;
 }
 
-TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreReported) {
+TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreFileErrors) {
     const auto dir = test::scratchDir("shp");
     VectorData d;
     readVectors(writeShapefile(dir, true), defaultMapping(), d);
@@ -279,9 +280,9 @@ TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreReported) {
     VectorData e;
     readVectors(writeShapefile(dir, false), defaultMapping(), e);
     EXPECT_TRUE(e.lines.empty());
-    ASSERT_EQ(e.problems.size(), 1u);
-    EXPECT_EQ(e.problems[0].reason, "unknown CRS (the layer has none): its features are skipped");
-    EXPECT_NE(e.problems[0].source.str().find("roads_nocrs.shp"), std::string::npos);
+    ASSERT_EQ(e.fileErrors.size(), 1u);  // a reason to fail the import
+    EXPECT_NE(e.fileErrors[0].find("roads_nocrs.shp"), std::string::npos) << e.fileErrors[0];
+    EXPECT_NE(e.fileErrors[0].find("no coordinate reference system"), std::string::npos) << e.fileErrors[0];
     std::filesystem::remove_all(dir);
 }
 
@@ -291,18 +292,37 @@ TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreReported) {
 namespace lacet {
 namespace {
 
-TEST(SceneImport, BadOptionsAreRefusedBeforeAnythingIsRead) {
+// Absurd knob values are refused with their valid range, before any file is opened (the DEM
+// does not exist: a message about it would mean the knobs were checked too late).
+TEST(SceneImport, BadOptionsAreRefusedWithTheirRangeBeforeAnythingIsRead) {
     ImportOptions o;
-    o.dem = "/nonexistent.tif";
+    o.dem = {"/nonexistent.tif"};
     o.vectors = {test::vectorData("good.geojson")};
     ImportReport r;
-    for (double t : {-1.0, std::nan("1"), std::numeric_limits<double>::infinity()}) {
+    auto refused = [&](const char* what) {
+        try {
+            importScene(o, r);
+            ADD_FAILURE() << what << ": accepted";
+        } catch (const ImportError& e) {
+            EXPECT_NE(std::string(e.what()).find(" must be in ["), std::string::npos) << what << ": " << e.what();
+        }
+    };
+    for (double t : {-1.0, std::nan("1"), std::numeric_limits<double>::infinity(), 1e9}) {
         o.fitTolerance = t;
-        EXPECT_THROW(importScene(o, r), std::invalid_argument) << t;
+        refused("tolerance");
     }
     o.fitTolerance = 0.5;
-    o.demCell = -3.0;
-    EXPECT_THROW(importScene(o, r), std::invalid_argument);
+    for (double c : {-3.0, 1e12, 0.001}) {
+        o.demCell = c;
+        refused("dem cell");
+    }
+    o.demCell = 0.0;
+    o.margin = std::nan("1");
+    refused("margin");
+    o.margin = 200.0;
+    o.dem.clear();
+    o.vectors.clear();
+    EXPECT_THROW(importScene(o, r), ImportError);  // nothing to import
 }
 
 TEST(DemImport, AGridTooFineForTheExtentIsRefused) {
