@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <tbb/parallel_for.h>
+
 namespace lacet {
 namespace {
 
@@ -130,13 +132,17 @@ public:
             }
         }
         mergeChains(pieces);
+        std::vector<const std::vector<Vec2>*> polylines;
+        for (const Piece& p : pieces)
+            if (p.alive) polylines.push_back(&p.points);
+        // Pieces have >= 2 points, no consecutive duplicates and finite coordinates (the reader
+        // checked them), and importScene checked the tolerance: the fit cannot refuse them.
+        std::vector<SplineFitResult> fits = fitAll(polylines, progress);
+        std::size_t next = 0;
         for (const Piece& p : pieces) {
             if (!p.alive) continue;
-            // Pieces have >= 2 points, no consecutive duplicates and finite coordinates (the reader
-            // checked them), and importScene checked the tolerance: the fit cannot refuse them.
-            SplineFitResult r = fitSpline(p.points, fit_);
+            SplineFitResult& r = fits[next++];
             countFit(r);
-            progressAdvance(progress);
             const MappingRule& rule = mapping_.rules[p.rule];
             Curve c;
             c.vertices = std::move(r.vertices);
@@ -155,37 +161,66 @@ public:
         summary_.nodes = layer_.nodes.size();
     }
 
-    void addArea(const std::vector<std::vector<Vec2>>& rings, std::size_t rule, const std::map<std::string, std::string>& kept,
-                 const SourceRef& source, Progress* progress) {
+    // Queues an area (its rings closed, in scene metres); buildAreas() fits and adds them.
+    void addArea(std::vector<std::vector<Vec2>> rings, std::size_t rule, const std::map<std::string, std::string>& kept,
+                 const SourceRef& source) {
         if (!areaKeys_.insert(ringsKey(rings)).second) {
             ++report_.duplicateAreas;
             report_.problems.push_back({source, "duplicate: an area with the same rings was imported before", true});
             return;
         }
         for (const std::vector<Vec2>& ring : rings) summary_.inputPoints += ring.size() - 1;
-        const MappingRule& r = mapping_.rules[rule];
-        Area area;
-        area.wf = r.wf;
-        area.cls = r.cls;
-        for (const std::vector<Vec2>& ring : rings) {
-            SplineFitResult fit = fitSpline(ring, fit_);
-            countFit(fit);
-            progressAdvance(progress);
-            const ElementId n = layer_.addNode(ring.front());
-            Curve c;
-            c.vertices = std::move(fit.vertices);
-            c.start = c.end = n;
-            c.wf = r.wf;
-            const ElementId id = layer_.addCurve(std::move(c));
-            area.loops.push_back({{id, false}});
+        areas_.push_back({std::move(rings), rule, &kept});
+    }
+
+    void buildAreas(Progress* progress) {
+        std::vector<const std::vector<Vec2>*> rings;
+        for (const QueuedArea& a : areas_)
+            for (const std::vector<Vec2>& ring : a.rings) rings.push_back(&ring);
+        std::vector<SplineFitResult> fits = fitAll(rings, progress);
+        std::size_t next = 0;
+        for (const QueuedArea& a : areas_) {
+            const MappingRule& r = mapping_.rules[a.rule];
+            Area area;
+            area.wf = r.wf;
+            area.cls = r.cls;
+            for (const std::vector<Vec2>& ring : a.rings) {
+                SplineFitResult& fit = fits[next++];
+                countFit(fit);
+                const ElementId n = layer_.addNode(ring.front());
+                Curve c;
+                c.vertices = std::move(fit.vertices);
+                c.start = c.end = n;
+                c.wf = r.wf;
+                const ElementId id = layer_.addCurve(std::move(c));
+                area.loops.push_back({{id, false}});
+            }
+            summary_.holes += area.loops.size() - 1;
+            keep(ElementKind::Area, layer_.addArea(std::move(area)), *a.kept);
+            ++summary_.areasByClass[r.cls];
         }
-        summary_.holes += area.loops.size() - 1;
-        keep(ElementKind::Area, layer_.addArea(std::move(area)), kept);
-        ++summary_.areasByClass[r.cls];
         summary_.nodes = layer_.nodes.size();
+        areas_.clear();
     }
 
 private:
+    struct QueuedArea {
+        std::vector<std::vector<Vec2>> rings;
+        std::size_t rule;
+        const std::map<std::string, std::string>* kept;
+    };
+
+    // Fits every polyline, on all cores (each fit is independent and deterministic, so the
+    // results do not depend on the thread count).
+    std::vector<SplineFitResult> fitAll(const std::vector<const std::vector<Vec2>*>& polylines, Progress* progress) const {
+        std::vector<SplineFitResult> fits(polylines.size());
+        tbb::parallel_for(std::size_t(0), polylines.size(), [&](std::size_t i) {
+            fits[i] = fitSpline(*polylines[i], fit_);
+            progressAdvance(progress);
+        });
+        return fits;
+    }
+
     void countFit(const SplineFitResult& r) {
         std::size_t onCurve = 0;
         for (const Vertex& v : r.vertices) onCurve += v.onCurve;
@@ -264,6 +299,7 @@ private:
     NetworkReport& report_;
     std::vector<ElementAttribute>* attributes_;
     std::vector<Piece> ways_;
+    std::vector<QueuedArea> areas_;
     std::unordered_set<SegmentKey, SegmentHash> segments_;
     std::unordered_set<std::vector<std::uint64_t>, KeyHash> areaKeys_;
     std::unordered_map<PointKey, std::size_t, PointHash> nodeIndex_;
@@ -329,8 +365,9 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
             report.problems.push_back({area.source, "degenerate ring after projection", true});
             continue;
         }
-        builders[mapping.rules[area.rule].layer]->addArea(rings, area.rule, area.kept, area.source, progress);
+        builders[mapping.rules[area.rule].layer]->addArea(std::move(rings), area.rule, area.kept, area.source);
     }
+    for (auto& b : builders) b->buildAreas(progress);
     progressEnd(progress);
     for (const LayerSummary& l : report.layers) report.inputPoints += l.inputPoints;
     return scene;

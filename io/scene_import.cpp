@@ -177,9 +177,10 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
 
     SceneDocument doc;
     if (demInfo) {
-        progressBegin(progress, "reading the DEM", 0, "rasters");
+        progressBegin(progress, "reading the DEM", demInfo->files.size(), "files");
         const double cell = o.demCell > 0.0 ? o.demCell : std::max(1.0, std::min(demInfo->resolution.x, demInfo->resolution.y));
         doc.dem = importDem(*demInfo, frame, report.extent, cell, report.dem);
+        progressAdvance(progress, demInfo->files.size());
         progressEnd(progress);
         if (report.dem.outsideFraction > 0.0)
             report.warnings.push_back(numberText(report.dem.outsideFraction * 100.0) + " % of the scene lies outside the DEM (which covers " +

@@ -16,7 +16,11 @@ BoxGrid::BoxGrid(std::span<const Box> boxes) : stamps_(boxes.size(), 0u) {
     }
     std::nth_element(sizes.begin(), sizes.begin() + std::ptrdiff_t(sizes.size() / 2), sizes.end());
     const double side = std::max(bounds_.size().x, bounds_.size().y);
-    cell_ = std::max({sizes[sizes.size() / 2], side / kMaxCellsPerSide, 1e-9 * (1.0 + side)});
+    // About the median item, but no more cells than kCellsPerItem per item (items of very
+    // different sizes would otherwise make a grid far larger than the items).
+    const double area = std::max(bounds_.size().x, 1e-9 * (1.0 + side)) * std::max(bounds_.size().y, 1e-9 * (1.0 + side));
+    const double fewest = std::sqrt(area / (kCellsPerItem * double(boxes.size())));
+    cell_ = std::max({sizes[sizes.size() / 2], fewest, side / kMaxCellsPerSide, 1e-9 * (1.0 + side)});
     if (!(cell_ > 0.0) || !std::isfinite(cell_)) cell_ = 1.0;
     nx_ = std::clamp(int(std::ceil(bounds_.size().x / cell_)), 1, kMaxCellsPerSide);
     ny_ = std::clamp(int(std::ceil(bounds_.size().y / cell_)), 1, kMaxCellsPerSide);

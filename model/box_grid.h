@@ -21,7 +21,8 @@ namespace lacet {
 
 class BoxGrid {
 public:
-    // Cells of about the median item size, at most kMaxCellsPerSide a side. Boxes must be finite.
+    // Cells of about the median item size, at most kMaxCellsPerSide a side and kCellsPerItem
+    // cells per item. Boxes must be finite.
     explicit BoxGrid(std::span<const Box> boxes);
 
     template <class Visit>
@@ -31,6 +32,7 @@ public:
 
 private:
     static constexpr int kMaxCellsPerSide = 2048;
+    static constexpr double kCellsPerItem = 4.0;
 
     int cellX(double x) const;
     int cellY(double y) const;

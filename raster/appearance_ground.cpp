@@ -17,7 +17,9 @@ void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cel
             const Vec2 p = t.bounds.min + Vec2(double(i - 1), double(j - 1)) * cell;
             Vec2 gradient;
             const double z = dem.sampleAndGradient(p, gradient);
-            grid[std::size_t(j) * std::size_t(nodes) + std::size_t(i)] = groundColour(z, glm::length(gradient));
+            // Beyond the DEM the heights only continue its border: shown as no data.
+            grid[std::size_t(j) * std::size_t(nodes) + std::size_t(i)] =
+                dem.extent().contains(p) ? groundColour(z, glm::length(gradient)) : kNoDataGround;
         }
     const int side = canvas.side();
     std::vector<int> i0(std::size_t(side), 0);

@@ -8,7 +8,8 @@
 namespace lacet::appearance {
 
 // Fills the whole canvas with the ground's colour, bilinear between the nodes of a grid of
-// `cells` x `cells` cells over the quad (DEM height and slope at each node).
+// `cells` x `cells` cells over the quad (DEM height and slope at each node); nodes beyond the
+// DEM's extent take kNoDataGround (raster/appearance_shading.h).
 void drawGround(Canvas& canvas, const AppearanceTile& t, const Dem& dem, int cells);
 
 }  // namespace lacet::appearance

@@ -26,6 +26,10 @@ using Rgbm = glm::vec4;
 // Ground by altitude (m) and slope (|gradient|, m/m): grass, alpine meadow, rock, snow.
 glm::vec3 groundColour(double z, double slope);
 
+// Ground where the DEM has no data (the scene beyond the DEM's extent): a flat violet grey that no
+// terrain has, so a user sees the heights there are not measured.
+inline constexpr glm::vec3 kNoDataGround(0.46f, 0.42f, 0.52f);
+
 // Water (mask 1), fields (crop colour with a per-field tint and furrows along a per-field
 // direction), forests (canopy noise), other areas. The shader computes what does not depend on
 // the point once per element.

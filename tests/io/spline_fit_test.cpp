@@ -303,7 +303,10 @@ TEST(SplineFit, RandomPolylinesStayWithinToleranceWithExactEnds) {
                 points.push_back(points[points.size() - 2]);  // straight back
             } else {
                 heading += (2.0 * unit(rng) - 1.0) * maxTurn;
-                points.push_back(points.back() + logUniform(0.01, 20.0) * Vec2(std::cos(heading), std::sin(heading)));
+                // Mostly short steps, and now and then a long straight one (a track's 400 m
+                // between two bends became a 43 m arc when only the points were checked).
+                const double step = unit(rng) < 0.1 ? logUniform(50.0, 500.0) : logUniform(0.01, 20.0);
+                points.push_back(points.back() + step * Vec2(std::cos(heading), std::sin(heading)));
             }
         }
         if (points.size() > 3 && unit(rng) < 0.2) points.push_back(points.front());  // closed

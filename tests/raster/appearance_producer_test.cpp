@@ -474,3 +474,50 @@ TEST(AppearanceProducer, JunctionSceneDrawsStopLinesWhereTheRuleSaysOnly) {
 
 }  // namespace
 }  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// Issue 12: where the scene extends beyond the DEM, heights are not measured: the ground there is
+// shown as no data (kNoDataGround), not as terrain continued from the DEM's border.
+TEST(AppearanceProducer, GroundBeyondTheDemIsShownAsNoData) {
+    Scene scene;
+    scene.extent = {{0.0, 0.0}, {1024.0, 1024.0}};
+    scene.layers.emplace_back();
+    scene.layers.back().kind = LayerKind::Roads;
+    // The DEM covers the western half only (a slope, so the ground has colour there).
+    std::vector<float> z(64 * 128);
+    for (int j = 0; j < 128; ++j)
+        for (int i = 0; i < 64; ++i) z[std::size_t(j) * 64 + std::size_t(i)] = float(1300.0 + 2.0 * i);
+    const Dem dem({{0.0, 0.0}, {512.0, 1024.0}}, 64, 128, std::move(z));
+    const DemHeightField heights(dem);
+    Quadtree qt(scene);
+    CurveDataCache data(qt, heights);
+    const AppearanceTile t = produceAppearance(qt.root(), qt, data, dem, AppearanceParams{});
+    const std::vector<std::uint8_t> texels = tileTexels(t);
+    // The no-data colour as the resolve stores it: the texel in the east, far from the border.
+    const std::size_t east = t.index(t.resolution - 8, t.resolution / 2);
+    const double ground = t.bounds.size().x / 32.0;  // the ground grid's cell (32 cells a side here)
+    std::size_t noData = 0, measured = 0;
+    for (int j = 0; j < t.resolution; ++j)
+        for (int i = 0; i < t.resolution; ++i) {
+            const double x = t.texelCentre(i, j).x;
+            const std::size_t k = t.index(i, j);
+            const bool same = std::equal(texels.begin() + std::ptrdiff_t(k), texels.begin() + std::ptrdiff_t(k + 3),
+                                         texels.begin() + std::ptrdiff_t(east));
+            if (x > 512.0 + ground) {
+                EXPECT_TRUE(same) << i << ", " << j;
+                noData += same;
+            }
+            if (x < 512.0 - ground) {
+                EXPECT_FALSE(same) << i << ", " << j;
+                measured += !same;
+            }
+        }
+    EXPECT_GT(noData, 0u);
+    EXPECT_GT(measured, 0u);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(texels[east + std::size_t(c)] / 255.0f, kNoDataGround[c], 1.0f / 255.0f);
+}
+
+}  // namespace
+}  // namespace lacet
