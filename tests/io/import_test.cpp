@@ -340,3 +340,39 @@ TEST(DemImport, AGridTooFineForTheExtentIsRefused) {
 
 }  // namespace
 }  // namespace lacet
+
+namespace lacet {
+namespace {
+
+std::size_t aliveCurves(const Layer& l) {
+    return std::size_t(std::count_if(l.curves.begin(), l.curves.end(), [](const Curve& c) { return c.alive; }));
+}
+
+// Issue 12: a road route relation tagged highway=* repeated its member ways as a second copy of
+// the road (extra junctions, markings broken where the copies overlap); the same data read from
+// two files (overlapping extracts) doubled everything. One feature, one curve.
+TEST(SceneImport, RouteRelationsAndOverlappingExtractsImportEachRoadOnce) {
+    const auto dir = test::scratchDir("route");
+    ImportOptions o;
+    o.dem = {test::writeFixtureDem(dir)};
+    o.vectors = {test::vectorData("route_relation.osm")};
+    ImportReport r;
+    const SceneDocument once = importScene(o, r);
+    const Layer& roads = once.scene.layers[0];
+    EXPECT_EQ(aliveCurves(roads), 1u);  // ways 101 and 102 merged; the relation's two parts dropped
+    EXPECT_EQ(r.network.duplicateLines, 2u);
+    for (const Node& n : roads.nodes) EXPECT_LE(n.curves.size(), 1u) << "no junction between a road and its own copy";
+
+    // The same OSM data from a second file: every element is a duplicate by its OSM id.
+    const auto copy = dir / "copy.osm";
+    std::filesystem::copy_file(test::vectorData("route_relation.osm"), copy);
+    o.vectors.push_back(copy.string());
+    const SceneDocument twice = importScene(o, r);
+    EXPECT_EQ(aliveCurves(twice.scene.layers[0]), 1u);
+    EXPECT_EQ(aliveCurves(twice.scene.layers[1]), aliveCurves(once.scene.layers[1]));
+    EXPECT_EQ(r.duplicateOsmIds, 5u);  // three ways and two relations
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
