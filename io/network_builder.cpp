@@ -114,7 +114,8 @@ public:
         summary_.inputPoints += points.size();
     }
 
-    void buildCurves(Progress* progress) {
+    // Splits the ways at nodes and merges chains; returns the number of curves to fit.
+    std::size_t planCurves() {
         // Nodes: way ends and shared points.
         std::unordered_map<PointKey, int, PointHash> uses;
         for (const Piece& w : ways_)
@@ -132,6 +133,13 @@ public:
             }
         }
         mergeChains(pieces);
+        pieces_ = std::move(pieces);
+        return std::size_t(std::count_if(pieces_.begin(), pieces_.end(), [](const Piece& p) { return p.alive; }));
+    }
+
+    // Fits the planned curves and adds them with their nodes.
+    void buildCurves(Progress* progress) {
+        std::vector<Piece> pieces = std::move(pieces_);
         std::vector<const std::vector<Vec2>*> polylines;
         for (const Piece& p : pieces)
             if (p.alive) polylines.push_back(&p.points);
@@ -171,6 +179,12 @@ public:
         }
         for (const std::vector<Vec2>& ring : rings) summary_.inputPoints += ring.size() - 1;
         areas_.push_back({std::move(rings), rule, &kept});
+    }
+
+    std::size_t queuedRings() const {
+        std::size_t n = 0;
+        for (const QueuedArea& a : areas_) n += a.rings.size();
+        return n;
     }
 
     void buildAreas(Progress* progress) {
@@ -299,6 +313,7 @@ private:
     NetworkReport& report_;
     std::vector<ElementAttribute>* attributes_;
     std::vector<Piece> ways_;
+    std::vector<Piece> pieces_;  // planned curves
     std::vector<QueuedArea> areas_;
     std::unordered_set<SegmentKey, SegmentHash> segments_;
     std::unordered_set<std::vector<std::uint64_t>, KeyHash> areaKeys_;
@@ -345,8 +360,6 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
         if (pts.size() < 2) continue;
         builders[mapping.rules[line->rule].layer]->addWay(pts, line->rule, line->flags, line->kept, line->source);
     }
-    progressBegin(progress, "fitting splines", 0, "curves");
-    for (auto& b : builders) b->buildCurves(progress);
     for (const RawArea& area : data.areas) {
         bool out = false;
         for (const auto& ring : area.rings) out = out || outside(ring);
@@ -367,6 +380,10 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
         }
         builders[mapping.rules[area.rule].layer]->addArea(std::move(rings), area.rule, area.kept, area.source);
     }
+    std::size_t curves = 0;
+    for (auto& b : builders) curves += b->planCurves() + b->queuedRings();
+    progressBegin(progress, "fitting splines", curves, "curves");
+    for (auto& b : builders) b->buildCurves(progress);
     for (auto& b : builders) b->buildAreas(progress);
     progressEnd(progress);
     for (const LayerSummary& l : report.layers) report.inputPoints += l.inputPoints;

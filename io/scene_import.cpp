@@ -18,6 +18,21 @@ std::string numberText(double v) {
     return s.str();
 }
 
+std::string joined(const std::vector<std::string>& paths) {
+    std::string out;
+    for (const std::string& p : paths) out += (out.empty() ? "" : ", ") + p;
+    return out;
+}
+
+// "3 zero-length way (fewer than 2 distinct points), 1 outside the DEM": the reasons, counted.
+std::string reasonsText(const std::vector<FeatureProblem>& problems) {
+    std::map<std::string, std::size_t> counts;
+    for (const FeatureProblem& p : problems) ++counts[p.reason];
+    std::ostringstream s;
+    for (const auto& [reason, n] : counts) s << (s.tellp() > 0 ? ", " : "") << n << " " << reason;
+    return s.str();
+}
+
 std::string boxText(const Box& b) {
     std::ostringstream s;
     s << "(" << b.min.x << ", " << b.min.y << ") - (" << b.max.x << ", " << b.max.y << ")";
@@ -155,11 +170,14 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     for (const RawArea& a : data.areas)
         for (const auto& ring : a.rings) grow(ring);
     const bool anyFeature = bounds.min.x <= bounds.max.x;
-    if (!anyFeature && !o.vectors.empty() && !o.allowEmpty)
-        throw ImportError(demInfo ? "no feature of the vector files lies inside the DEM (" + std::to_string(data.featuresRead) +
-                                        " features read, " + std::to_string(data.unmapped) + " not mapped): nothing to keep (--allow-empty accepts it)"
-                                  : "no feature of the vector files could be imported (" + std::to_string(data.featuresRead) +
-                                        " read, " + std::to_string(data.unmapped) + " not mapped; see the problems)");
+    if (!anyFeature && !o.vectors.empty() && !o.allowEmpty) {
+        const std::string read = std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped";
+        if (data.lines.empty() && data.areas.empty())
+            throw ImportError("nothing to import from " + joined(o.vectors) + ": no feature could be read as a line or an area (" + read +
+                              (data.problems.empty() ? "" : "; problems: " + reasonsText(data.problems)) + "); --allow-empty accepts it");
+        throw ImportError("no feature of " + joined(o.vectors) + " lies inside the DEM " + joined(o.dem) + " (" + read +
+                          "): nothing to keep; --allow-empty accepts it");
+    }
     if (!anyFeature && !demInfo) throw ImportError("no feature to import and no DEM: the scene would have no extent");
     const Box centreBox = anyFeature ? bounds : demInfo->lonLat;
     report.lon0 = centreBox.center().x;
@@ -171,9 +189,10 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     report.extent = {{0.0, 0.0}, square.size()};
     report.largestScaleError = frame.largestScaleError(report.extent);
     if (!(report.largestScaleError <= kMaxScaleError))
-        throw ImportError("the scene would be " + numberText(report.extent.size().x / 1000.0) +
-                          " km across: one transverse Mercator frame would distort it by " + numberText(report.largestScaleError * 100.0) +
-                          " % (the limit is " + numberText(kMaxScaleError * 100.0) + " %); import a smaller region");
+        throw ImportError("the scene of " + joined(anyFeature ? o.vectors : o.dem) + " would be " +
+                          numberText(report.extent.size().x / 1000.0) + " km across: one transverse Mercator frame would distort it by " +
+                          numberText(report.largestScaleError * 100.0) + " % (the limit is " + numberText(kMaxScaleError * 100.0) +
+                          " %); import a smaller region");
 
     SceneDocument doc;
     if (demInfo) {
@@ -211,9 +230,9 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
         for (const Area& a : l.areas) kept += a.alive;
     }
     if (!o.vectors.empty() && kept < o.minKept && !o.allowEmpty)
-        throw ImportError("the vector files gave " + std::to_string(kept) + " curves and areas, fewer than " + std::to_string(o.minKept) +
-                          " (" + std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped, " +
-                          std::to_string(report.problems.size()) + " problems; --allow-empty accepts it)");
+        throw ImportError(joined(o.vectors) + " gave " + std::to_string(kept) + " curves and areas, fewer than " + std::to_string(o.minKept) +
+                          " (" + std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped" +
+                          (report.problems.empty() ? "" : "; problems: " + reasonsText(report.problems)) + "); --allow-empty accepts it");
     validateOrThrow(doc.scene);
     doc.georeference = frame.georeference();
     checkRivers(doc.scene, *doc.dem, report);
