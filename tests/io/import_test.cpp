@@ -376,3 +376,66 @@ TEST(SceneImport, RouteRelationsAndOverlappingExtractsImportEachRoadOnce) {
 
 }  // namespace
 }  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// Issue 12: a mosaic of DEM tiles is taken directly (here a directory of two SRTM-like tiles that
+// share their border column), its seam is checked, and the scene is the same as from one raster.
+TEST(SceneImport, ADemMosaicDirectoryImportsWithItsSeamChecked) {
+    const auto dir = test::scratchDir("mosaic");
+    std::filesystem::create_directories(dir / "tiles");
+    // lon 1.50-1.525 and 1.525-1.55, lat 42.50-42.55, 0.0005 degree samples (the fixture's).
+    test::writeDemTile(dir / "tiles" / "west.tif", 1.500, 42.50, 50, 100, 0.0005);
+    test::writeDemTile(dir / "tiles" / "east.tif", 1.525, 42.50, 50, 100, 0.0005);
+    test::writeDemTile(dir / "whole.tif", 1.500, 42.50, 100, 100, 0.0005);
+    ImportOptions o;
+    o.vectors = {test::vectorData("good.geojson")};
+    o.dem = {(dir / "tiles").string()};
+    ImportReport mosaic, whole;
+    const SceneDocument a = importScene(o, mosaic);
+    o.dem = {(dir / "whole.tif").string()};
+    const SceneDocument b = importScene(o, whole);
+    EXPECT_EQ(mosaic.dem.files.size(), 2u);
+    EXPECT_EQ(mosaic.dem.seamsChecked, 1u);
+    EXPECT_LT(mosaic.dem.largestSeamStep, 1e-3);
+    ASSERT_EQ(a.dem->heights().size(), b.dem->heights().size());
+    double worst = 0.0;
+    for (std::size_t k = 0; k < a.dem->heights().size(); ++k)
+        worst = std::max(worst, double(std::abs(a.dem->heights()[k] - b.dem->heights()[k])));
+    EXPECT_LT(worst, 1e-3) << "metres: the mosaic is the raster";
+    EXPECT_EQ(mosaic.json()["dem"]["seams_checked"], 1);
+    std::filesystem::remove_all(dir);
+}
+
+// Vectors without a DEM import on flat ground, and a DEM without vectors as a DEM-only scene
+// inside the DEM: both say so, and neither needs --allow-empty.
+TEST(SceneImport, VectorsWithoutADemAndADemWithoutVectors) {
+    const auto dir = test::scratchDir("partial");
+    ImportOptions o;
+    o.vectors = {test::vectorData("good.geojson")};
+    o.flatHeight = 250.0;
+    ImportReport r;
+    const SceneDocument flat = importScene(o, r);
+    EXPECT_TRUE(r.flatGround);
+    ASSERT_TRUE(flat.dem.has_value());
+    for (float z : flat.dem->heights()) EXPECT_EQ(z, 250.0f);
+    EXPECT_EQ(flat.dem->extent(), flat.scene.extent);
+    EXPECT_GT(flat.scene.layers[0].curves.size(), 0u);
+    EXPECT_EQ(r.json()["dem"]["flat_ground_m"], 250.0);
+
+    o = {};
+    o.dem = {test::writeFixtureDem(dir)};
+    const SceneDocument demOnly = importScene(o, r);
+    EXPECT_FALSE(r.flatGround);
+    for (const Layer& l : demOnly.scene.layers) EXPECT_TRUE(l.curves.empty() && l.areas.empty()) << l.name;
+    EXPECT_EQ(r.dem.outsideFraction, 0.0);  // the largest square inside the DEM
+    EXPECT_GT(demOnly.scene.extent.size().x, 3000.0);  // the fixture is about 4.1 x 5.6 km
+    bool said = false;
+    for (const std::string& w : r.warnings) said = said || w.find("DEM-only") != std::string::npos;
+    EXPECT_TRUE(said);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
