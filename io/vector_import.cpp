@@ -266,7 +266,7 @@ void readVectors(const std::string& path, const FeatureMapping& mapping, VectorD
         }
         reader.feature(*layer, *f, transforms[layer].get());
     }
-    if (readError) out.fileErrors.push_back(path + ": read error (" + err + "): the file is truncated or malformed");
+    if (readError) out.fileErrors.push_back(path + ": read error (" + err + "): the file is truncated or malformed, or the parser refused it (an XML entity expansion, say)");
     else if (out.featuresRead == before) out.fileErrors.push_back(path + ": no features (an empty file, or empty layers)");
     for (const auto& [layer, counts] : reader.rangeCounts)
         if (counts.first > 0 && counts.second == counts.first)
