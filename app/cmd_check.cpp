@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "bench/bench_util.h"
 #include "io/fit_check.h"
+#include "io/scene_import.h"
 #include "model/quadtree_compare.h"
 #include "model/random_edits.h"
 #include "model/synthetic_scene.h"
@@ -93,7 +94,13 @@ int runFit(const FitOptions& o) {
     const SceneDocument doc = loadScene(o.scene);
     const FeatureMapping mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
     VectorData data;
+    data.dedupOsmIds = o.sources.size() > 1;
     for (const std::string& path : o.sources) readVectors(path, mapping, data);
+    if (!data.fileErrors.empty()) {
+        std::string why;
+        for (const std::string& e : data.fileErrors) why += "\n  " + e;
+        throw std::runtime_error("check fit: a source could not be read whole, nothing was checked:" + why);
+    }
     const FitCheckReport r = checkFit(doc, data, mapping, o.params);
     if (o.json) {
         std::cout << r.json().dump(2) << "\n";
@@ -132,7 +139,7 @@ void addCheckCommand(CLI::App& app) {
     fit->add_option("scene", f->scene, "Scene file (from lacet import)")->required();
     fit->add_option("--source", f->sources, "The vector files it was imported from")->required();
     fit->add_option("--mapping", f->mapping, "The mapping file of the import (default: the OSM mapping)");
-    fit->add_option("--tolerance", f->params.tolerance, "Fit tolerance to check against (m)")->check(CLI::Range(0.0, 1000.0));
+    fit->add_option("--tolerance", f->params.tolerance, "Fit tolerance to check against (m)")->check(CLI::Range(0.0, kMaxFitTolerance));
     fit->add_option("--precision", f->params.precision, "Precision of the measure (m)")->check(CLI::Range(1e-6, 10.0));
     fit->add_flag("--json", f->json, "Print JSON");
     fit->callback([f] {

@@ -89,7 +89,8 @@ void checkLayer(const Layer& layer, const std::vector<Source>& sources, const Fi
         if (bound.lower > 0.5 * p.tolerance) keepWorst(worst, {what, bound.lower, bound.where}, p.listed);
     };
 
-    if (!a.empty()) {
+    // A layer with curves but no source (or sources but no curve) measures infinity: it fails.
+    {
         std::size_t k = 0;
         while (k < pieces.size()) {
             const ElementId c = pieces[k].curve;
@@ -102,8 +103,7 @@ void checkLayer(const Layer& layer, const std::vector<Source>& sources, const Fi
             k = end;
         }
     }
-    if (!pieces.empty())
-        for (const Source& s : sources)
+    for (const Source& s : sources)
             measure([&](const HausdorffParams& hp, DistanceBound& bound) {
                         for (std::size_t i = 0; i + 1 < s.points.size(); ++i)
                             maxAlongSegment(s.points[i], s.points[i + 1], toCurve, oraclePrecision, hp, bound);
@@ -114,8 +114,12 @@ void checkLayer(const Layer& layer, const std::vector<Source>& sources, const Fi
 }  // namespace
 
 bool FitCheckReport::passed() const {
+    // Nothing proven farther than the tolerance, and nothing left undecided (an upper bound past
+    // the tolerance by more than the measure's precision).
     for (const FitCheckLayer& l : layers)
-        if (l.curvesOver > 0 || l.sourcesOver > 0) return false;
+        if (l.curvesOver > 0 || l.sourcesOver > 0 || !(l.curveToSourceUpper <= params.tolerance + params.precision) ||
+            !(l.sourceToCurveUpper <= params.tolerance + params.precision))
+            return false;
     return true;
 }
 
@@ -131,11 +135,13 @@ FitCheckReport checkFit(const SceneDocument& doc, const VectorData& data, const 
     FitCheckReport report;
     report.params = params;
     std::vector<std::vector<Source>> byLayer(mapping.layers.size());
+    // The import keeps the features the DEM covers: a source beyond the DEM is not measured.
+    const Box covered = doc.dem ? doc.dem->extent() : doc.scene.extent;
     auto add = [&](std::size_t rule, const std::vector<glm::dvec2>& lonLat, const SourceRef& ref) {
         Source s{{}, &ref};
         for (const glm::dvec2& ll : lonLat) {
             const Vec2 q = frame.forward(ll);
-            if (!doc.scene.extent.contains(q)) {
+            if (!covered.contains(q)) {
                 ++report.sourcesOutside;
                 return;
             }

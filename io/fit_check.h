@@ -8,7 +8,7 @@
 //   - source to curve: the largest distance from any point of any source feature of the layer to
 //     the nearest curve of the layer.
 // Both are Hausdorff measures within `precision`; DESIGN.md invariant 6 asks both to stay within
-// the import's fit tolerance. Source features with a point outside the scene's extent are not
+// the import's fit tolerance. Source features with a point outside the scene's DEM are not
 // measured (the import skips them) and are counted; features the import skipped for a reason
 // (an invalid polygon, say) show up as sources far from every curve and are listed by name.
 //
@@ -49,9 +49,11 @@ struct FitCheckLayer {
 struct FitCheckReport {
     FitCheckParams params;
     std::vector<FitCheckLayer> layers;
-    std::size_t sourcesOutside = 0;  // not measured: a point outside the scene's extent
+    std::size_t sourcesOutside = 0;  // not measured: a point outside the scene's DEM
     double ms = 0.0;
-    bool passed() const;  // nothing proven farther than the tolerance, either way
+    // Nothing proven farther than the tolerance either way, and nothing undecided (an upper
+    // bound beyond tolerance + precision). A layer with curves and no source fails.
+    bool passed() const;
     nlohmann::json json() const;
 };
 

@@ -88,6 +88,17 @@ void checkImportPaths(const ImportPaths& p) {
         throw ImportPathError(p.out + ": the output's directory " + dir.string() + " does not exist");
     if (::access(dir.c_str(), W_OK) != 0)
         throw ImportPathError(p.out + ": cannot write in " + dir.string() + ": " + std::strerror(errno));
+    // The save writes `out`.tmp first and removes a stale one: it must be ours too.
+    const std::string tmp = p.out + ".tmp";
+    if (::stat(tmp.c_str(), &st) == 0 && !isLacetScene(tmp))
+        throw ImportPathError(tmp + ": exists and is not a Lacet scene's temporary file: the save would remove it (move it away)");
+    // A scene written into a directory of DEM tiles would be read as a tile by the next import.
+    for (const std::string& d : p.dems) {
+        struct stat ds {};
+        if (!isVirtual(d) && ::stat(d.c_str(), &ds) == 0 && S_ISDIR(ds.st_mode) &&
+            std::filesystem::weakly_canonical(dir) == std::filesystem::weakly_canonical(d))
+            throw ImportPathError(p.out + ": is inside the DEM directory " + d + " (its DEM would be read as a tile next time)");
+    }
     if (::stat(p.out.c_str(), &st) == 0) {
         if (S_ISDIR(st.st_mode)) throw ImportPathError(p.out + ": is a directory, not a scene file");
         const FileId outId{st.st_dev, st.st_ino};

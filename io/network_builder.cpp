@@ -90,7 +90,10 @@ public:
         std::vector<Vec2> run;
         std::size_t seen = 0;
         auto flush = [&] {
-            if (run.size() >= 2) ways_.push_back({std::move(run), rule, flags, 0, 0, &kept});
+            if (run.size() >= 2) {
+                summary_.inputPoints += run.size();
+                ways_.push_back({std::move(run), rule, flags, 0, 0, &kept});
+            }
             run.clear();
         };
         for (std::size_t i = 0; i + 1 < points.size(); ++i) {
@@ -111,7 +114,6 @@ public:
             report_.duplicateLineSegments += seen;
             report_.problems.push_back({source, "overlaps earlier features (the shared segments removed, the rest imported)", false});
         }
-        summary_.inputPoints += points.size();
     }
 
     // Splits the ways at nodes and merges chains; returns the number of curves to fit.

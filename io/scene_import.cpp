@@ -79,10 +79,11 @@ Box sceneSquare(const SceneFrame& frame, const std::optional<Box>& features, con
     Vec2 min = wanted.center() - side / 2.0;
     if (demLonLat)
         for (int axis = 0; axis < 2; ++axis) {
-            // The square must hold the features: min in [f.max - side, f.min]; inside the DEM:
+            // The square must hold the features and their margin: min in [wanted.max - side,
+            // wanted.min]; inside the DEM:
             // min in [inner.min, inner.max - side]. Take the nearest to centred in both, if any.
-            const double lo = std::max(f.max[axis] - side, demInner.min[axis]);
-            const double hi = std::min(f.min[axis], demInner.max[axis] - side);
+            const double lo = std::max(wanted.max[axis] - side, demInner.min[axis]);
+            const double hi = std::min(wanted.min[axis], demInner.max[axis] - side);
             if (lo <= hi) min[axis] = std::clamp(min[axis], lo, hi);
         }
     return {min, min + side};
@@ -125,7 +126,7 @@ void checkImportOptions(const ImportOptions& o) {
     range(o.fitTolerance, 0.0, kMaxFitTolerance, "the fit tolerance (--tolerance, metres)");
     if (o.demCell != 0.0) range(o.demCell, kMinDemCell, kMaxDemCell, "the DEM cell (--dem-cell, metres; 0: the source's)");
     range(o.margin, 0.0, kMaxMargin, "the margin (metres)");
-    range(o.flatHeight, -500.0, 9000.0, "the flat ground's height (--flat-height, metres)");
+    range(o.flatHeight, kMinFlatHeight, kMaxFlatHeight, "the flat ground's height (--flat-height, metres)");
     if (o.dem.empty() && o.vectors.empty()) throw ImportError("nothing to import: give a DEM (--dem), vector files (--vectors), or both");
 }
 
@@ -139,6 +140,7 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     if (!o.dem.empty()) demInfo = demSourceInfo(o.dem);
 
     VectorData data;
+    data.dedupOsmIds = o.vectors.size() > 1;
     for (std::size_t i = 0; i < o.vectors.size(); ++i) {
         progressBegin(progress, "reading " + o.vectors[i], 0, "features");
         const std::size_t before = data.featuresRead;
@@ -292,7 +294,8 @@ nlohmann::json ImportReport::json() const {
                      {"on_curve_reduction", network.inputPoints ? 1.0 - double(network.onCurveVertices) / double(network.inputPoints) : 0.0},
                      {"max_error_m", network.maxFitError},
                      {"max_error_is", "the largest Hausdorff distance between a curve and its source polyline, both ways, measured "
-                                      "densely (an upper bound within 1 cm)"},
+                                      "densely: an upper bound, within 1 cm of it (or the tolerance, which the fit proves, where "
+                                      "the measure ran out of evaluations)"},
                      {"chains_merged", network.chainsMerged}}},
             {"duplicates", {{"osm_elements_in_several_files", duplicateOsmIds},
                             {"lines_skipped", network.duplicateLines},

@@ -41,7 +41,7 @@ struct ImportOptions {
     double fitTolerance = 0.5;         // metres, in [0, kMaxFitTolerance] (SplineFitParams::tolerance)
     double demCell = 0.0;              // metres, 0 (the source's resolution) or in [kMinDemCell, kMaxDemCell]
     double margin = 200.0;             // metres of scene around the features, in [0, kMaxMargin]
-    double flatHeight = 0.0;           // metres: the ground's height when no DEM is given, in [-500, 9000]
+    double flatHeight = 0.0;           // metres: the ground's height when no DEM is given, in [kMinFlatHeight, kMaxFlatHeight]
     std::size_t minKept = 1;           // features (curves and areas) the vectors must give, or the import fails
     bool allowEmpty = false;           // accept fewer than minKept (an explicit choice)
 };
@@ -50,6 +50,8 @@ inline constexpr double kMaxFitTolerance = 100.0;  // metres
 inline constexpr double kMinDemCell = 0.1;         // metres
 inline constexpr double kMaxDemCell = 10000.0;     // metres
 inline constexpr double kMaxMargin = 100000.0;     // metres
+inline constexpr double kMinFlatHeight = -500.0;   // metres (the Dead Sea shore is at -430)
+inline constexpr double kMaxFlatHeight = 9000.0;   // metres
 // The largest |scale - 1| of the transverse Mercator frame over the scene (about 570 km across on
 // the central meridian's sides): beyond it distances and areas drift by more than 0.1 %.
 inline constexpr double kMaxScaleError = 1e-3;

@@ -29,9 +29,10 @@ struct SplineFitResult {
     // on-curve vertex is an input point. Cubic pieces (2 controls between on-curve vertices), or
     // line pieces (no control) where 2 points remain or the points lie on a straight span.
     std::vector<Vertex> vertices;
-    // Metres, <= tolerance: an upper bound (within the precision above) of the largest Hausdorff
-    // distance between a piece and the stretch of input polyline it was fitted to, measured along
-    // both densely; the whole curve's Hausdorff distance to the input polyline is no larger.
+    // Metres, <= tolerance: the whole curve's Hausdorff distance to the whole input polyline
+    // (after duplicates are dropped), measured densely both ways: an upper bound, within the
+    // precision above of the true distance, or the tolerance (which the fit proves) where the
+    // measure ran out of evaluations (tiny tolerances along long near-parallel stretches).
     double maxError = 0.0;
     std::size_t inputPoints = 0;  // after dropping consecutive duplicates
 };

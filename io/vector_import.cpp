@@ -54,7 +54,7 @@ public:
     void feature(OGRLayer& layer, OGRFeature& f, OGRCoordinateTransformation* ct) {
         ++out_.featuresRead;
         const SourceRef src{path_, layer.GetName(), f.GetFID()};
-        if (osm_ && !firstOsmElement(layer, f)) {
+        if (osm_ && out_.dedupOsmIds && !firstOsmElement(layer, f)) {
             ++out_.duplicateOsmIds;
             problem(src, "duplicate OpenStreetMap element (read before from another file)");
             return;
@@ -86,19 +86,25 @@ public:
             ++out_.unmapped;
             return;
         }
-        ++rangeCounts[layer.GetName()].first;
         std::map<std::string, std::string> kept;
         for (const std::string& k : mapping_.keep)
             if (attributes.count(k)) kept[k] = attributes[k];
+        const std::size_t before = out_.lines.size() + out_.areas.size();
+        outOfRange_ = false;
         if (line) lines(*g, type, *rule, attributes, kept, src, ct);
         else areas(*g, type, *rule, kept, src, ct);
+        // A feature counts as out of range when nothing of it was kept for that reason.
+        auto& counts = rangeCounts[layer.GetName()];
+        ++counts.first;
+        if (outOfRange_ && out_.lines.size() + out_.areas.size() == before) ++counts.second;
     }
 
     void problem(const SourceRef& src, std::string reason, bool skipped = true) {
         out_.problems.push_back({src, std::move(reason), skipped});
     }
 
-    // Per layer: features with a geometry, and those refused for a coordinate out of range.
+    // Per layer: mapped features with a geometry, and those of them of which nothing was kept
+    // because a coordinate was out of lon/lat range.
     std::map<std::string, std::pair<std::size_t, std::size_t>> rangeCounts;
 
 private:
@@ -127,7 +133,7 @@ private:
             std::size_t duplicates = 0;
             if (!points(*part, ct, l.lonLat, duplicates)) {
                 problem(src, "non-finite or out-of-range coordinate");
-                ++rangeCounts[src.layer].second;
+                outOfRange_ = true;
                 continue;
             }
             if (l.lonLat.size() < 2) {
@@ -173,7 +179,7 @@ private:
                 std::vector<glm::dvec2> pts;
                 if (!points(*ring, ct, pts, duplicates)) {
                     problem(src, "non-finite or out-of-range coordinate");
-                    ++rangeCounts[src.layer].second;
+                    outOfRange_ = true;
                     ok = false;
                     break;
                 }
@@ -203,6 +209,7 @@ private:
     const FeatureMapping& mapping_;
     VectorData& out_;
     bool osm_;
+    bool outOfRange_ = false;  // a part of the current feature was refused for its coordinates
 };
 
 }  // namespace

@@ -67,7 +67,10 @@ struct VectorData {
     std::size_t featuresRead = 0;
     std::size_t unmapped = 0;  // features no rule matched (not problems)
     std::size_t duplicateOsmIds = 0;  // OSM elements read before from another file, skipped
-    std::unordered_set<std::string> osmIds;  // "layer:osm_id" of the OSM elements read
+    // Set when several files are read into this: then OSM elements are keyed by layer and id
+    // ("lines:osm_id:123", kept in osmIds) so that overlapping extracts give each element once.
+    bool dedupOsmIds = false;
+    std::unordered_set<std::string> osmIds;
 };
 
 // Appends the features of one file.

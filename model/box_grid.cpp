@@ -39,7 +39,14 @@ BoxGrid::BoxGrid(std::span<const Box> boxes) : stamps_(boxes.size(), 0u) {
     for (std::size_t k = 0; k < boxes.size(); ++k) forCells(boxes[k], [&](std::size_t c) { items_[counts[c]++] = std::uint32_t(k); });
 }
 
-int BoxGrid::cellX(double x) const { return std::clamp(int(std::floor((x - bounds_.min.x) / cell_)), 0, nx_ - 1); }
-int BoxGrid::cellY(double y) const { return std::clamp(int(std::floor((y - bounds_.min.y) / cell_)), 0, ny_ - 1); }
+// Clamped in double first: a far (or non-finite) point must not overflow the int conversion.
+int BoxGrid::cellX(double x) const {
+    const double c = std::floor((x - bounds_.min.x) / cell_);
+    return c >= double(nx_ - 1) ? nx_ - 1 : c > 0.0 ? int(c) : 0;
+}
+int BoxGrid::cellY(double y) const {
+    const double c = std::floor((y - bounds_.min.y) / cell_);
+    return c >= double(ny_ - 1) ? ny_ - 1 : c > 0.0 ? int(c) : 0;
+}
 
 }  // namespace lacet

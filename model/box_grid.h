@@ -22,7 +22,8 @@ namespace lacet {
 class BoxGrid {
 public:
     // Cells of about the median item size, at most kMaxCellsPerSide a side and kCellsPerItem
-    // cells per item. Boxes must be finite.
+    // times as many cells as items in all (an item spanning many cells is listed in each).
+    // Boxes must be finite.
     explicit BoxGrid(std::span<const Box> boxes);
 
     template <class Visit>

@@ -125,6 +125,7 @@ void maxAlong(Point&& point, double lengthPerUnit, bool straight, Distance&& dis
     };
     std::vector<Stretch> stack{{0.0, 1.0, eval(0.0), eval(1.0)}};
     while (!stack.empty()) {
+        if (!std::isfinite(bound.lower)) return;  // nothing of B is near (an empty B): upper is infinite too
         const Stretch st = stack.back();
         stack.pop_back();
         const double d0 = st.n0.distance, d1 = st.n1.distance;

@@ -10,6 +10,7 @@
 
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
+#include <ogrsf_frmts.h>
 
 namespace lacet::test {
 
@@ -77,6 +78,30 @@ inline std::string writeDemTile(const std::filesystem::path& path, double lonWes
     GDALRasterBand* b = ds->GetRasterBand(1);
     b->SetNoDataValue(-32768.0);
     if (b->RasterIO(GF_Write, 0, 0, nx + 1, ny + 1, v.data(), nx + 1, ny + 1, GDT_Float32, 0, 0) != CE_None) std::abort();
+    GDALClose(ds);
+    return path.string();
+}
+
+// Writes a line Shapefile at `path` with one primary road in UTM 31N metres near the fixture DEM
+// (about lon 1.51, lat 42.52), with its CRS (.prj) or without.
+inline std::string writeRoadShapefile(const std::filesystem::path& path, bool withCrs) {
+    GDALAllRegister();
+    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("ESRI Shapefile");
+    GDALDataset* ds = drv->Create(path.string().c_str(), 0, 0, 0, GDT_Unknown, nullptr);
+    if (!ds) std::abort();
+    OGRSpatialReference utm;
+    utm.importFromEPSG(32631);  // UTM 31N, a projected CRS the reader must transform from
+    OGRLayer* layer = ds->CreateLayer("roads", withCrs ? &utm : nullptr, wkbLineString, nullptr);
+    OGRFieldDefn field("highway", OFTString);
+    layer->CreateField(&field);
+    OGRFeature* f = OGRFeature::CreateFeature(layer->GetLayerDefn());
+    f->SetField("highway", "primary");
+    OGRLineString line;
+    line.addPoint(376000.0, 4708000.0);
+    line.addPoint(377000.0, 4708500.0);
+    f->SetGeometry(&line);
+    if (layer->CreateFeature(f) != OGRERR_NONE) std::abort();
+    OGRFeature::DestroyFeature(f);
     GDALClose(ds);
     return path.string();
 }

@@ -247,38 +247,15 @@ TEST(SceneImport, GeoJsonAndDemIntoAValidSceneWithJunctionsBridgesAndHoles) {
 namespace lacet {
 namespace {
 
-// Writes a line Shapefile with one primary road, with or without a CRS (.prj).
-std::string writeShapefile(const std::filesystem::path& dir, bool withCrs) {
-    GDALAllRegister();
-    const std::string path = (dir / (withCrs ? "roads.shp" : "roads_nocrs.shp")).string();
-    GDALDriver* drv = GetGDALDriverManager()->GetDriverByName("ESRI Shapefile");
-    GDALDataset* ds = drv->Create(path.c_str(), 0, 0, 0, GDT_Unknown, nullptr);
-    OGRSpatialReference utm;
-    utm.importFromEPSG(32631);  // UTM 31N, a projected CRS the reader must transform from
-    OGRLayer* layer = ds->CreateLayer("roads", withCrs ? &utm : nullptr, wkbLineString, nullptr);
-    OGRFieldDefn field("highway", OFTString);
-    layer->CreateField(&field);
-    OGRFeature* f = OGRFeature::CreateFeature(layer->GetLayerDefn());
-    f->SetField("highway", "primary");
-    OGRLineString line;
-    line.addPoint(376000.0, 4708000.0);  // about lon 1.51, lat 42.52
-    line.addPoint(377000.0, 4708500.0);
-    f->SetGeometry(&line);
-    if (layer->CreateFeature(f) != OGRERR_NONE) std::abort();
-    OGRFeature::DestroyFeature(f);
-    GDALClose(ds);
-    return path;
-}
-
 TEST(VectorImport, ShapefilesAreReprojectedAndOnesWithoutACrsAreFileErrors) {
     const auto dir = test::scratchDir("shp");
     VectorData d;
-    readVectors(writeShapefile(dir, true), defaultMapping(), d);
+    readVectors(test::writeRoadShapefile(dir / "roads.shp", true), defaultMapping(), d);
     ASSERT_EQ(d.lines.size(), 1u);
     EXPECT_NEAR(d.lines[0].lonLat[0].x, 1.51, 0.02);
     EXPECT_NEAR(d.lines[0].lonLat[0].y, 42.52, 0.02);
     VectorData e;
-    readVectors(writeShapefile(dir, false), defaultMapping(), e);
+    readVectors(test::writeRoadShapefile(dir / "roads_nocrs.shp", false), defaultMapping(), e);
     EXPECT_TRUE(e.lines.empty());
     ASSERT_EQ(e.fileErrors.size(), 1u);  // a reason to fail the import
     EXPECT_NE(e.fileErrors[0].find("roads_nocrs.shp"), std::string::npos) << e.fileErrors[0];
@@ -434,6 +411,40 @@ TEST(SceneImport, VectorsWithoutADemAndADemWithoutVectors) {
     bool said = false;
     for (const std::string& w : r.warnings) said = said || w.find("DEM-only") != std::string::npos;
     EXPECT_TRUE(said);
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// The "projected data that does not say so" file error fires when nothing of a layer was in
+// lon/lat range, and only then: a multi-line feature with two parts in metres beside a valid
+// line is two per-feature problems, not a reason to fail the file.
+TEST(VectorImport, OutOfRangePartsBesideAValidFeatureAreProblemsNotAFileError) {
+    const auto dir = test::scratchDir("range");
+    const auto mixed = dir / "mixed.geojson";
+    std::ofstream(mixed) << R"({"type": "FeatureCollection", "features": [
+ {"type": "Feature", "properties": {"highway": "primary"},
+  "geometry": {"type": "MultiLineString", "coordinates": [[[168000, 5240000], [169000, 5241000]], [[170000, 5240000], [171000, 5241000]]]}},
+ {"type": "Feature", "properties": {"highway": "primary"},
+  "geometry": {"type": "LineString", "coordinates": [[1.51, 42.52], [1.52, 42.53]]}}]})";
+    VectorData d;
+    readVectors(mixed.string(), defaultMapping(), d);
+    EXPECT_TRUE(d.fileErrors.empty()) << d.fileErrors.front();
+    EXPECT_EQ(d.lines.size(), 1u);
+    EXPECT_EQ(d.problems.size(), 2u);
+
+    const auto metres = dir / "metres.geojson";
+    std::ofstream(metres) << R"({"type": "FeatureCollection", "features": [
+ {"type": "Feature", "properties": {"highway": "primary"},
+  "geometry": {"type": "MultiLineString", "coordinates": [[[168000, 5240000], [169000, 5241000]], [[170000, 5240000], [171000, 5241000]]]}}]})";
+    VectorData e;
+    readVectors(metres.string(), defaultMapping(), e);
+    ASSERT_EQ(e.fileErrors.size(), 1u);
+    EXPECT_NE(e.fileErrors[0].find("outside longitude/latitude ranges"), std::string::npos) << e.fileErrors[0];
     std::filesystem::remove_all(dir);
 }
 
