@@ -54,8 +54,6 @@ constexpr double kStraightSine = 1e-9;
 // kMinPrecision metres (a zero tolerance accepts exact pieces only).
 constexpr double kPrecisionShare = 0.05;
 constexpr double kMinPrecision = 1e-9;
-// Metres: the reported error is measured within no finer a precision than this.
-constexpr double kMinReportPrecision = 1e-4;
 
 // Projection of a point onto a cubic: samples of t per piece to start from, then damped Newton.
 constexpr int kProjectionSamples = 16;
@@ -308,18 +306,17 @@ public:
     }
 
     SplineFitResult take() { return std::move(result_); }
-    double precision() const { return precision_; }
 
 private:
     // Emits the span's piece when it fits and returns nothing, or returns the index to split at.
     std::optional<std::size_t> fitSpan(const Span& s) {
         const std::span<const Vec2> d = q_.subspan(s.first, s.last - s.first + 1);
         if (d.size() == 2) {
-            emitLine(s.last);
+            emitLine(s.last, 0.0);
             return std::nullopt;
         }
-        if (straight(d, s)) {
-            emitLine(s.last);
+        if (const auto error = straightError(d, s)) {
+            emitLine(s.last, *error);
             return std::nullopt;
         }
 
@@ -341,10 +338,12 @@ private:
 
         // The points are within tolerance; the whole piece and every source segment must be too
         // (a long segment between two points can lie far from a curve through both).
+        // Stretches that cannot beat the largest distance of the curve's pieces so far are not
+        // refined: the measure is then exact (within the precision) for the curve, and cheap.
         HausdorffParams dense;
         dense.precision = precision_;
         dense.giveUpAbove = params_.tolerance;
-        dense.goodEnough = params_.tolerance;
+        dense.goodEnough = std::min(result_.maxError, params_.tolerance);
         const Hausdorff h = hausdorff(best.piece, d, dense);
         if (!(h.upper() <= params_.tolerance)) {
             const DistanceBound& worst = h.curveToSource.lower >= h.sourceToCurve.lower ? h.curveToSource : h.sourceToCurve;
@@ -353,6 +352,7 @@ private:
         result_.vertices.push_back(Vertex{best.piece.p[1], false});
         result_.vertices.push_back(Vertex{best.piece.p[2], false});
         result_.vertices.push_back(Vertex{q_[s.last], true});
+        result_.maxError = std::max(result_.maxError, h.upper());
         return std::nullopt;
     }
 
@@ -367,23 +367,30 @@ private:
         return best;
     }
 
-    // Whether a line piece can replace the cubic: end tangents along the chord, and every point
-    // within tolerance of it. The chord and the polyline are then within tolerance of each other
-    // both ways: segments between points within tolerance of the chord are too (convexity), and
-    // each chord point has a polyline point with the same projection on the chord's line.
-    bool straight(std::span<const Vec2> d, const Span& s) const {
+    // When a line piece can replace the cubic (end tangents along the chord, every point within
+    // tolerance of it), the Hausdorff distance between the chord and the polyline: the largest
+    // distance of a point to the chord. Segments between points are no farther (convexity), and
+    // each chord point has a polyline point with the same projection on the chord's line, no
+    // farther from it than that point is from the chord.
+    std::optional<double> straightError(std::span<const Vec2> d, const Span& s) const {
         const Vec2 along = unitOrZero(d.back() - d.front());
-        if (along == Vec2(0.0)) return false;
+        if (along == Vec2(0.0)) return std::nullopt;
         const auto aligned = [](Vec2 t, Vec2 dir) {
             return glm::dot(t, dir) > 0.0 && std::abs(cross(t, dir)) <= kStraightSine;
         };
-        if (!aligned(s.t1, along) || !aligned(s.t2, -along)) return false;
-        for (std::size_t i = 1; i + 1 < d.size(); ++i)
-            if (!(distanceToSegment(d[i], d.front(), d.back()) <= params_.tolerance)) return false;
-        return true;
+        if (!aligned(s.t1, along) || !aligned(s.t2, -along)) return std::nullopt;
+        double error = 0.0;
+        for (std::size_t i = 1; i + 1 < d.size(); ++i) {
+            error = std::max(error, distanceToSegment(d[i], d.front(), d.back()));
+            if (!(error <= params_.tolerance)) return std::nullopt;
+        }
+        return error;
     }
 
-    void emitLine(std::size_t last) { result_.vertices.push_back(Vertex{q_[last], true}); }
+    void emitLine(std::size_t last, double error) {
+        result_.vertices.push_back(Vertex{q_[last], true});
+        result_.maxError = std::max(result_.maxError, error);
+    }
 
     std::span<const Vec2> q_;
     SplineFitParams params_;
@@ -436,12 +443,9 @@ SplineFitResult fitSpline(std::span<const Vec2> points, const SplineFitParams& p
     Fitter fitter(q, params, closed);
     for (std::size_t b = 0; b + 1 < breaks.size(); ++b) fitter.fit(breaks[b], breaks[b + 1]);
     SplineFitResult result = fitter.take();
-    // Every piece was proven within tolerance of its stretch, so the whole curve is; the reported
-    // error is the whole curve's Hausdorff distance to the whole polyline, measured (a plateau of
-    // the distance within a tiny precision can exhaust the measure: the proof still bounds it).
-    HausdorffParams measure;
-    measure.precision = std::max(fitter.precision(), kMinReportPrecision);
-    result.maxError = std::min(hausdorff(result.vertices, q, measure).upper(), params.tolerance);
+    // Every piece was proven within tolerance of its stretch (a measure that ran out of
+    // evaluations leaves a looser bound, but the proof holds).
+    result.maxError = std::min(result.maxError, params.tolerance);
     return result;
 }
 

@@ -29,10 +29,10 @@ struct SplineFitResult {
     // on-curve vertex is an input point. Cubic pieces (2 controls between on-curve vertices), or
     // line pieces (no control) where 2 points remain or the points lie on a straight span.
     std::vector<Vertex> vertices;
-    // Metres, <= tolerance: the whole curve's Hausdorff distance to the whole input polyline
-    // (after duplicates are dropped), measured densely both ways: an upper bound, within the
-    // precision above of the true distance, or the tolerance (which the fit proves) where the
-    // measure ran out of evaluations (tiny tolerances along long near-parallel stretches).
+    // Metres, <= tolerance: the largest Hausdorff distance between a piece and the stretch of
+    // input polyline it was fitted to, measured densely both ways, within the precision above
+    // (looser only where the measure ran out of evaluations: tiny tolerances along long
+    // near-parallel stretches). The whole curve's distance to the whole polyline is no larger.
     double maxError = 0.0;
     std::size_t inputPoints = 0;  // after dropping consecutive duplicates
 };
