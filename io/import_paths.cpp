@@ -22,8 +22,9 @@ struct FileId {
 
 bool isVirtual(const std::string& path) { return path.rfind("/vsi", 0) == 0; }
 
-// The real file a GDAL virtual path lives in: the longest prefix after the /vsiXXX/ part that is
-// a regular file (/vsizip//data/a.zip/inner.shp -> /data/a.zip); empty when there is none.
+// The real file a GDAL virtual path lives in: the longest prefix after its /vsizip/ (or other
+// /vsi...) part that is a regular file (/vsizip//data/a.zip/inner.shp -> /data/a.zip); empty when
+// there is none.
 std::string containerOf(const std::string& path) {
     const std::size_t start = path.find('/', 1);
     if (start == std::string::npos) return {};

@@ -23,12 +23,16 @@ std::string joined(const std::vector<std::string>& paths) {
     return out;
 }
 
+std::map<std::string, std::size_t> countByReason(const std::vector<FeatureProblem>& problems) {
+    std::map<std::string, std::size_t> out;
+    for (const FeatureProblem& p : problems) ++out[p.reason];
+    return out;
+}
+
 // "3 zero-length way (fewer than 2 distinct points), 1 outside the DEM": the reasons, counted.
 std::string reasonsText(const std::vector<FeatureProblem>& problems) {
-    std::map<std::string, std::size_t> counts;
-    for (const FeatureProblem& p : problems) ++counts[p.reason];
     std::ostringstream s;
-    for (const auto& [reason, n] : counts) s << (s.tellp() > 0 ? ", " : "") << n << " " << reason;
+    for (const auto& [reason, n] : countByReason(problems)) s << (s.tellp() > 0 ? ", " : "") << n << " " << reason;
     return s.str();
 }
 
@@ -86,12 +90,6 @@ Box sceneSquare(const SceneFrame& frame, const std::optional<Box>& features, con
             if (lo <= hi) min[axis] = std::clamp(min[axis], lo, hi);
         }
     return {min, min + side};
-}
-
-std::map<std::string, std::size_t> countByReason(const std::vector<FeatureProblem>& problems) {
-    std::map<std::string, std::size_t> out;
-    for (const FeatureProblem& p : problems) ++out[p.reason];
-    return out;
 }
 
 // Fraction of river nodes whose DEM height is below the median of 16 samples on a 150 m circle.

@@ -73,14 +73,8 @@ void arcLengthRec(const BezierPiece& b, double tolerance, int depth, double& sum
     arcLengthRec(r, tolerance * 0.5, depth + 1, sum);
 }
 
-double boxDistance(const Box& box, Vec2 q) {
-    const double dx = std::max({box.min.x - q.x, 0.0, q.x - box.max.x});
-    const double dy = std::max({box.min.y - q.y, 0.0, q.y - box.max.y});
-    return std::sqrt(dx * dx + dy * dy);
-}
-
 void distanceRec(const BezierPiece& b, Vec2 q, double tolerance, int depth, double& best) {
-    if (boxDistance(controlBounds(b), q) >= best) return;
+    if (controlBounds(b).distanceTo(q) >= best) return;
     const double flat = flatness(b);
     const double chordDistance = distanceToSegment(q, b.start(), b.end());
     best = std::min(best, std::min(glm::length(q - b.start()), glm::length(q - b.end())));

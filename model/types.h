@@ -2,6 +2,7 @@
 // Basic value types of the model: positions, element ids, vertices of Bezier splines, boxes.
 // All positions are in the scene's projected CRS, in metres, as doubles.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -48,8 +49,9 @@ struct Box {
     bool contains(const Box& o) const { return contains(o.min) && contains(o.max); }
     // Distance from p to the box (0 inside): a lower bound of the distance to anything in it.
     double distanceTo(Vec2 p) const {
-        const Vec2 d = glm::max(glm::max(min - p, p - max), Vec2(0.0));
-        return std::sqrt(d.x * d.x + d.y * d.y);
+        const double dx = std::max({min.x - p.x, 0.0, p.x - max.x});
+        const double dy = std::max({min.y - p.y, 0.0, p.y - max.y});
+        return std::sqrt(dx * dx + dy * dy);
     }
     friend bool operator==(const Box&, const Box&) = default;
 };
