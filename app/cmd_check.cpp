@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "bench/bench_util.h"
 #include "io/fit_check.h"
+#include "io/scene_file.h"
 #include "io/scene_import.h"
 #include "model/quadtree_compare.h"
 #include "model/random_edits.h"

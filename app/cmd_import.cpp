@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/progress_bar.h"
 #include "io/import_paths.h"
+#include "io/scene_file.h"
 #include "io/scene_import.h"
 
 namespace lacet::app {

@@ -13,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "editor/cache_fit.h"
+#include "io/scene_file.h"
 
 namespace lacet {
 namespace {

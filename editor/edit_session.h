@@ -34,7 +34,7 @@
 
 #include "editor/command.h"
 #include "editor/production_estimate.h"
-#include "io/scene_file.h"
+#include "io/scene_document.h"
 #include "model/curve_data.h"
 #include "model/quadtree.h"
 #include "raster/appearance_producer.h"

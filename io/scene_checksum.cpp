@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string_view>
 
+#include "io/scene_file.h"
+
 namespace lacet {
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "io/scene_file.h"
+#include "io/scene_document.h"
 
 namespace lacet {
 

@@ -33,36 +33,16 @@
 // The file is for Lacet to write: a GIS tool may read it, but a value edited outside Lacet no longer
 // matches the checksum, and the file is refused as corrupt.
 
-#include <optional>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
-#include "io/georeference.h"
-#include "model/graph.h"
-#include "raster/dem.h"
+#include "io/scene_document.h"
 
 namespace lacet {
 
 class SceneFileError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
-};
-
-// An attribute kept from the source data on a root element (a road's name, its OSM layer...).
-struct ElementAttribute {
-    LayerId layer = 0;
-    ElementKind kind = ElementKind::Curve;
-    ElementId id = 0;
-    std::string key, value;
-    friend bool operator==(const ElementAttribute&, const ElementAttribute&) = default;
-};
-
-struct SceneDocument {
-    Scene scene;
-    Georeference georeference;
-    std::optional<Dem> dem;
-    std::vector<ElementAttribute> attributes;  // each names an existing element slot
 };
 
 // Current version of the format above; loadScene refuses files of a later version.

@@ -15,6 +15,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include "io/image_file.h"
+#include "io/scene_file.h"
 #include "io/scene_import.h"
 #include "model/synthetic_scene.h"
 #include "raster/synthetic_dem.h"

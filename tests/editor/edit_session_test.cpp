@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/scene_file.h"
 #include "model/edits.h"
 #include "model/random_edits.h"
 #include "model/synthetic_scene.h"
