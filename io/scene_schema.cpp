@@ -1,0 +1,231 @@
+// The scene file's schema and lacet_meta (io/scene_format.h).
+#include <sqlite3.h>
+
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "io/gpkg_dem.h"
+#include "io/scene_checksum.h"
+#include "io/scene_features.h"
+#include "io/scene_file.h"
+#include "io/scene_format.h"
+
+namespace lacet::scene_format {
+namespace {
+
+// ---- exact text of doubles (lacet_meta) ----
+
+// C hex float ("0x1.f4p+9", "-0x0p+0", "inf"), exact and locale-independent; a NaN as "nan:" and
+// its 16 hex digits of bits, so that its payload survives too.
+std::string doubleText(double v) {
+    if (std::isnan(v)) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "nan:%016llx", static_cast<unsigned long long>(std::bit_cast<std::uint64_t>(v)));
+        return buf;
+    }
+    const std::string sign = std::signbit(v) ? "-" : "";
+    if (std::isinf(v)) return sign + "inf";
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof buf, std::fabs(v), std::chars_format::hex);
+    return sign + "0x" + std::string(buf, r.ptr);
+}
+
+bool parseDouble(const std::string& s, double& v) {
+    const char* end = s.data() + s.size();
+    if (s.starts_with("nan:")) {
+        std::uint64_t bits = 0;
+        const auto r = std::from_chars(s.data() + 4, end, bits, 16);
+        if (s.size() != 20 || r.ec != std::errc() || r.ptr != end) return false;
+        v = std::bit_cast<double>(bits);
+        return std::isnan(v);
+    }
+    const bool negative = s.starts_with("-");
+    const std::string_view body = std::string_view(s).substr(negative ? 1 : 0);
+    if (body == "inf") {
+        v = negative ? -HUGE_VAL : HUGE_VAL;
+        return true;
+    }
+    if (!body.starts_with("0x") || body.size() < 3 || !std::isxdigit(static_cast<unsigned char>(body[2]))) return false;
+    const auto r = std::from_chars(body.data() + 2, end, v, std::chars_format::hex);
+    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v)) return false;
+    if (negative) v = -v;
+    return true;
+}
+
+// ---- the tables ----
+
+constexpr const char* kCreateTables = R"sql(
+CREATE TABLE lacet_meta (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, key TEXT NOT NULL UNIQUE, value TEXT NOT NULL);
+CREATE TABLE lacet_layers (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, id INTEGER NOT NULL UNIQUE, name TEXT NOT NULL,
+  kind TEXT NOT NULL);
+CREATE TABLE lacet_nodes (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
+  x REAL, y REAL, alive BOOLEAN NOT NULL, curves BLOB NOT NULL, exact BLOB, UNIQUE (layer, id));
+CREATE TABLE lacet_curves (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
+  start INTEGER NOT NULL, "end" INTEGER NOT NULL, w FLOAT, wf FLOAT, cls INTEGER NOT NULL,
+  flags INTEGER NOT NULL, alive BOOLEAN NOT NULL, vertices BLOB NOT NULL, areas BLOB NOT NULL, exact BLOB,
+  UNIQUE (layer, id));
+CREATE TABLE lacet_areas (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
+  wf FLOAT, cls INTEGER NOT NULL, axial INTEGER NOT NULL, alive BOOLEAN NOT NULL, loops BLOB NOT NULL,
+  exact BLOB, UNIQUE (layer, id));
+CREATE TABLE lacet_attributes (
+  fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, kind INTEGER NOT NULL,
+  id INTEGER NOT NULL, key TEXT NOT NULL, value TEXT NOT NULL);
+)sql";
+
+struct TableInfo {
+    const char* name;
+    const char* description;
+};
+constexpr TableInfo kTables[] = {
+    {"lacet_meta", "Lacet scene: format, extent, georeference, DEM grid (key/value)"},
+    {"lacet_layers", "Lacet scene: layers"},
+    {"lacet_nodes", "Lacet scene: nodes of the spline networks (scene CRS metres)"},
+    {"lacet_curves", "Lacet scene: Bezier curves (vertices: little-endian f64 x, y then flag bytes)"},
+    {"lacet_areas", "Lacet scene: areas (loops of curves)"},
+    {"lacet_attributes", "Lacet scene: attributes kept from the source data (kind 0 node, 1 curve, 2 area)"},
+};
+
+void writeMeta(SqliteDb& db, const SceneDocument& doc) {
+    std::vector<std::pair<std::string, std::string>> meta = {
+        {"format", kFormatName},
+        {"format_version", std::to_string(kSceneFormatVersion)},
+        {"extent_min_x", doubleText(doc.scene.extent.min.x)},
+        {"extent_min_y", doubleText(doc.scene.extent.min.y)},
+        {"extent_max_x", doubleText(doc.scene.extent.max.x)},
+        {"extent_max_y", doubleText(doc.scene.extent.max.y)},
+        {"georeference_valid", doc.georeference.valid ? "1" : "0"},
+        {"georeference_lon0", doubleText(doc.georeference.lon0)},
+        {"georeference_lat0", doubleText(doc.georeference.lat0)},
+        {"georeference_origin_shift_x", doubleText(doc.georeference.originShift.x)},
+        {"georeference_origin_shift_y", doubleText(doc.georeference.originShift.y)},
+        {"crs_wkt", doc.georeference.crsWkt},
+        {"dem", doc.dem ? kDemRasterTable : "none"},
+        {"checksum", sceneChecksumText(doc)},
+    };
+    if (doc.dem) {
+        const Box& e = doc.dem->extent();
+        meta.insert(meta.end(), {{"dem_width", std::to_string(doc.dem->width())},
+                                 {"dem_height", std::to_string(doc.dem->height())},
+                                 {"dem_extent_min_x", doubleText(e.min.x)},
+                                 {"dem_extent_min_y", doubleText(e.min.y)},
+                                 {"dem_extent_max_x", doubleText(e.max.x)},
+                                 {"dem_extent_max_y", doubleText(e.max.y)}});
+    }
+    auto s = db.prepare("INSERT INTO lacet_meta (key, value) VALUES (?, ?)");
+    for (const auto& [key, value] : meta) {
+        s.bindText(1, key);
+        s.bindText(2, value);
+        s.step();
+        s.reset();
+    }
+}
+
+}  // namespace
+
+void writeSceneTables(const std::string& path, const SceneDocument& doc) {
+    SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+    db.exec("BEGIN IMMEDIATE");
+    db.exec(kCreateTables);
+    {
+        auto s = db.prepare(
+            "INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) "
+            "VALUES (?, 'attributes', ?, ?, strftime('%Y-%m-%dT%H:%M:%fZ', 'now'))");
+        for (const TableInfo& t : kTables) {
+            s.bindText(1, t.name);
+            s.bindText(2, t.name);
+            s.bindText(3, t.description);
+            s.step();
+            s.reset();
+        }
+    }
+    writeMeta(db, doc);
+    writeElementTables(db, doc);
+    writeFeatureTables(db, doc);
+    // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
+    db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
+    db.exec("COMMIT");
+    db.close();
+}
+
+namespace {
+
+Meta readMeta(SqliteDb& db) {
+    Meta meta;
+    auto s = db.prepare("SELECT key, value FROM lacet_meta");
+    while (s.step()) {
+        if (s.type(0) != SQLITE_TEXT || s.type(1) != SQLITE_TEXT)
+            throw FormatError("lacet_meta holds a non-text key or value");
+        meta[s.text(0)] = s.text(1);
+    }
+    return meta;
+}
+
+}  // namespace
+
+const std::string& metaValue(const Meta& meta, const std::string& key) {
+    const auto it = meta.find(key);
+    if (it == meta.end()) throw FormatError("lacet_meta has no '" + key + "'");
+    return it->second;
+}
+
+double metaDouble(const Meta& meta, const std::string& key) {
+    double v = 0.0;
+    if (!parseDouble(metaValue(meta, key), v))
+        throw FormatError("lacet_meta '" + key + "' = '" + metaValue(meta, key) + "' is not a hex float");
+    return v;
+}
+
+std::int64_t metaInteger(const Meta& meta, const std::string& key, std::int64_t lo, std::int64_t hi) {
+    const std::string& text = metaValue(meta, key);
+    std::int64_t v = 0;
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (r.ec != std::errc() || r.ptr != text.data() + text.size() || v < lo || v > hi)
+        throw FormatError("lacet_meta '" + key + "' = '" + text + "' is not an integer in [" + std::to_string(lo) + ", " +
+                          std::to_string(hi) + "]");
+    return v;
+}
+
+Box metaBox(const Meta& meta, const std::string& prefix) {
+    return {{metaDouble(meta, prefix + "_min_x"), metaDouble(meta, prefix + "_min_y")},
+            {metaDouble(meta, prefix + "_max_x"), metaDouble(meta, prefix + "_max_y")}};
+}
+
+Meta openSceneTables(SqliteDb& db, std::int64_t fileSize) {
+    const std::int64_t applicationId = db.queryInteger("PRAGMA application_id");
+    if (applicationId != kGpkgApplicationId) {
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "0x%08llx", static_cast<unsigned long long>(applicationId & 0xffffffff));
+        throw FormatError(std::string("not a GeoPackage (SQLite application_id ") + hex + ", not 0x47504b47 'GPKG')");
+    }
+    // SQLite reads missing pages at the end of a truncated file as zeros; its header knows the size.
+    const std::int64_t expectedSize = db.queryInteger("PRAGMA page_count") * db.queryInteger("PRAGMA page_size");
+    if (fileSize < expectedSize)
+        throw FormatError("truncated file (" + std::to_string(fileSize) + " bytes, its SQLite header says " +
+                          std::to_string(expectedSize) + ")");
+    // Reads every page: finds a damaged file before anything is trusted.
+    const std::string check = db.queryText("PRAGMA quick_check(1)");
+    if (check != "ok") throw FormatError("corrupt file (SQLite quick_check: " + check + ")");
+    if (!db.hasTable("lacet_meta")) throw FormatError("not a Lacet scene (a GeoPackage without a lacet_meta table)");
+    Meta meta = readMeta(db);
+    const auto format = meta.find("format");
+    if (format == meta.end() || format->second != kFormatName)
+        throw FormatError("not a Lacet scene (lacet_meta 'format' is not '" + std::string(kFormatName) + "')");
+    const std::int64_t version = metaInteger(meta, "format_version", 1, INT32_MAX);
+    if (version > kSceneFormatVersion)
+        throw FormatError("written in scene format version " + std::to_string(version) + ", this program reads up to " +
+                          std::to_string(kSceneFormatVersion));
+    for (const TableInfo& t : kTables)
+        if (!db.hasTable(t.name)) throw FormatError(std::string("not a complete Lacet scene (no ") + t.name + " table)");
+    return meta;
+}
+
+}  // namespace lacet::scene_format
