@@ -15,9 +15,9 @@
 #include "io/scene_file.h"
 #include "io/scene_import.h"
 #include "model/quadtree_compare.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
 #include "model/validate.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::app {
 namespace {

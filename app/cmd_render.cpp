@@ -14,11 +14,11 @@
 #include "bench/bench_util.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
-#include "model/synthetic_scene.h"
 #include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
-#include "raster/synthetic_dem.h"
 #include "raster/tile_images.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::app {
 namespace {

@@ -8,11 +8,11 @@
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
-#include "model/quadtree.h"
-#include "model/synthetic_scene.h"
-#include "model/validate.h"
 #include "io/scene_file.h"
-#include "raster/synthetic_dem.h"
+#include "model/quadtree.h"
+#include "model/validate.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::app {
 namespace {

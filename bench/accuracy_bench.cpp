@@ -3,7 +3,7 @@
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
 #include "model/quadtree.h"
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::bench {
 namespace {

@@ -10,10 +10,10 @@
 
 #include "model/curve_data.h"
 #include "model/quadtree.h"
-#include "model/synthetic_scene.h"
 #include "raster/appearance_producer.h"
 #include "raster/dem_height_field.h"
-#include "raster/synthetic_dem.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

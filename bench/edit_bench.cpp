@@ -16,8 +16,8 @@
 #include "bench/tasks.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
-#include "model/synthetic_scene.h"
-#include "raster/synthetic_dem.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::bench {
 namespace {

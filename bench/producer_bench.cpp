@@ -10,11 +10,11 @@
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
 #include "io/scene_file.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
 #include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
-#include "raster/synthetic_dem.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::bench {
 namespace {

@@ -7,11 +7,11 @@
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
-#include "model/synthetic_scene.h"
 #include "raster/appearance_producer.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
-#include "raster/synthetic_dem.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::bench {
 namespace {

@@ -7,8 +7,8 @@
 #include "bench/tasks.h"
 #include "model/edits.h"
 #include "model/quadtree.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::bench {
 namespace {

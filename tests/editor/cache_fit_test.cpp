@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

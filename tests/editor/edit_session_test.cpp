@@ -11,9 +11,9 @@
 
 #include "io/scene_file.h"
 #include "model/edits.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
-#include "raster/synthetic_dem.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

@@ -25,7 +25,7 @@
 #include "io/gpkg_dem.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

@@ -25,8 +25,8 @@
 #include <gtest/gtest.h>
 
 #include "io/gpkg_dem.h"
-#include "model/synthetic_scene.h"
 #include "model/validate.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

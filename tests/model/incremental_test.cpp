@@ -6,9 +6,9 @@
 #include <gtest/gtest.h>
 
 #include "model/quadtree_compare.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
 #include "model/validate.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_scene.h"
 #include "tests/model/small_scene.h"
 #include "tests/model/split_roads.h"
 

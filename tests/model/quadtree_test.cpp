@@ -8,7 +8,7 @@
 
 #include "model/edits.h"
 #include "model/quadtree_compare.h"
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 #include "tests/model/small_scene.h"
 #include "tests/model/split_roads.h"
 #include "tests/model/test_geometry.h"

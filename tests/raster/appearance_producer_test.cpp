@@ -13,14 +13,14 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
 #include "raster/appearance_canvas.h"
 #include "raster/appearance_shading.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
 #include "raster/parallel_producers.h"
-#include "raster/synthetic_dem.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 #include "tests/raster/hand_render.h"
 #include "tests/raster/hand_scenes.h"
 

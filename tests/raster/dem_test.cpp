@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "model/bezier.h"
-#include "model/synthetic_scene.h"
-#include "raster/synthetic_dem.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

@@ -10,11 +10,11 @@
 #include <gtest/gtest.h>
 
 #include "model/edits.h"
-#include "model/random_edits.h"
-#include "model/synthetic_scene.h"
 #include "raster/area_triangulation.h"
 #include "raster/dem_height_field.h"
-#include "raster/synthetic_dem.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "model/graph.h"
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 namespace lacet::test {
 

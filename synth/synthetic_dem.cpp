@@ -1,6 +1,6 @@
-// Synthetic DEM: terrain noise, river beds, valleys. See raster/synthetic_dem.h.
+// Synthetic DEM: terrain noise, river beds, valleys. See synth/synthetic_dem.h.
 
-#include "raster/synthetic_dem.h"
+#include "synth/synthetic_dem.h"
 
 #include <algorithm>
 #include <array>

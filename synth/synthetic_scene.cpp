@@ -1,13 +1,13 @@
 // Synthetic scene generator: driver, occupancy grid, roads and rivers. Lakes, forests and
-// fields are in synthetic_areas.cpp. See model/synthetic_scene.h.
+// fields are in synthetic_areas.cpp. See synth/synthetic_scene.h.
 
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "model/synthetic_internal.h"
+#include "synth/synthetic_internal.h"
 
 namespace lacet {
 namespace synth {

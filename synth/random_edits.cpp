@@ -1,4 +1,4 @@
-#include "model/random_edits.h"
+#include "synth/random_edits.h"
 
 #include "model/edits.h"
 

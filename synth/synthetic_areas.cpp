@@ -1,11 +1,11 @@
 // Synthetic scene generator: lakes, forests and fields (the areal layers). See
-// model/synthetic_scene.h; roads, rivers and the driver are in synthetic_scene.cpp.
+// synth/synthetic_scene.h; roads, rivers and the driver are in synthetic_scene.cpp.
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "model/synthetic_internal.h"
+#include "synth/synthetic_internal.h"
 
 namespace lacet::synth {
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// Internals of the synthetic scene generator (model/synthetic_scene.h), shared by
+// Internals of the synthetic scene generator (synth/synthetic_scene.h), shared by
 // synthetic_scene.cpp (roads, rivers, driver) and synthetic_areas.cpp (lakes, forests, fields).
 // Not a public API. Units: metres.
 

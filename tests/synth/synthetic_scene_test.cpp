@@ -1,4 +1,4 @@
-#include "model/synthetic_scene.h"
+#include "synth/synthetic_scene.h"
 
 #include <bit>
 #include <cstdint>
