@@ -49,7 +49,7 @@ void addBenchCommand(CLI::App& app) {
     producers->add_option("--dem-resolution", p->demResolution, "DEM samples per 100 km");
     producers->add_option("--views", p->views, "Views above random roads");
     producers->add_option("--altitude", p->altitude, "Viewer height above the road (m)");
-    producers->add_option("--max-level", p->maxLevel, "Deepest quadtree level");
+    producers->add_option("--max-level", p->view.maxLevel, "Deepest quadtree level");
     producers->add_option("--deep-level", p->deepLevel, "Quads of this level and deeper make the headline figures");
     producers->add_flag("--json", *pJson, "Print JSON (the only format)");
     producers->callback([p, pJson] { std::cout << bench::benchProducers(*p).dump(2) << "\n"; });

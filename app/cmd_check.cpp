@@ -41,13 +41,13 @@ int run(const CheckOptions& o) {
                           2.0 + uniform01(rng) * 50.0);
     };
     Quadtree qt(s);
-    qt.refineForViewer(viewer(), 2.8, o.depth);
+    qt.refineForViewer(viewer(), ViewParams{.maxLevel = o.depth});
     std::size_t applied = 0, mismatches = 0, quadsCompared = 0;
     std::map<std::string, std::size_t> byKind;
     std::vector<std::string> details;
     std::vector<double> updateMs, rebuildMs;
     for (int i = 0; i < o.edits; ++i) {
-        if (i % o.viewEvery == o.viewEvery - 1) qt.refineForViewer(viewer(), 2.8, o.depth);
+        if (i % o.viewEvery == o.viewEvery - 1) qt.refineForViewer(viewer(), ViewParams{.maxLevel = o.depth});
         const RandomEdit e = applyRandomEdit(s, rng, side * 0.01);
         if (e.changeset.empty()) continue;
         ++applied;

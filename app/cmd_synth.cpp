@@ -24,8 +24,7 @@ struct SynthOptions {
     std::string out;         // a scene file to write (with the synthetic DEM)
     int demResolution = 5000;
     double altitude = 0.0;  // > 0: build the quadtree for a viewer this high above the centre
-    double K = 2.8;
-    int maxLevel = 24;
+    ViewParams view;
 };
 
 nlohmann::json layerCounts(const Scene& s) {
@@ -66,7 +65,7 @@ void run(const SynthOptions& o) {
         t0 = Clock::now();
         Quadtree qt(s);
         const Vec2 centre = s.extent.center();
-        qt.refineForViewer({centre.x, centre.y, o.altitude}, o.K, o.maxLevel);
+        qt.refineForViewer({centre.x, centre.y, o.altitude}, o.view);
         const double buildMs = msSince(t0);
         std::map<int, std::size_t> quads, pieces;
         qt.forEachQuad([&](const Quad& q) {
@@ -75,7 +74,7 @@ void run(const SynthOptions& o) {
         });
         nlohmann::json levels = nlohmann::json::array();
         for (const auto& [level, n] : quads) levels.push_back({{"level", level}, {"quads", n}, {"ancestor_buckets", pieces[level]}});
-        out["quadtree"] = {{"viewer_altitude_m", o.altitude}, {"K", o.K}, {"quads", qt.quadCount()},
+        out["quadtree"] = {{"viewer_altitude_m", o.altitude}, {"K", o.view.K}, {"quads", qt.quadCount()},
                            {"depth", qt.depth()}, {"build_ms", buildMs}, {"levels", levels}};
     }
     if (!o.out.empty()) {
@@ -107,7 +106,7 @@ void run(const SynthOptions& o) {
                   << " areas, " << l["nodes"] << " nodes\n";
     if (out.contains("quadtree")) {
         const auto& q = out["quadtree"];
-        std::cout << "Quadtree for a viewer " << o.altitude << " m above the centre (K = " << o.K << "): " << q["quads"]
+        std::cout << "Quadtree for a viewer " << o.altitude << " m above the centre (K = " << o.view.K << "): " << q["quads"]
                   << " quads, depth " << q["depth"] << ", built in " << q["build_ms"] << " ms\n";
         for (const auto& l : q["levels"])
             std::cout << "  level " << l["level"] << ": " << l["quads"] << " quads, " << l["ancestor_buckets"] << " clipped elements\n";
@@ -124,8 +123,8 @@ void addSynthCommand(CLI::App& app) {
     cmd->add_option("--seed", o->seed, "Random seed");
     cmd->add_option("--curves", o->curves, "Target number of curves (600000 = the paper's dataset)");
     cmd->add_option("--view-altitude", o->altitude, "Also build the quadtree for a viewer this high (m) above the centre");
-    cmd->add_option("--K", o->K, "Subdivision factor: split quads closer than K times their size");
-    cmd->add_option("--max-level", o->maxLevel, "Deepest quadtree level");
+    cmd->add_option("--K", o->view.K, "Subdivision factor: split quads closer than K times their size");
+    cmd->add_option("--max-level", o->view.maxLevel, "Deepest quadtree level");
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->add_option("--out", o->out, "Also save the scene and its synthetic DEM as a scene file (GeoPackage), then load it back");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (with --out)");

@@ -37,6 +37,7 @@ constexpr int kRepetitions = 7;  // timing runs per tolerance; the median is rep
 nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::size_t curves, std::uint64_t seed) {
     const Scene s = makeSyntheticScene({seed, curves});
     const Vec2 c = s.extent.center();
+    const ViewParams view;
     nlohmann::json rows = nlohmann::json::array();
     for (double tol : tolerancesTexels) {
         RefineParams params;
@@ -47,7 +48,7 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
         for (int rep = 0; rep < kRepetitions; ++rep) {
             const auto t0 = Clock::now();
             Quadtree qt(s, params);
-            qt.refineForViewer({c.x, c.y, 10.0}, 2.8, 24);
+            qt.refineForViewer({c.x, c.y, 10.0}, view);
             times.push_back(msSince(t0));
             if (rep > 0) continue;
             qt.forEachQuad([&](const Quad& q) {
@@ -78,7 +79,8 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
     }
     return {{"curves", curves},
             {"resolution_texels", RefineParams{}.resolution},
-            {"viewer", "10 m above the scene centre, K = 2.8"},
+            {"viewer", "10 m above the scene centre"},
+            {"K", view.K},
             {"reference", "dense sampling (65 points per piece, both ways) of the exact Bezier pieces"},
             {"rows", rows}};
 }

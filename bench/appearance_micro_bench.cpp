@@ -1,6 +1,6 @@
 // Google Benchmark programs for the appearance producer (§5.1): the tiles a field-border drag
 // remakes (bench edit), timed alone. A viewer 10 m above a field corner of a synthetic scene
-// refines the quadtree (K = 2.8); the leaves within 25 m of the corner that hold a piece of a
+// refines the quadtree (the default ViewParams); the leaves within 25 m of the corner that hold a piece of a
 // field without covering the quad are produced, one thread. items_per_second is tiles per second.
 #include <algorithm>
 
@@ -29,7 +29,7 @@ struct FieldBorder {
     FieldBorder() {
         const auto& nodes = scene.layers[kFieldsLayer].nodes;
         const Vec2 corner = nodes[nodes.size() / 2].p;
-        quadtree.refineForViewer({corner.x, corner.y, 10.0}, 2.8, 24);
+        quadtree.refineForViewer({corner.x, corner.y, 10.0}, ViewParams{});
         quadtree.forEachQuad([&](const Quad& q) {
             if (!q.isLeaf() || glm::length(q.bounds.center() - corner) > 25.0) return;
             const auto& areas = q.layers[kFieldsLayer].areas;

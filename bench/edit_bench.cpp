@@ -133,7 +133,7 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
             {"viewer_altitude_m", o.altitude},
             {"steps_per_drag", o.steps},
             {"drags", o.repeats},
-            {"K", SessionParams{}.K},
+            {"K", SessionParams{}.view.K},
             {"appearance_resolution", RefineParams{}.resolution},
             {"view_quads", viewQuads},
             {"visible_quads", visibleQuads},

@@ -1,7 +1,7 @@
 // `lacet bench flyover`: the paper's flight (§9.1, paperFlight below) through the window-less
 // session: from 5000 m above the scene down to 5 m above a road, a camera (1280 x 800, 52
 // degrees vertical field of view) looking ahead along the path, the quadtree refined each frame
-// with K = 2.8 and the missing tiles of the leaves in the view frustum made nearest first; per
+// with the default ViewParams (its K reported) and the missing tiles of the leaves in the view frustum made nearest first; per
 // frame, the update time (refinement and production), the tiles made and the cache size. Run with no budget (every tile of the view made
 // each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer),
 // each without and with prefetching: the viewer `prefetchFrames` frames ahead on the path is
@@ -112,10 +112,12 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     // for their children (editor/cache_fit.h). What the smaller budget costs.
     for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0, 784});
     plan.push_back({0.0, false, false, 0.0});  // for comparison: every leaf of the view, no culling
+    const ViewParams view;
     for (const Run& run : plan) {
         const double budget = run.budget;
         const bool prefetch = run.prefetch;
         SessionParams params;
+        params.view = view;
         params.refineBudgetMs = run.refineBudget;
         params.cacheTiles = run.cacheTiles;
         EditSession session(SceneDocument(doc), params);
@@ -188,7 +190,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"frames_with_deferred_subdivisions", deferredFrames}});
     }
     return {{"curves", count(doc.scene).curves},
-            {"K", 2.8},
+            {"K", view.K},
             {"appearance_resolution", RefineParams{}.resolution},
             {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", length * scale},
                       {"seconds_at_60_fps", double(o.frames - 1) / 60.0}, {"times_the_papers_speed", 73.0 * 60.0 / double(o.frames - 1)},

@@ -63,7 +63,7 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
     AppearanceCounters counters;
     tbb::task_arena one(1), two(2);
     for (const glm::dvec3& view : roadViews(scene, o.views, o.altitude, o.seed)) {
-        qt.refineForViewer(view, o.K, o.maxLevel);
+        qt.refineForViewer(view, o.view);
         std::vector<const Quad*> quads;
         qt.forEachQuad([&](const Quad& q) {
             if (q.level >= o.minLevel) quads.push_back(&q);
@@ -125,7 +125,7 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
                        {"synth_ms", synthMs}, {"dem_samples_per_side", dem.width()}, {"dem_ms", demMs}}},
             {"views", o.views},
             {"viewer_altitude_m", o.altitude},
-            {"K", o.K},
+            {"K", o.view.K},
             {"appearance_resolution", qt.params().resolution},
             {"elevation_samples_per_side", qt.params().elevationResolution + 1},
             {"deepest_levels_from", o.deepLevel},

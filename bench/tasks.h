@@ -7,10 +7,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "model/view_params.h"
+
 namespace lacet::bench {
 
 // UPDATE cost against scene size (§6): for each curve count, a synthetic scene at the paper's
-// density, a quadtree refined for a viewer `altitude` metres above a road (K = 2.8), and `moves`
+// density, a quadtree refined for a viewer `altitude` metres above a road (ViewParams{}), and `moves`
 // moves of one control point of that road. Reports the median UPDATE time, a rebuild's time, and
 // clip-and-refine time per quad by depth.
 nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t seed, int moves, double altitude);
@@ -30,8 +32,7 @@ struct ProducerBenchOptions {
     int demResolution = 5000;  // DEM samples per 100 km (the paper: 5000 x 5000 over 100 km)
     int views = 8;
     double altitude = 5.0;     // metres above the road
-    double K = 2.8;
-    int maxLevel = 16;
+    ViewParams view{.maxLevel = 16};
     int minLevel = 8;          // quads timed
     int deepLevel = 12;        // "deepest levels": quads of this level and deeper
 };

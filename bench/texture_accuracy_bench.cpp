@@ -25,7 +25,7 @@ std::vector<Key> viewQuads(Quadtree& qt, const Scene& s, int views, int minLevel
     for (int v = 0; v < views; ++v) {
         const Curve& c = roads.curves[(std::size_t(v) * 7919 + 13) % roads.curves.size()];
         const Vec2 p = c.vertices[c.vertices.size() / 2].p;
-        qt.refineForViewer({p.x, p.y, 20.0}, 2.8, maxLevel);
+        qt.refineForViewer({p.x, p.y, 20.0}, ViewParams{.maxLevel = maxLevel});
         qt.forEachQuad([&](const Quad& q) {
             if (q.level >= minLevel && keys.size() < std::size_t(views) * 24 && q.level % 2 == 0) keys.push_back({q.level, q.tx, q.ty});
         });

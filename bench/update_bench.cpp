@@ -54,6 +54,7 @@ std::map<int, std::vector<double>> timeClipAndRefineByLevel(const Scene& s, cons
 }  // namespace
 
 nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t seed, int moves, double altitude) {
+    const ViewParams view;
     nlohmann::json runs = nlohmann::json::array();
     double firstMedian = 0.0, lastMedian = 0.0, lastRebuild = 0.0;
     nlohmann::json byDepth;
@@ -66,7 +67,7 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
         const Vec2 at = s.layers[kRoadsLayer].curves[target.curve].vertices[target.vertex].p;
         t0 = Clock::now();
         Quadtree qt(s);
-        qt.refineForViewer({at.x, at.y, altitude}, 2.8, 24);
+        qt.refineForViewer({at.x, at.y, altitude}, view);
         const double buildMs = msSince(t0);
         std::mt19937_64 rng(seed);
         std::vector<double> updates;
@@ -113,7 +114,7 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
     return {{"runs", runs},
             {"moves", moves},
             {"viewer_altitude_m", altitude},
-            {"K", 2.8},
+            {"K", view.K},
             {"ratio", firstMedian > 0.0 ? lastMedian / firstMedian : 0.0},
             {"rebuild_speedup", lastMedian > 0.0 ? lastRebuild / lastMedian : 0.0},
             {"clip_and_refine_per_quad_by_depth", byDepth},

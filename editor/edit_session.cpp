@@ -229,8 +229,8 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(params_.refineBudgetMs));
     // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
     const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
-    r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.K,
-                                                    params_.maxLevel, deadline);
+    r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view,
+                                                    deadline);
     r.refineMs = msSince(t0);
     if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
@@ -238,9 +238,9 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     auto isViewLeaf = [&](const Quad& q) {
         // With a predicted viewer the tree is refined for both: a quad is a leaf of the current
         // view when the current viewer alone would not subdivide it.
-        if (q.isLeaf()) return !q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.K, params_.maxLevel);
-        return !Quadtree::wantsSubdivision(q, viewer, params_.K, params_.maxLevel) &&
-               (!q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.K, params_.maxLevel));
+        if (q.isLeaf()) return !q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.view);
+        return !Quadtree::wantsSubdivision(q, viewer, params_.view) &&
+               (!q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.view));
     };
     quadtree_->forEachQuad([&](const Quad& q) {
         const bool viewLeaf = predicted ? isViewLeaf(q) : q.isLeaf();

@@ -45,8 +45,7 @@ namespace lacet {
 
 struct SessionParams {
     RefineParams refine;
-    double K = 2.8;            // subdivide quads closer to the viewer than K times their size (§8)
-    int maxLevel = 24;
+    ViewParams view;  // the K rule (§8) and the deepest level
     // Tile pairs (appearance + elevation) the cache holds: the quads shown and their ancestors'
     // (editor/cache_fit.h). The paper's caches held 784 elevation and 500 appearance textures for
     // views that needed up to 708 and 482; on its flight our views need up to about 1,120 pairs
@@ -126,7 +125,7 @@ public:
 
     // Accuracy knobs applied live: K takes effect at the next frame; new refinement parameters
     // rebuild the quadtree and drop every tile.
-    void setK(double K) { params_.K = K; }
+    void setK(double K) { params_.view.K = K; }
     void setRefineBudget(double ms) { params_.refineBudgetMs = ms; }
     void setRefineParams(const RefineParams& refine);
     // Hides a layer from the textures (its appearance and footprint) or shows it again: the tiles

@@ -212,14 +212,14 @@ double Quadtree::viewDistance(const Quad& q, glm::dvec3 viewer) {
     return std::sqrt(d.x * d.x + d.y * d.y + viewer.z * viewer.z);
 }
 
-bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel) {
-    return q.level < maxLevel && viewDistance(q, viewer) < K * q.bounds.size().x;
+bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewParams& view) {
+    return q.level < view.maxLevel && viewDistance(q, viewer) < view.K * q.bounds.size().x;
 }
 
-bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel,
+bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view,
                           const std::optional<std::chrono::steady_clock::time_point>& deadline) {
     bool wanted = false;
-    for (const glm::dvec3& v : viewers) wanted = wanted || wantsSubdivision(q, v, K, maxLevel);
+    for (const glm::dvec3& v : viewers) wanted = wanted || wantsSubdivision(q, v, view);
     if (!wanted) {
         merge(q);
         return true;
@@ -230,7 +230,7 @@ bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K
     }
     if (!deadline) {
         bool complete = true;
-        for (auto& c : q.children) complete = refineQuad(*c, viewers, K, maxLevel, deadline) && complete;
+        for (auto& c : q.children) complete = refineQuad(*c, viewers, view, deadline) && complete;
         return complete;
     }
     // Nearest first, so that what a deadline defers is what lies farthest.
@@ -243,17 +243,17 @@ bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K
     };
     std::stable_sort(order.begin(), order.end(), [&](const Quad* a, const Quad* b) { return distance(a) < distance(b); });
     bool complete = true;
-    for (Quad* c : order) complete = refineQuad(*c, viewers, K, maxLevel, deadline) && complete;
+    for (Quad* c : order) complete = refineQuad(*c, viewers, view, deadline) && complete;
     return complete;
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, double K, int maxLevel) {
-    refineQuad(root_, {&viewer, 1}, K, maxLevel, std::nullopt);
+void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) {
+    refineQuad(root_, {&viewer, 1}, view, std::nullopt);
 }
 
-bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel,
+bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
                                 std::optional<std::chrono::steady_clock::time_point> deadline) {
-    return refineQuad(root_, viewers, K, maxLevel, deadline);
+    return refineQuad(root_, viewers, view, deadline);
 }
 
 void Quadtree::copyQuad(Quad& q, const Quad& like) {

@@ -29,6 +29,7 @@
 #include "model/changeset.h"
 #include "model/clip_and_refine.h"
 #include "model/graph.h"
+#include "model/view_params.h"
 
 namespace lacet {
 
@@ -90,17 +91,19 @@ public:
     void subdivide(Quad& q);
     // Deletes the descendants of q.
     void merge(Quad& q);
-    // Subdivides every quad closer to the viewer than K times its size, down to maxLevel, and
-    // merges the others. `viewer` is (x, y, height above the ground plane z = 0), metres.
-    void refineForViewer(glm::dvec3 viewer, double K, int maxLevel);
+    // Subdivides every quad closer to the viewer than view.K times its size, down to
+    // view.maxLevel, and merges the others. `viewer` is (x, y, height above the ground plane
+    // z = 0), metres.
+    void refineForViewer(glm::dvec3 viewer, const ViewParams& view);
     // The same for several viewers at once: a quad is subdivided when any of them wants it. With a
     // deadline, no quad is subdivided once it has passed (merges still happen; children are
     // visited nearest to the first viewer first): returns false when a subdivision was deferred,
     // to be done by a later call.
-    bool refineForViewers(std::span<const glm::dvec3> viewers, double K, int maxLevel,
+    bool refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
                           std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
-    // The rule of refineForViewer: q is below maxLevel and closer to `viewer` than K times its size.
-    static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, double K, int maxLevel);
+    // The rule of refineForViewer: q is below view.maxLevel and closer to `viewer` than view.K
+    // times its size.
+    static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewParams& view);
     // The distance from `viewer` (x, y, height above the ground) to q: to the nearest point of its
     // bounds, at the viewer's height above them (metres).
     static double viewDistance(const Quad& q, glm::dvec3 viewer);
@@ -157,7 +160,7 @@ private:
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
-    bool refineQuad(Quad& q, std::span<const glm::dvec3> viewers, double K, int maxLevel,
+    bool refineQuad(Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view,
                     const std::optional<std::chrono::steady_clock::time_point>& deadline);
     void copyQuad(Quad& q, const Quad& like);
 

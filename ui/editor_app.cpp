@@ -601,7 +601,7 @@ int EditorApp::run() {
         tv.width = width_, tv.height = height_;
         tv.clip = clip_;
         tv.heightAboveGround = h;
-        tv.K = session_->params().K;
+        tv.viewParams = session_->params().view;
         tv.visible = &visible;
         terrain_->draw(*session_, tv);
         // The depth buffer of what the user sees: picks of the next frame's input read it.

@@ -94,7 +94,7 @@ void EditorApp::drawPanels() {
     ImGui::Text("Viewer %.1f m above the ground%s", viewerHeight(), camera_.fly ? " (fly)" : "");
     ImGui::Separator();
     ImGui::TextUnformatted("Accuracy");
-    float K = float(session_->params().K);
+    float K = float(session_->params().view.K);
     if (ImGui::SliderFloat("K", &K, 1.0f, 8.0f)) session_->setK(K);
     float tol = float(session_->params().refine.toleranceTexels);
     ImGui::SliderFloat("tolerance (texels)", &tol, 0.1f, 4.0f);

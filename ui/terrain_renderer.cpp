@@ -24,6 +24,7 @@ uniform vec2 uElevTexel;    // one elevation sample in texture coordinates
 uniform float uElevDelta;   // metres between elevation samples of the tile used
 uniform vec4 uApp;          // appearance texture coordinates, likewise
 uniform float uMorph;       // K times the leaf size; 0: no morphing
+uniform vec2 uMorphBand;    // ViewParams' morphStart, morphWidth (in units of uMorph)
 uniform float uViewerHeight;
 uniform float uSkirt;
 uniform sampler2D uElevTex;
@@ -39,7 +40,7 @@ void main() {
     if (uMorph > 0.0) {
         // The K rule's distance; 1 at twice K times the size, where the parent's level begins.
         float d = sqrt(dot(xy, xy) + uViewerHeight * uViewerHeight);
-        h = mix(z.x, z.y, clamp((d / uMorph - 1.6) / 0.4, 0.0, 1.0));
+        h = mix(z.x, z.y, clamp((d / uMorph - uMorphBand.x) / uMorphBand.y, 0.0, 1.0));
     }
     float hx = texture(uElevTex, tc + vec2(uElevTexel.x, 0.0)).r - texture(uElevTex, tc - vec2(uElevTexel.x, 0.0)).r;
     float hy = texture(uElevTex, tc + vec2(0.0, uElevTexel.y)).r - texture(uElevTex, tc - vec2(0.0, uElevTexel.y)).r;
@@ -195,6 +196,7 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     glUniformMatrix4fv(program_.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(glm::mat4(viewProj)));
     glUniform1f(program_.uniform("uN"), float(n));
     glUniform1f(program_.uniform("uViewerHeight"), float(view.heightAboveGround));
+    glUniform2f(program_.uniform("uMorphBand"), float(view.viewParams.morphStart), float(view.viewParams.morphWidth));
     glUniform3fv(program_.uniform("uSun"), 1, glm::value_ptr(glm::normalize(sun)));
     glUniform1i(program_.uniform("uElevTex"), 0);
     glUniform1i(program_.uniform("uAppTex"), 1);
@@ -260,7 +262,7 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
                     float(as / ast));
         glUniform3f(program_.uniform("uOrigin"), float(lo.x), float(lo.y), float(-eye.z));
         glUniform1f(program_.uniform("uSize"), float(size));
-        glUniform1f(program_.uniform("uMorph"), q == &leaf ? float(view.K * size) : 0.0f);
+        glUniform1f(program_.uniform("uMorph"), q == &leaf ? float(view.viewParams.K * size) : 0.0f);
         glUniform1f(program_.uniform("uSkirt"), float(skirt));
         glUniform1i(program_.uniform("uWater"), g->water ? 1 : 0);
         glActiveTexture(GL_TEXTURE0);

@@ -41,7 +41,7 @@ struct TerrainView {
     int width = 0, height = 0;
     glm::dvec2 clip{1.0, 1e5};
     double heightAboveGround = 100.0;  // the viewer's height for the K rule (as EditSession::frame)
-    double K = 2.8;
+    ViewParams viewParams;  // the session's: its K rule and the geomorphing band
     const QuadVisibility* visible = nullptr;  // the session's visibility test, if any
 };
 

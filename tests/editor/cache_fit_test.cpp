@@ -31,7 +31,7 @@ TEST(CacheFit, AViewThatFitsShowsItsLeaves) {
     Quadtree qt(scene, RefineParams{.resolution = 32});
     const Vec2 c = scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 30.0);
-    qt.refineForViewer(viewer, 2.8, 10);
+    qt.refineForViewer(viewer, ViewParams{.maxLevel = 10});
     const auto leaves = leavesOf(qt);
     const std::size_t need = leaves.size() + ancestorsOf(leaves);
     const CacheFit fit = fitToCache(leaves, need, viewer, [](const Quad&) { return true; });
@@ -55,7 +55,7 @@ TEST(CacheFit, ASmallerCacheShowsTheFarthestQuadsInPlaceOfTheirChildren) {
         Quadtree qt(scene, RefineParams{.resolution = 32});
         const Vec2 p = scene.extent.min + scene.extent.size() * Vec2(at(rng), at(rng));
         const glm::dvec3 viewer(p.x, p.y, 10.0 + 200.0 * at(rng));
-        qt.refineForViewer(viewer, 2.8, 12);
+        qt.refineForViewer(viewer, ViewParams{.maxLevel = 12});
         const bool part = trial % 2 == 1;
         std::vector<const Quad*> leaves;
         for (const Quad* q : leavesOf(qt))

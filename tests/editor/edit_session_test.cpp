@@ -104,7 +104,7 @@ std::optional<Command> randomCommand(const Scene& s, std::mt19937_64& rng) {
 SessionParams smallTiles(int maxLevel, std::size_t cacheTiles = SessionParams{}.cacheTiles) {
     SessionParams params;
     params.refine.resolution = 32;
-    params.maxLevel = maxLevel;
+    params.view.maxLevel = maxLevel;
     params.cacheTiles = cacheTiles;
     return params;
 }
@@ -183,7 +183,7 @@ TEST(EditSession, RandomCommandsUndoneRestoreTheSceneAndEveryTileExactly) {
 TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
     SessionParams params;
     params.refine.resolution = 64;
-    params.maxLevel = 10;
+    params.view.maxLevel = 10;
     params.cacheTiles = 1u << 20;  // every leaf of the view shown
     EditSession session(syntheticDocument(12, 1500), params);
     const Vec2 c = session.document().scene.extent.center();

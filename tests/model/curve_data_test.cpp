@@ -42,7 +42,7 @@ struct Fixture {
 TEST(CurveData, NothingIsComputedUntilAskedAndUMatchesDenseArcLength) {
     Fixture f;
     Quadtree qt(f.scene);
-    qt.refineForViewer({f.scene.extent.center().x, f.scene.extent.center().y, 20.0}, 2.8, 10);
+    qt.refineForViewer({f.scene.extent.center().x, f.scene.extent.center().y, 20.0}, ViewParams{.maxLevel = 10});
     CurveDataCache cache(qt, f.hills);
     EXPECT_EQ(cache.counters().arcLengthTables, 0u);
     EXPECT_EQ(cache.counters().zProfiles, 0u);

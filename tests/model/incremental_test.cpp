@@ -30,10 +30,10 @@ EditRun checkIncremental(Scene& s, std::uint64_t seed, int edits, int maxLevel, 
         return glm::dvec3(s.extent.min.x + uniform01(rng) * s.extent.size().x,
                           s.extent.min.y + uniform01(rng) * s.extent.size().y, 1.0 + uniform01(rng) * 20.0);
     };
-    qt.refineForViewer(viewer(), 2.8, maxLevel);
+    qt.refineForViewer(viewer(), ViewParams{.maxLevel = maxLevel});
     EditRun run;
     for (int i = 0; i < edits; ++i) {
-        if (i % viewEvery == viewEvery - 1) qt.refineForViewer(viewer(), 2.8, maxLevel);
+        if (i % viewEvery == viewEvery - 1) qt.refineForViewer(viewer(), ViewParams{.maxLevel = maxLevel});
         const RandomEdit e = applyRandomEdit(s, rng, reach);
         if (e.changeset.empty()) continue;
         ++run.edits;

@@ -87,7 +87,7 @@ TEST(Quadtree, QuadsAtDepth24KeepThePieceWithinTolerance) {
 TEST(Quadtree, AnAreaCoveringDeepQuadsIsKnownToCoverThem) {
     const Scene s = smallScene();
     Quadtree qt(s);
-    qt.refineForViewer({300.0, 600.0, 1.0}, 2.8, 8);  // inside the left field
+    qt.refineForViewer({300.0, 600.0, 1.0}, ViewParams{.maxLevel = 8});  // inside the left field
     int covered = 0;
     qt.forEachQuad([&](const Quad& q) {
         if (q.layers.empty() || q.level < 4) return;
@@ -105,7 +105,7 @@ TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
     Scene s = smallScene();
     const SplitRoadsInTwo step;
     Quadtree qt(s, {}, &step);
-    qt.refineForViewer({500.0, 150.0, 5.0}, 2.8, 7);
+    qt.refineForViewer({500.0, 150.0, 5.0}, ViewParams{.maxLevel = 7});
     std::set<ElementId> ancestors;
     qt.forEachQuad([&](const Quad& q) {
         if (q.layers.empty()) return;
@@ -125,7 +125,7 @@ TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
 TEST(Quadtree, UpdateMarksExactlyTheQuadsWhoseGraphChanged) {
     Scene s = smallScene();
     Quadtree qt(s);
-    qt.refineForViewer({500.0, 500.0, 1.0}, 2.8, 9);
+    qt.refineForViewer({500.0, 500.0, 1.0}, ViewParams{.maxLevel = 9});
     // Snapshot every quad's road pieces, edit, and compare.
     std::map<const Quad*, std::vector<ClippedCurve>> before;
     qt.forEachQuad([&](const Quad& q) {
@@ -154,14 +154,14 @@ TEST(Quadtree, ARefinementDeadlineDefersSubdivisionsAndLaterCallsFinishThem) {
     const Vec2 c = scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 15.0);
     Quadtree complete(scene), stepwise(scene);
-    complete.refineForViewer(viewer, 2.8, 12);
+    complete.refineForViewer(viewer, ViewParams{.maxLevel = 12});
     // A deadline already passed: nothing is subdivided.
     const glm::dvec3 viewers[1] = {viewer};
-    EXPECT_FALSE(stepwise.refineForViewers(viewers, 2.8, 12, std::chrono::steady_clock::now()));
+    EXPECT_FALSE(stepwise.refineForViewers(viewers, ViewParams{.maxLevel = 12}, std::chrono::steady_clock::now()));
     EXPECT_EQ(stepwise.quadCount(), 1u);
     // Short deadlines: each call does some of the work, nearest first, until it is complete.
     int calls = 0;
-    while (!stepwise.refineForViewers(viewers, 2.8, 12, std::chrono::steady_clock::now() + std::chrono::microseconds(200))) {
+    while (!stepwise.refineForViewers(viewers, ViewParams{.maxLevel = 12}, std::chrono::steady_clock::now() + std::chrono::microseconds(200))) {
         ASSERT_LT(++calls, 100000);
     }
     EXPECT_GT(calls, 0);

@@ -95,7 +95,7 @@ TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
     Quadtree qt(w.scene, RefineParams{.resolution = 128});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
-    qt.refineForViewer({junction.x, junction.y, 20.0}, 2.8, 9);
+    qt.refineForViewer({junction.x, junction.y, 20.0}, ViewParams{.maxLevel = 9});
     DemHeightField heights(w.dem);
     CurveDataCache data(qt, heights);
     AppearanceCounters counters;
@@ -156,7 +156,7 @@ TEST(AppearanceProducer, ACoarserGroundGridInSmallQuadsChangesTexelsByLittle) {
     const DemHeightField heights(dem);
     const Vec2 at = extent.center();
     Quadtree qt(w.scene, RefineParams{.resolution = 128});
-    qt.refineForViewer({at.x, at.y, 20.0}, 2.8, 12);
+    qt.refineForViewer({at.x, at.y, 20.0}, ViewParams{.maxLevel = 12});
     CurveDataCache data(qt, heights);
     std::vector<const Quad*> small;
     for (const Quad* q : quadsFrom(qt, 8))
@@ -233,7 +233,7 @@ TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
 TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraws) {
     World w(3, 3000);
     Quadtree qt(w.scene, RefineParams{.resolution = 64});
-    qt.refineForViewer({0.0, 0.0, 1.0}, 1e12, 6);  // every quad down to level 6 (110 m)
+    qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = 6});  // every quad down to level 6 (110 m)
     DemHeightField heights(w.dem);
     CurveDataCache data(qt, heights);
     AppearanceParams full;
@@ -261,7 +261,7 @@ TEST(AppearanceProducer, UniformFurrowedFieldQuadsExpandToWhatTheProducerDraws) 
     ASSERT_FALSE(fields.nodes.empty());
     const Vec2 at = fields.nodes[fields.nodes.size() / 2].p;
     Quadtree qt(w.scene, RefineParams{.resolution = 256});
-    qt.refineForViewer({at.x, at.y, 5.0}, 2.8, 11);
+    qt.refineForViewer({at.x, at.y, 5.0}, ViewParams{.maxLevel = 11});
     DemHeightField heights(w.dem);
     CurveDataCache data(qt, heights);
     AppearanceParams full;
@@ -284,7 +284,7 @@ TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
     const Scene scene = std::move(b.scene());
     const Dem dem = test::gentleSlope(scene.extent);
     Quadtree qt(scene, RefineParams{.resolution = 64});
-    qt.refineForViewer({0.0, 0.0, 1.0}, 1e12, 3);
+    qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = 3});
     DemHeightField heights(dem);
     CurveDataCache data(qt, heights);
     AppearanceParams full;
@@ -305,7 +305,7 @@ TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
     const RefineParams rp{.resolution = 32};
     Quadtree qt(w.scene, rp);
     const Vec2 c = w.scene.extent.center();
-    qt.refineForViewer({c.x, c.y, 30.0}, 2.8, 9);
+    qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 9});
     CurveDataCache data(qt, w.heights);
     auto produceAll = [&](const Quadtree& tree, const CurveDataCache& cache) {
         std::map<Key, std::pair<AppearanceTile, ElevationTile>> tiles;
@@ -350,7 +350,7 @@ TEST(AppearanceProducer, ATileDoesNotDependOnTheTilesMadeBeforeItOnItsThread) {
     Quadtree qt(w.scene, RefineParams{.resolution = 128});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
-    qt.refineForViewer({junction.x, junction.y, 20.0}, 2.8, 9);
+    qt.refineForViewer({junction.x, junction.y, 20.0}, ViewParams{.maxLevel = 9});
     CurveDataCache data(qt, w.heights);
     const auto quads = quadsFrom(qt, 4);
     std::vector<AppearanceTile> forward, backward(quads.size());
@@ -406,7 +406,7 @@ TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
     World w(5, 2000);
     Quadtree qt(w.scene, RefineParams{.resolution = 64});
     const Vec2 c = w.scene.extent.center();
-    qt.refineForViewer({c.x, c.y, 50.0}, 2.8, 8);
+    qt.refineForViewer({c.x, c.y, 50.0}, ViewParams{.maxLevel = 8});
     const auto quads = quadsFrom(qt, 0);
     auto run = [&](int threads) {
         CurveDataCache data(qt, w.heights);
@@ -421,7 +421,7 @@ TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
 TEST(AppearanceProducer, MarkingsBelowATexelCostNoCurvilinearCoordinate) {
     World w(8, 3000);
     Quadtree qt(w.scene);
-    qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 2);  // texels of 7 m: no marking shows
+    qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 2});  // texels of 7 m: no marking shows
     CurveDataCache data(qt, w.heights);
     AppearanceCounters counters;
     for (const Quad* q : quadsFrom(qt, 2)) produceAppearance(*q, qt, data, w.dem, {}, &counters);
@@ -437,7 +437,7 @@ TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
     AppearanceCounters withWater, without;
     {
         Quadtree qt(w.scene, RefineParams{.resolution = 64});
-        qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 3);
+        qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 3});
         CurveDataCache data(qt, w.heights);
         for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &withWater);
     }
@@ -447,7 +447,7 @@ TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
         w.scene.layers[l].areas.clear();
     }
     Quadtree qt(w.scene, RefineParams{.resolution = 64});
-    qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 3);
+    qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 3});
     CurveDataCache data(qt, w.heights);
     for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &without);
     EXPECT_GT(withWater.waterTexels, 1000u);

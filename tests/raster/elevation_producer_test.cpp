@@ -204,7 +204,7 @@ TEST(ElevationProducer, AdjacentTilesAgreeOnTheirSharedBorder) {
     World w(2, 3000);
     Quadtree qt(w.scene);
     const Vec2 c = w.scene.extent.center();
-    qt.refineForViewer({c.x, c.y, 30.0}, 2.8, 11);
+    qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 11});
     CurveDataCache data(qt, w.heights);
     const auto tiles = produceAll(qt, data, w.dem, 3);
     std::size_t compared = 0;
@@ -246,7 +246,7 @@ TEST(ElevationProducer, RiversNeverRiseAlongTheirAxis) {
     // The coarsest level whose samples (delta = size / 24) are at most w / 2 apart.
     int level = 0;
     while (w.scene.extent.size().x / std::ldexp(1.0, level) / 24.0 > 0.5 * double(rc.w)) ++level;
-    qt.refineForViewer({0.0, 0.0, 1.0}, 1e12, level);  // every quad down to `level`
+    qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = level});  // every quad down to `level`
     CurveDataCache data(qt, w.heights);
     const auto tiles = produceAll(qt, data, w.dem, level);
     ASSERT_GE(double(rc.w), 2.0 * tiles.begin()->second.delta) << "the river must be drawn at this level";
@@ -272,7 +272,7 @@ TEST(ElevationProducer, IncrementalRegenerationEqualsProductionFromScratch) {
     World w(6, 1500);
     Quadtree qt(w.scene);
     const Vec2 c = w.scene.extent.center();
-    qt.refineForViewer({c.x, c.y, 30.0}, 2.8, 9);
+    qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 9});
     CurveDataCache data(qt, w.heights);
     auto tiles = produceAll(qt, data, w.dem, 1);
     std::mt19937_64 rng(6);
@@ -299,7 +299,7 @@ TEST(ElevationProducer, IncrementalRegenerationEqualsProductionFromScratch) {
 TEST(ElevationProducer, ThinCurvesAtCoarseLevelsCostNoZProfile) {
     World w(8, 3000);
     Quadtree qt(w.scene);
-    qt.refineForViewer({0.0, 0.0, 1e6}, 1e6, 2);  // levels 0..2 only: delta is hundreds of metres
+    qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 2});  // levels 0..2 only: delta is hundreds of metres
     CurveDataCache data(qt, w.heights);
     ElevationCounters counters;
     qt.forEachQuad([&](const Quad& q) {
