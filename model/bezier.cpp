@@ -186,14 +186,6 @@ Box tightBounds(const BezierPiece& b) {
     return box;
 }
 
-double distanceToSegment(Vec2 q, Vec2 a, Vec2 b) {
-    const Vec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    if (len2 == 0.0) return glm::length(q - a);
-    const double t = std::clamp(glm::dot(q - a, ab) / len2, 0.0, 1.0);
-    return glm::length(q - (a + ab * t));
-}
-
 double flatness(const BezierPiece& b) {
     double d = 0.0;
     for (int i = 1; i < b.degree; ++i) d = std::max(d, distanceToSegment(b.p[i], b.start(), b.end()));

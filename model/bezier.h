@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "model/segment.h"  // distanceToSegment, which flatness() and the fit measure with
 #include "model/types.h"
 
 namespace lacet {
@@ -57,8 +58,5 @@ double arcLength(const BezierPiece& b, double tolerance);
 // Distance from q to the curve (metres), within `tolerance` metres of the exact value, by
 // branch-and-bound subdivision.
 double distanceTo(const BezierPiece& b, Vec2 q, double tolerance);
-
-// Distance from q to the closed segment a-b (a == b allowed).
-double distanceToSegment(Vec2 q, Vec2 a, Vec2 b);
 
 }  // namespace lacet

@@ -9,6 +9,7 @@
 
 #include "raster/appearance_segments.h"
 #include "raster/area_triangulation.h"
+#include "raster/segment4.h"
 
 namespace lacet::appearance {
 
@@ -76,9 +77,6 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
     const Rgbm strip(borderStripColour(shade.surface), 0.0f);
     const float wff = float(wf);
     const float insideFall = wf > 0.0 ? 1.0f : 0.0f;  // smoothFall(0, wf): no strip without a width
-    struct LocalSegment {
-        float x0, y0, dx, dy, invLen2;
-    };
     std::vector<const Segment*> candidates;
     std::vector<LocalSegment> local;
     static_assert(kBlock == SurfaceShader::kMaxBlock && kBlock % 4 == 0);
@@ -97,11 +95,7 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
             // a rounding of about 1e-7 of the segments' extent, far below a texel at every level.
             const Vec2 origin = canvas.world(bx, by);
             local.clear();
-            for (const Segment* sg : candidates) {
-                const Vec2 p0 = sg->p0 - origin, seg = sg->p1 - sg->p0;
-                const double len2 = glm::dot(seg, seg);
-                local.push_back({float(p0.x), float(p0.y), float(seg.x), float(seg.y), len2 > 0.0 ? float(1.0 / len2) : 0.0f});
-            }
+            for (const Segment* sg : candidates) local.push_back(localSegment(sg->p0, sg->p1, origin));
             bool shaded = false;  // the surface's colours over the block, made once when needed
             for (int y = by; y < ey; ++y) {
                 const std::size_t row = std::size_t(y) * std::size_t(side);
@@ -123,16 +117,8 @@ void drawArea(Canvas& canvas, const AppearanceTile& t, const ClippedArea& area, 
                 Float4 d2[kBlock / 4];
                 for (Float4& v : d2) v = splat(kInf);
                 const float qy = float(double(y - by) * px);
-                for (const LocalSegment& l : distances ? local : std::span<const LocalSegment>{}) {
-                    const Float4 dx = splat(l.dx), dy = splat(l.dy);
-                    const float ry = qy - l.y0;
-                    for (int v = 0; v < kBlock / 4; ++v) {
-                        const Float4 rx = qx[v] - l.x0;
-                        const Float4 tt = clamp4((rx * dx + ry * dy) * l.invLen2, splat(0.0f), splat(1.0f));
-                        const Float4 exv = rx - dx * tt, eyv = ry - dy * tt;
-                        d2[v] = min4(d2[v], exv * exv + eyv * eyv);
-                    }
-                }
+                for (const LocalSegment& l : distances ? local : std::span<const LocalSegment>{})
+                    for (int v = 0; v < kBlock / 4; ++v) d2[v] = min4(d2[v], distanceSquared4(l, qx[v], qy));
                 // From them, four pixels at a time: the coverage of a pixel inside (edgeCoverage of
                 // d) and outside (of -d), and the border strip's fall-off outside (smoothFall).
                 Float4 coverIn[kBlock / 4] = {}, coverOut[kBlock / 4] = {}, fall[kBlock / 4] = {};

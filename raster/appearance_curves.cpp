@@ -5,15 +5,13 @@
 
 #include <glm/geometric.hpp>
 
-namespace lacet::appearance {
-namespace {
+#include "model/segment.h"
 
-// Fills dist (distance to the polyline), v (signed: > 0 on the left of the direction of travel)
-// and u of the nearest segment, for the pixels within `reach` metres (and a pixel) of the
-// polyline, and lists them as touched. Block by block (kBlock pixels), only the candidate
-// segments (candidatesNear) are measured: wide roads seen from close would otherwise compute
-// every segment of their margin at every texel. Among segments at the same distance the first
-// one wins.
+namespace lacet::appearance {
+
+// Block by block (kBlock pixels), only the candidate segments (candidatesNear) are measured:
+// wide roads seen from close would otherwise compute every segment of their margin at every
+// texel.
 void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
@@ -37,9 +35,11 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
                     double bestT = 0.0;
                     Vec2 bestR(0.0);
                     for (const Segment* sg : candidates) {
+                        // The offset r - seg t from the start, as the 4-wide twin measures
+                        // it, not nearestOnSegment's q - point: the two differ in the last
+                        // bits, and the golden images are made with this one.
                         const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
-                        const double len2 = glm::dot(seg, seg);
-                        const double t = len2 > 0.0 ? std::clamp(glm::dot(r, seg) / len2, 0.0, 1.0) : 0.0;
+                        const double t = nearestParameter(q, sg->p0, sg->p1);
                         const float d = float(glm::length(r - seg * t));
                         if (d < best) best = d, nearest = sg, bestT = t, bestR = r;
                     }
@@ -55,6 +55,8 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
                 }
         }
 }
+
+namespace {
 
 // The band within hw metres of the polyline, in one colour and water mask, by coverage.
 void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask) {

@@ -10,6 +10,14 @@
 
 namespace lacet::appearance {
 
+// The distance field the passes below draw from: fills dist (distance to the polyline, metres),
+// v (signed: > 0 on the left of the direction of travel), u of the nearest segment and the kCap
+// flag (nearest to a capped end, beyond it), for the pixels within `reach` metres and a pixel of
+// the polyline, and lists them as touched (the caller clears them). Among segments at the same
+// distance the first one wins. tests/raster/distance_field_reference_test.cpp holds it to every
+// segment measured at every pixel.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach);
+
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
 // rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);

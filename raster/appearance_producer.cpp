@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/junctions.h"
+#include "model/segment.h"
 #include "raster/appearance_areas.h"
 #include "raster/appearance_canvas.h"
 #include "raster/appearance_curves.h"
@@ -78,11 +79,8 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
     const Box box = t.bounds.dilated(double(t.border) * t.delta);
     const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
     for (const Segment& sg : segmentsOf(quad.layers[last.layer].curves.at(last.id), nullptr, last.layer, last.id)) {
-        const Vec2 seg = sg.p1 - sg.p0;
-        const double len2 = glm::dot(seg, seg);
         const bool holds = std::all_of(std::begin(corners), std::end(corners), [&](Vec2 q) {
-            const double tt = len2 > 0.0 ? std::clamp(glm::dot(q - sg.p0, seg) / len2, 0.0, 1.0) : 0.0;
-            return glm::length(q - (sg.p0 + seg * tt)) <= limit;  // a capsule is convex
+            return distanceToSegment(q, sg.p0, sg.p1) <= limit;  // a capsule is convex
         });
         if (holds) return SurfaceShade{Surface::Water, 0, last.id};
     }

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/segment.h"
+
 namespace lacet::appearance {
 namespace {
 
@@ -43,13 +45,6 @@ std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const C
     return out;
 }
 
-double segmentDistance(const Segment& sg, Vec2 q) {
-    const Vec2 seg = sg.p1 - sg.p0;
-    const double len2 = glm::dot(seg, seg);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(q - sg.p0, seg) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(q - (sg.p0 + seg * t));
-}
-
 double candidatesNear(const std::vector<Segment>& segments, const Box& box, double reach,
                       std::vector<const Segment*>& out) {
     out.clear();
@@ -62,7 +57,7 @@ double candidatesNear(const std::vector<Segment>& segments, const Box& box, doub
     double upper = kInf;
     for (const Segment* sg : out) {
         double farthest = 0.0;
-        for (const Vec2& c : corners) farthest = std::max(farthest, segmentDistance(*sg, c));
+        for (const Vec2& c : corners) farthest = std::max(farthest, distanceToSegment(c, sg->p0, sg->p1));
         upper = std::min(upper, farthest);
     }
     double nearest = kInf;

@@ -20,8 +20,6 @@ struct Segment {
 // each vertex when `data` is given (0 otherwise).
 std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a);
 
-double segmentDistance(const Segment& sg, Vec2 q);
-
 // The segments that can be nearest to some point of `box` within `reach`: a segment whose
 // lower bound (the distance from its bounding box) exceeds the reach, or exceeds some segment's
 // upper bound over the box (the distance to a segment is convex, so its maximum over the box is

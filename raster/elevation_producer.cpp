@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "model/segment.h"
 #include "raster/rasterizer.h"
 
 namespace lacet {
@@ -93,13 +94,11 @@ void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, El
             }
         for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
             const Vec2 p0 = pts[i], p1 = pts[i + 1];
-            const Vec2 seg = p1 - p0;
-            const double len2 = glm::dot(seg, seg);
             canvas.capsule(p0, p1, outer, [&](std::size_t idx, Vec2 q) {
-                const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
-                const double d = glm::length(q - (p0 + seg * t));
+                const SegmentNearest n = nearestOnSegment(q, p0, p1);
+                const double d = std::sqrt(n.distance2);
                 const float b = blend(d, inner, outer);
-                if (b > 0.0f) canvas.put(idx, b, float(profile.at(us[i] + (us[i + 1] - us[i]) * t)), float(d));
+                if (b > 0.0f) canvas.put(idx, b, float(profile.at(us[i] + (us[i + 1] - us[i]) * n.t)), float(d));
             });
         }
     }
@@ -137,11 +136,9 @@ void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<Cl
                 const Vertex& v = loop.vertices[i];
                 if (!v.onCurve) continue;
                 if (!closing) {
-                    const Vec2 p0 = prev, seg = v.p - prev;
-                    const double len2 = glm::dot(seg, seg);
-                    canvas.capsule(p0, v.p, reach, [&](std::size_t idx, Vec2 q) {
-                        const double t = len2 > 0.0 ? std::clamp(glm::dot(q - p0, seg) / len2, 0.0, 1.0) : 0.0;
-                        const double d = glm::length(q - (p0 + seg * t));
+                    const Vec2 p0 = prev, p1 = v.p;
+                    canvas.capsule(p0, p1, reach, [&](std::size_t idx, Vec2 q) {
+                        const double d = distanceToSegment(q, p0, p1);
                         canvas.put(idx, blend(d, kSqrt2 * tile.delta, reach), level, float(d));
                     });
                 }
