@@ -8,8 +8,8 @@
 // row resolution - 1; images flip them).
 //
 // A uniform quad (inside one area, or inside one wide river) stores no texels: `rgbm` is empty
-// and `shade` says what covers it; expandUniform() makes its texels when an image needs them,
-// equal bit for bit to what the producer would have drawn.
+// and `shade` says what covers it; tileTexels() (raster/appearance_producer.h) makes its texels
+// when an image needs them, equal bit for bit to what the producer would have drawn.
 
 #include <cstdint>
 #include <vector>
