@@ -5,7 +5,6 @@
 // the tolerance.
 #include <iostream>
 #include <map>
-#include <random>
 
 #include <nlohmann/json.hpp>
 
@@ -14,8 +13,8 @@
 #include "io/fit_check.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
-#include "model/quadtree_compare.h"
 #include "model/validate.h"
+#include "synth/incremental_check.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_scene.h"
 
@@ -32,55 +31,29 @@ struct CheckOptions {
 };
 
 int run(const CheckOptions& o) {
-    using namespace lacet::bench;
     Scene s = makeSyntheticScene({o.seed, o.curves});
-    std::mt19937_64 rng(o.seed * 7919 + 1);
-    const double side = s.extent.size().x;
-    auto viewer = [&] {
-        return glm::dvec3(s.extent.min.x + uniform01(rng) * side, s.extent.min.y + uniform01(rng) * side,
-                          2.0 + uniform01(rng) * 50.0);
-    };
-    Quadtree qt(s);
-    qt.refineForViewer(viewer(), ViewParams{.maxLevel = o.depth});
-    std::size_t applied = 0, mismatches = 0, quadsCompared = 0;
+    const IncrementalCheckReport r = checkIncremental(s, {.seed = o.seed * 7919 + 1, .edits = o.edits, .maxLevel = o.depth,
+                                                          .viewEvery = o.viewEvery, .reach = s.extent.size().x * 0.01,
+                                                          .viewerHeight = 2.0, .viewerHeightRange = 50.0,
+                                                          .detailsPerEdit = 5, .maxDetails = 20});
     std::map<std::string, std::size_t> byKind;
-    std::vector<std::string> details;
-    std::vector<double> updateMs, rebuildMs;
-    for (int i = 0; i < o.edits; ++i) {
-        if (i % o.viewEvery == o.viewEvery - 1) qt.refineForViewer(viewer(), ViewParams{.maxLevel = o.depth});
-        const RandomEdit e = applyRandomEdit(s, rng, side * 0.01);
-        if (e.changeset.empty()) continue;
-        ++applied;
-        ++byKind[std::string(toString(e.kind))];
-        auto t0 = Clock::now();
-        qt.update(e.changeset);
-        updateMs.push_back(msSince(t0));
-        t0 = Clock::now();
-        Quadtree rebuilt(s);
-        rebuilt.copyStructureOf(qt);
-        rebuildMs.push_back(msSince(t0));
-        const QuadtreeDiff diff = compareQuadtrees(qt, rebuilt, 5);
-        quadsCompared += diff.quadsCompared;
-        mismatches += diff.mismatches;
-        for (const auto& d : diff.details)
-            if (details.size() < 20) details.push_back("edit " + std::to_string(i) + " (" + std::string(toString(e.kind)) + "): " + d);
-    }
+    for (const auto& [kind, n] : r.byKind) byKind[std::string(toString(kind))] = n;
     const bool valid = validate(s).empty();
     const nlohmann::json out = {{"seed", o.seed},
                                 {"curves", count(s).curves},
                                 {"depth", o.depth},
-                                {"edits", applied},
+                                {"edits", r.edits},
                                 {"edits_by_kind", byKind},
-                                {"quads_compared", quadsCompared},
-                                {"mismatches", mismatches},
-                                {"mismatch_details", details},
+                                {"quads_compared", r.quadsCompared},
+                                {"mismatches", r.mismatches},
+                                {"mismatch_details", r.details},
                                 {"scene_valid", valid},
-                                {"update_median_ms", median(updateMs)},
-                                {"rebuild_median_ms", median(rebuildMs)}};
+                                {"update_median_ms", bench::median(r.updateMs)},
+                                {"rebuild_median_ms", bench::median(r.rebuildMs)}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
-        std::cout << applied << " edits, " << quadsCompared << " quad comparisons, " << mismatches << " mismatches\n";
-    return mismatches == 0 && valid ? 0 : 2;
+        std::cout << r.edits << " edits, " << r.quadsCompared << " quad comparisons, " << r.mismatches << " mismatches\n";
+    return r.mismatches == 0 && valid ? 0 : 2;
 }
 
 struct FitOptions {

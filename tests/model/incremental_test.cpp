@@ -1,12 +1,11 @@
 // Invariant: after every edit, the incrementally updated quadtree equals a rebuild from scratch
 // (elements, geometry bit for bit, ancestors, CREATEDFROM). Randomized with fixed seeds.
 #include <map>
-#include <random>
 
 #include <gtest/gtest.h>
 
-#include "model/quadtree_compare.h"
 #include "model/validate.h"
+#include "synth/incremental_check.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_scene.h"
 #include "tests/model/small_scene.h"
@@ -20,34 +19,17 @@ struct EditRun {
     std::map<EditKind, std::size_t> byKind;
 };
 
-// Applies `edits` random edits; after each, updates `qt`, and every `viewEvery` edits moves the
-// viewer (subdividing and merging quads). Compares with a rebuild after every edit.
+// Applies `edits` random edits; after each, updates the quadtree, and every `viewEvery` edits moves
+// the viewer (subdividing and merging quads). Compares with a rebuild after every edit
+// (synth/incremental_check.h), stopping at the first mismatch.
 EditRun checkIncremental(Scene& s, std::uint64_t seed, int edits, int maxLevel, double reach, int viewEvery,
                          const ProceduralStep* procedural = nullptr) {
-    std::mt19937_64 rng(seed);
-    Quadtree qt(s, {}, procedural);
-    auto viewer = [&]() {
-        return glm::dvec3(s.extent.min.x + uniform01(rng) * s.extent.size().x,
-                          s.extent.min.y + uniform01(rng) * s.extent.size().y, 1.0 + uniform01(rng) * 20.0);
-    };
-    qt.refineForViewer(viewer(), ViewParams{.maxLevel = maxLevel});
-    EditRun run;
-    for (int i = 0; i < edits; ++i) {
-        if (i % viewEvery == viewEvery - 1) qt.refineForViewer(viewer(), ViewParams{.maxLevel = maxLevel});
-        const RandomEdit e = applyRandomEdit(s, rng, reach);
-        if (e.changeset.empty()) continue;
-        ++run.edits;
-        ++run.byKind[e.kind];
-        qt.update(e.changeset);
-        Quadtree rebuilt(s, {}, procedural);
-        rebuilt.copyStructureOf(qt);
-        const auto diff = compareQuadtrees(qt, rebuilt, 3);
-        EXPECT_EQ(diff.mismatches, 0u) << "seed " << seed << " edit " << i << " (" << toString(e.kind)
-                                       << "): " << (diff.details.empty() ? "" : diff.details[0]);
-        if (diff.mismatches) break;
-    }
+    const IncrementalCheckReport r = checkIncremental(s, {.seed = seed, .edits = edits, .maxLevel = maxLevel, .viewEvery = viewEvery,
+                                                          .reach = reach, .procedural = procedural,
+                                                          .stopAtFirstMismatch = true});
+    EXPECT_EQ(r.mismatches, 0u) << "seed " << seed << " " << (r.details.empty() ? "" : r.details[0]);
     EXPECT_TRUE(validate(s).empty());
-    return run;
+    return {r.edits, r.byKind};
 }
 
 TEST(Incremental, RandomEditsOfEveryKindOnASmallSceneEqualRebuild) {

@@ -1,0 +1,46 @@
+#pragma once
+// Incremental equals rebuild (§5): random edits of a scene, each followed by Quadtree::update, and
+// the updated quadtree compared with one rebuilt from scratch on the same structure
+// (compareQuadtrees), the viewer moving now and then so that quads are subdivided and merged.
+// One loop for the randomized test (tests/model/incremental_test.cpp) and `lacet check incremental`.
+//
+// Order of calls: make the scene, then checkIncremental(scene, params); the scene is edited in place.
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "model/graph.h"
+#include "model/quadtree.h"
+#include "synth/random_edits.h"
+
+namespace lacet {
+
+struct IncrementalCheckParams {
+    std::uint64_t seed = 1;            // of the one generator drawing the viewers and the edits
+    int edits = 100;                   // random edits tried (>= 0); those that find nothing to edit are skipped
+    int maxLevel = 12;                 // deepest quadtree level the viewer refines to (ViewParams::maxLevel)
+    int viewEvery = 10;                // the viewer moves before every viewEvery-th edit (>= 1)
+    double reach = 100.0;              // metres: how far an edit moves points (applyRandomEdit)
+    double viewerHeight = 1.0;         // metres above the extent's plane: the lowest viewer...
+    double viewerHeightRange = 20.0;   // ...and the range above it (uniform)
+    const ProceduralStep* procedural = nullptr;  // the quadtree's procedural step at the root, if any
+    bool stopAtFirstMismatch = false;  // stop after the first edit whose update differs
+    std::size_t detailsPerEdit = 3;    // mismatch descriptions kept per edit (compareQuadtrees)
+    std::size_t maxDetails = 20;       // and in all
+};
+
+struct IncrementalCheckReport {
+    std::size_t edits = 0;          // edits applied
+    std::size_t quadsCompared = 0;  // over all comparisons
+    std::size_t mismatches = 0;     // quads that differ, over all comparisons
+    std::map<EditKind, std::size_t> byKind;
+    std::vector<std::string> details;       // "edit I (kind): what differs"
+    std::vector<double> updateMs, rebuildMs;  // milliseconds per applied edit: update, rebuild
+};
+
+IncrementalCheckReport checkIncremental(Scene& scene, const IncrementalCheckParams& params);
+
+}  // namespace lacet
