@@ -146,7 +146,7 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
     {
         constexpr int kReference = 1536;
         auto produceAt = [&](int resolution, std::vector<double>* times) {
-            Quadtree qt(scene, RefineParams{.resolution = resolution});
+            Quadtree qt(scene, RefineParams{{.resolution = resolution}});
             std::vector<const Quad*> quads;
             for (const Key& k : keys) quads.push_back(reach(qt, k));
             CurveDataCache data(qt, heights);

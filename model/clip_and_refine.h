@@ -21,28 +21,24 @@
 #include <cstdint>
 #include <vector>
 
+#include "model/tile_grid.h"
 #include "model/types.h"
 
 namespace lacet {
 
-// The refinement tolerance, an accuracy knob: `toleranceTexels` appearance texels of a quad
-// whose texture is `resolution` texels wide. Default: half a texel of a 256-texel quad.
-struct RefineParams {
+// What the quadtree clips for: the tile grid (model/tile_grid.h: resolutions, borders and the
+// reaches they imply) and the refinement tolerance, an accuracy knob: `toleranceTexels`
+// appearance texels of a quad whose texture is `resolution` texels wide. Default: half a texel of
+// a 256-texel quad. RefineParams is a TileGrid, so the grid's fields read as before
+// (`params.resolution`); build one as RefineParams{{.resolution = 64}}.
+struct RefineParams : TileGrid {
     double toleranceTexels = 0.5;  // texels, > 0
-    int resolution = 256;          // texels per quad side
     double tolerance(double quadSize) const { return toleranceTexels * quadSize / double(resolution); }  // metres
+    const TileGrid& grid() const { return *this; }
 
-    // How far beyond an element's footprint the elevation producer reads it, in elevation samples
-    // (delta = quad size / elevationResolution): the 2 sqrt(2) delta widening of its footprints
-    // plus the samples of the tile border. Clipping keeps elements that far outside the quad too, so that
-    // adjacent tiles see the same elements at their shared and border samples.
-    int elevationResolution = 24;     // samples per quad side, even
-    double footprintReach = 5.0;      // elevation samples, >= 2 sqrt(2) + the tile border (2)
-    double elevationDelta(double quadSize) const { return quadSize / double(elevationResolution); }  // metres
-    // The appearance producer draws `appearanceBorder` texels outside the quad (its tile border,
-    // AppearanceParams::border <= this); one more texel covers the anti-aliasing ramp.
-    int appearanceBorder = 2;  // texels
-    double appearanceReach(double quadSize) const { return double(appearanceBorder + 1) * quadSize / double(resolution); }  // metres
+    // Clipping keeps elements as far outside the quad as the producers read them (the larger of
+    // the elevation footprint reach and the appearance reach), so that adjacent tiles see the same
+    // elements at their shared and border samples and texels.
     // A curve's margin must not grow with depth (a child only sees what its parent kept), so a
     // curve too thin for a footprint at this level still gets the reach of the first deeper level
     // where it has one (the largest delta / 2^k <= w / 2).
@@ -50,10 +46,10 @@ struct RefineParams {
         double delta = elevationDelta(quadSize);
         if (w <= 0.0) delta = 0.0;
         while (delta > 0.0 && w < 2.0 * delta) delta *= 0.5;
-        return 0.5 * wf + std::max(footprintReach * delta, appearanceReach(quadSize));
+        return 0.5 * wf + std::max(footprintReach() * delta, appearanceReach(quadSize));
     }
     double areaMargin(double wf, double quadSize) const {
-        return wf + std::max(footprintReach * elevationDelta(quadSize), appearanceReach(quadSize));
+        return wf + std::max(footprintReach() * elevationDelta(quadSize), appearanceReach(quadSize));
     }
 };
 

@@ -39,8 +39,9 @@ ElementId proceduralId(ElementId root, std::size_t k) {
 
 Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep* procedural)
     : scene_(scene), params_(params), procedural_(procedural) {
-    if (!(params_.toleranceTexels > 0.0) || params_.resolution <= 0)
-        throw std::invalid_argument("Quadtree: refinement tolerance and resolution must be positive");
+    if (!(params_.toleranceTexels > 0.0))
+        throw std::invalid_argument("Quadtree: the refinement tolerance must be positive");
+    params_.grid().validate();
     validateOrThrow(scene);
     root_.bounds = scene.extent;
     expandedFrom_.resize(scene.layers.size());

@@ -91,17 +91,15 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
 
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                  const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters) {
-    const int n = quadtree.params().resolution;
-    if (n <= 0 || params.border < 0 || params.samples < 1 || params.samples > 8 || params.groundCells < 1 ||
-        !(params.groundCellMin >= 0.0))
-        throw std::invalid_argument("produceAppearance(): resolution > 0, border >= 0, 1 <= samples <= 8, groundCells >= 1 and groundCellMin >= 0 required");
-    if (params.border > quadtree.params().appearanceBorder)
-        throw std::invalid_argument("produceAppearance(): the tile border is wider than the quadtree clips for (RefineParams::appearanceBorder)");
+    const TileGrid& grid = quadtree.params().grid();  // validated by the Quadtree
+    const int n = grid.resolution;
+    if (params.samples < 1 || params.samples > 8 || params.groundCells < 1 || !(params.groundCellMin >= 0.0))
+        throw std::invalid_argument("produceAppearance(): 1 <= samples <= 8, groundCells >= 1 and groundCellMin >= 0 required");
     AppearanceTile t;
     t.bounds = quad.bounds;
     t.resolution = n;
-    t.border = params.border;
-    t.stride = n + 2 * params.border;
+    t.border = grid.appearanceBorder;
+    t.stride = n + 2 * grid.appearanceBorder;
     t.samples = params.samples;
     t.delta = quad.bounds.size().x / double(n);
     if (counters) ++counters->tiles;

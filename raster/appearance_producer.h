@@ -36,10 +36,10 @@
 
 namespace lacet {
 
-// Accuracy knobs of the appearance (the resolution is quadtree.params().resolution, the one the
-// refinement tolerance is measured in).
+// Accuracy knobs of the appearance. The tile's resolution and border are the quadtree's grid
+// (quadtree.params(): TileGrid::resolution, the one the refinement tolerance is measured in, and
+// TileGrid::appearanceBorder, the one the quadtree clips for).
 struct AppearanceParams {
-    int border = 2;                 // texels outside the quad on each side, >= 0
     int samples = 1;                // supersampling, samples x samples per texel (1..8), each with analytic edge coverage
     double markingMinTexels = 0.5;  // texels: road markings narrower than this are not drawn, and u is not asked for
     int groundCells = 32;           // cells of the ground colour grid per quad side, >= 1

@@ -177,15 +177,14 @@ void halfResolution(ElevationTile& t) {
 
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                const Dem& dem, const ElevationParams& params, ElevationCounters* counters) {
-    const int n = quadtree.params().elevationResolution;
-    if (n <= 0 || n % 2 != 0 || params.border < 2)
-        throw std::invalid_argument("produceElevation(): the resolution must be even and the border >= 2");
+    const TileGrid& grid = quadtree.params().grid();  // validated by the Quadtree
+    const int n = grid.elevationResolution;
     ElevationTile t;
     t.bounds = quad.bounds;
     t.resolution = n;
-    t.border = params.border;
+    t.border = grid.elevationBorder;
     t.delta = quad.bounds.size().x / double(n);
-    t.stride = n + 1 + 2 * params.border;
+    t.stride = n + 1 + 2 * grid.elevationBorder;
     const std::size_t count = std::size_t(t.stride) * std::size_t(t.stride);
     t.zo.resize(count);
     t.ze.assign(count, 0.0f);

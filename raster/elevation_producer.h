@@ -29,8 +29,10 @@
 
 namespace lacet {
 
+// The tile's resolution and border are the quadtree's grid (quadtree.params():
+// TileGrid::elevationResolution and elevationBorder), so that the clipping margins match what
+// this reads.
 struct ElevationParams {
-    int border = 2;  // samples outside the quad on each side (>= 2: the filter reads one more)
     std::vector<bool> hiddenLayers;  // layers leaving no footprint (index: LayerId; missing: shown)
 };
 
@@ -41,8 +43,6 @@ struct ElevationCounters {
     std::atomic<std::size_t> lakesDrawn{0};
 };
 
-// Resolution and delta come from quadtree.params() (elevationResolution), so that the clipping
-// margins match what this reads.
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                const Dem& dem, const ElevationParams& params, ElevationCounters* counters = nullptr);
 

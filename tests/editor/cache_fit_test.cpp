@@ -28,7 +28,7 @@ std::size_t ancestorsOf(const std::vector<const Quad*>& quads) {
 
 TEST(CacheFit, AViewThatFitsShowsItsLeaves) {
     const Scene scene = makeSyntheticScene({3, 1500});
-    Quadtree qt(scene, RefineParams{.resolution = 32});
+    Quadtree qt(scene, RefineParams{{.resolution = 32}});
     const Vec2 c = scene.extent.center();
     const glm::dvec3 viewer(c.x, c.y, 30.0);
     qt.refineForViewer(viewer, ViewParams{.maxLevel = 10});
@@ -52,7 +52,7 @@ TEST(CacheFit, ASmallerCacheShowsTheFarthestQuadsInPlaceOfTheirChildren) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> at(0.0, 1.0);
     for (int trial = 0; trial < 12; ++trial) {
-        Quadtree qt(scene, RefineParams{.resolution = 32});
+        Quadtree qt(scene, RefineParams{{.resolution = 32}});
         const Vec2 p = scene.extent.min + scene.extent.size() * Vec2(at(rng), at(rng));
         const glm::dvec3 viewer(p.x, p.y, 10.0 + 200.0 * at(rng));
         qt.refineForViewer(viewer, ViewParams{.maxLevel = 12});

@@ -92,7 +92,7 @@ TEST(AppearanceShading, BlocksAreTheColoursOfTheirPoints) {
 
 TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
     World w(2, 3000);
-    Quadtree qt(w.scene, RefineParams{.resolution = 128});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 128}});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
     qt.refineForViewer({junction.x, junction.y, 20.0}, ViewParams{.maxLevel = 9});
@@ -155,7 +155,7 @@ TEST(AppearanceProducer, ACoarserGroundGridInSmallQuadsChangesTexelsByLittle) {
     const Dem dem(extent, nx, ny, std::move(z));
     const DemHeightField heights(dem);
     const Vec2 at = extent.center();
-    Quadtree qt(w.scene, RefineParams{.resolution = 128});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 128}});
     qt.refineForViewer({at.x, at.y, 20.0}, ViewParams{.maxLevel = 12});
     CurveDataCache data(qt, heights);
     std::vector<const Quad*> small;
@@ -232,7 +232,7 @@ TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
 
 TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraws) {
     World w(3, 3000);
-    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = 6});  // every quad down to level 6 (110 m)
     DemHeightField heights(w.dem);
     CurveDataCache data(qt, heights);
@@ -260,7 +260,7 @@ TEST(AppearanceProducer, UniformFurrowedFieldQuadsExpandToWhatTheProducerDraws) 
     const Layer& fields = w.scene.layers[kFieldsLayer];
     ASSERT_FALSE(fields.nodes.empty());
     const Vec2 at = fields.nodes[fields.nodes.size() / 2].p;
-    Quadtree qt(w.scene, RefineParams{.resolution = 256});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 256}});
     qt.refineForViewer({at.x, at.y, 5.0}, ViewParams{.maxLevel = 11});
     DemHeightField heights(w.dem);
     CurveDataCache data(qt, heights);
@@ -283,7 +283,7 @@ TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
     b.curve(kRiversLayer, a, c, {}, 40.0f, 50.0f);
     const Scene scene = std::move(b.scene());
     const Dem dem = test::gentleSlope(scene.extent);
-    Quadtree qt(scene, RefineParams{.resolution = 64});
+    Quadtree qt(scene, RefineParams{{.resolution = 64}});
     qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = 3});
     DemHeightField heights(dem);
     CurveDataCache data(qt, heights);
@@ -302,7 +302,7 @@ TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
 
 TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
     World w(6, 1500);
-    const RefineParams rp{.resolution = 32};
+    const RefineParams rp{{.resolution = 32}};
     Quadtree qt(w.scene, rp);
     const Vec2 c = w.scene.extent.center();
     qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 9});
@@ -347,7 +347,7 @@ TEST(AppearanceProducer, ATileDoesNotDependOnTheTilesMadeBeforeItOnItsThread) {
     // A thread's canvas is reused from tile to tile without being cleared (every pass clears what
     // it set): the same tiles made in opposite orders, on this thread, must be identical.
     World w(2, 3000);
-    Quadtree qt(w.scene, RefineParams{.resolution = 128});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 128}});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
     qt.refineForViewer({junction.x, junction.y, 20.0}, ViewParams{.maxLevel = 9});
@@ -378,7 +378,7 @@ TEST(AppearanceProducer, AnAreaWithoutAStripBlendsOnlyItsSurfaceOverTheGround) {
     const Dem dem = test::gentleSlope(bare.extent);
     DemHeightField heights(dem);
     auto texels = [&](const Scene& scene) {
-        Quadtree qt(scene, RefineParams{.resolution = 128});
+        Quadtree qt(scene, RefineParams{{.resolution = 128}});
         qt.subdivide(qt.root());
         CurveDataCache data(qt, heights);
         std::vector<std::vector<std::uint8_t>> out;
@@ -404,7 +404,7 @@ TEST(AppearanceProducer, AnAreaWithoutAStripBlendsOnlyItsSurfaceOverTheGround) {
 
 TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
     World w(5, 2000);
-    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     const Vec2 c = w.scene.extent.center();
     qt.refineForViewer({c.x, c.y, 50.0}, ViewParams{.maxLevel = 8});
     const auto quads = quadsFrom(qt, 0);
@@ -436,7 +436,7 @@ TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
     World w(9, 2000);
     AppearanceCounters withWater, without;
     {
-        Quadtree qt(w.scene, RefineParams{.resolution = 64});
+        Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
         qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 3});
         CurveDataCache data(qt, w.heights);
         for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &withWater);
@@ -446,7 +446,7 @@ TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
         w.scene.layers[l].curves.clear();
         w.scene.layers[l].areas.clear();
     }
-    Quadtree qt(w.scene, RefineParams{.resolution = 64});
+    Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 3});
     CurveDataCache data(qt, w.heights);
     for (const Quad* q : quadsFrom(qt, 3)) produceAppearance(*q, qt, data, w.dem, {}, &without);

@@ -22,7 +22,7 @@ inline Dem gentleSlope(const Box& extent) {
 inline std::vector<std::uint8_t> renderHandScene(const Scene& scene, const AppearanceParams& params = {}, int resolution = 128,
                                                  AppearanceCounters* counters = nullptr) {
     const Dem dem = gentleSlope(scene.extent);
-    Quadtree qt(scene, RefineParams{.resolution = resolution});
+    Quadtree qt(scene, RefineParams{{.resolution = resolution}});
     qt.subdivide(qt.root());
     DemHeightField heights(dem);
     CurveDataCache data(qt, heights);
