@@ -1,28 +1,85 @@
-// `lacet edit [scene.gpkg] [--script S.json]`: the editor's window (ui/editor_app.h).
+// `lacet edit [scene.gpkg] [--script S.json]`: the editor's window (ui/editor_app.h) on a scene
+// file; without one, on the Andorra sample imported on the spot (its import report printed, as
+// `lacet import` prints it) when its data is there, else on a synthetic scene.
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include "app/commands.h"
+#include "app/import_summary.h"
+#include "io/scene_file.h"
+#include "io/scene_import.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
 #include "ui/editor_app.h"
 
 namespace lacet::app {
+namespace {
+
+struct EditCli {
+    ui::EditorOptions editor;
+    std::string scene;                              // a scene file; empty: the sample
+    std::string andorraDir = "../shared/data/andorra";
+    std::size_t syntheticCurves = 60000;
+};
+
+// The Andorra sample's files (© OpenStreetMap contributors, ODbL; SRTM: NASA/USGS), as
+// samples/andorra/import.sh reads them.
+constexpr const char* kAndorraVectors = "andorra-2021-04-14.osm.pbf";
+constexpr const char* kAndorraDemZip = "N42E001.hgt.zip";
+constexpr const char* kAndorraDemInZip = "N42E001.hgt";
+
+ui::EditorDocument chooseDocument(const EditCli& o) {
+    ui::EditorDocument d;
+    if (!o.scene.empty()) {
+        d.document = loadScene(o.scene);
+        d.path = d.label = o.scene;
+        return d;
+    }
+    const std::filesystem::path dir(o.andorraDir);
+    const std::string pbf = (dir / kAndorraVectors).string(), zip = (dir / kAndorraDemZip).string();
+    if (std::filesystem::exists(pbf) && std::filesystem::exists(zip)) {
+        ImportOptions io;
+        io.dem = {"/vsizip/" + zip + "/" + kAndorraDemInZip};
+        io.vectors = {pbf};
+        ImportReport report;
+        d.document = importScene(io, report);
+        for (const std::string& w : report.warnings) std::cerr << "lacet edit: warning: " << w << "\n";
+        printImportSummary(std::cout, report, "the editor (not saved until Ctrl+S)");
+        std::ostringstream m;
+        m << "Andorra imported: " << report.featuresRead << " features read, " << report.problems.size() << " problems (the report is on the terminal)";
+        d.message = m.str();
+        d.label = "andorra";
+        return d;
+    }
+    d.document.scene = makeSyntheticScene({1, o.syntheticCurves});
+    d.document.dem = makeSyntheticDem(d.document.scene, {1, 5000});
+    d.label = "synthetic";
+    return d;
+}
+
+}  // namespace
 
 void addEditCommand(CLI::App& app) {
-    auto o = std::make_shared<ui::EditorOptions>();
+    auto o = std::make_shared<EditCli>();
     auto* cmd = app.add_subcommand("edit", "Open the 3D editor (the Andorra scene when its data is there, else a synthetic one)");
     cmd->add_option("scene", o->scene, "Scene file (GeoPackage from lacet import or the editor)");
-    cmd->add_option("--script", o->script, "Replay a scripted session (JSON), write its screenshots and log, and exit");
-    cmd->add_option("--out", o->outDir, "Folder for a script's screenshots and log");
+    cmd->add_option("--script", o->editor.script, "Replay a scripted session (JSON), write its screenshots and log, and exit");
+    cmd->add_option("--out", o->editor.outDir, "Folder for a script's screenshots and log");
     cmd->add_option("--andorra", o->andorraDir, "Folder of the Andorra data (OSM extract and SRTM tile)");
     cmd->add_option("--curves", o->syntheticCurves, "Curves of the synthetic scene when no Andorra data is there");
-    cmd->add_option("--width", o->width, "Window width (pixels)");
-    cmd->add_option("--height", o->height, "Window height (pixels)");
-    cmd->add_option("--budget", o->budgetMs, "Tile production budget per frame (ms)");
-    cmd->add_option("--cache-tiles", o->cacheTiles, "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
+    cmd->add_option("--width", o->editor.width, "Window width (pixels)");
+    cmd->add_option("--height", o->editor.height, "Window height (pixels)");
+    cmd->add_option("--budget", o->editor.budgetMs, "Tile production budget per frame (ms)");
+    cmd->add_option("--cache-tiles", o->editor.cacheTiles,
+                    "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
         ->check(CLI::PositiveNumber);
     cmd->callback([o] {
-        if (!o->script.empty()) std::filesystem::create_directories(o->outDir);
-        ui::EditorApp editor(*o);
+        if (!o->editor.script.empty()) std::filesystem::create_directories(o->editor.outDir);
+        ui::EditorDocument doc = chooseDocument(*o);
+        const bool synthetic = doc.label == "synthetic";
+        ui::EditorApp editor(o->editor, std::move(doc));
+        if (synthetic) editor.log()["synthetic_curves"] = o->syntheticCurves;
         editor.run();
     });
 }

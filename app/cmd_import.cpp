@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/import_summary.h"
 #include "app/progress_bar.h"
 #include "io/import_paths.h"
 #include "io/scene_file.h"
@@ -21,20 +22,6 @@ struct ImportCli {
     bool force = false;
     bool json = false;
 };
-
-void printSummary(const ImportReport& r, const std::string& out) {
-    const nlohmann::json j = r.json();
-    std::cout << "Imported into " << out << " in " << r.ms / 1000.0 << " s: " << r.featuresRead << " features read, "
-              << r.unmapped << " not mapped, " << r.problems.size() << " problems\n";
-    for (const auto& l : j["layers"])
-        std::cout << "  " << l["name"].get<std::string>() << ": curves by class " << l["curves_by_class"].dump() << ", areas by class "
-                  << l["areas_by_class"].dump() << ", nodes " << l["nodes"] << ", junctions " << l["junctions"] << ", bridges "
-                  << l["bridges"] << "\n";
-    std::cout << "  fit: " << j["fit"].dump() << "\n  duplicates: " << j["duplicates"].dump() << "\n  dem: " << j["dem"].dump()
-              << "\n  crs: " << j["crs"].dump()
-              << "\n  river nodes below their surroundings: " << r.riverNodesBelowSurroundings * 100.0 << " % of "
-              << r.riverNodesChecked << "\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
-}
 
 nlohmann::json sceneInfo(const SceneDocument& doc, const std::string& path) {
     nlohmann::json layers = nlohmann::json::array();
@@ -83,7 +70,7 @@ void addImportCommand(CLI::App& app) {
         saveScene(o->out, doc);
         for (const std::string& w : report.warnings) std::cerr << "lacet import: warning: " << w << "\n";
         if (o->json) std::cout << report.json().dump(2) << "\n";
-        else printSummary(report, o->out);
+        else printImportSummary(std::cout, report, o->out);
     });
 
     auto path = std::make_shared<std::string>();

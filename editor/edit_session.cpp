@@ -13,7 +13,6 @@
 #include <tbb/task_arena.h>
 
 #include "editor/cache_fit.h"
-#include "io/scene_file.h"
 
 namespace lacet {
 namespace {
@@ -32,6 +31,11 @@ const Quad* findQuad(const Quad& root, const QuadKey& key) {
     return q->tx == tx && q->ty == ty ? q : nullptr;
 }
 
+// Sorts quads nearest to the viewer `v` first (Quadtree::viewDistance, the K rule's distance).
+auto nearestFirst(glm::dvec3 v) {
+    return [v](const Quad* a, const Quad* b) { return Quadtree::viewDistance(*a, v) < Quadtree::viewDistance(*b, v); };
+}
+
 // What a tile's production time grows with: the curves and areas its quad holds.
 std::size_t elementsOf(const Quad& q) {
     std::size_t n = 0;
@@ -40,8 +44,6 @@ std::size_t elementsOf(const Quad& q) {
 }
 
 }  // namespace
-
-QuadKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
 
 EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(std::move(document)), params_(params) {
     if (!doc_.dem) throw std::invalid_argument("EditSession: the document has no DEM");
@@ -148,10 +150,7 @@ bool EditSession::redo(CommandReport* report) {
     return true;
 }
 
-void EditSession::save(const std::string& path) {
-    saveScene(path, doc_);
-    savedSerial_ = topSerial();
-}
+void EditSession::markSaved() { savedSerial_ = topSerial(); }
 
 void EditSession::setRefineParams(const RefineParams& refine) {
     params_.refine = refine;
@@ -159,6 +158,7 @@ void EditSession::setRefineParams(const RefineParams& refine) {
     quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
     cache_.clear();
+    plan_.clear();
 }
 
 void EditSession::setLayerVisible(LayerId layer, bool visible) {
@@ -220,21 +220,48 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
     return count;
 }
 
+// §8, each frame: refine the quadtree for the viewer, choose the quads shown within the cache
+// (§9.1), make their missing and dirty tiles nearest first within the budget, then those of the
+// predicted viewer, evict, and plan what is drawn.
 FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible,
                                std::optional<glm::dvec3> predicted) {
     FrameReport r;
-    auto t0 = Clock::now();
+    refine(viewer, predicted, r);
+    if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
+    ++clock_;
+    const FrameLeaves leaves = collectLeaves(viewer, predicted, visible, r);
+    const CacheFit fit = fitToCache(leaves.view, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
+    r.shown = fit.shown.size();
+    r.replaced = fit.replaced.size();
+    std::vector<const Quad*> needed = keepShown(fit);
+    if (predicted) keepMadeAhead(leaves.madeAhead, fit.kept, *predicted);
+    std::stable_sort(needed.begin(), needed.end(), nearestFirst(viewer));
+    const auto t0 = Clock::now();
+    r.produced = produce(needed, budgetMs, t0);
+    r.pending = needed.size() - r.produced;
+    if (predicted && r.pending == 0) r.prefetched = prefetch(leaves.ahead, *predicted, budgetMs, t0);
+    r.produceMs = msSince(t0);
+    evict();
+    r.cached = cache_.size();
+    for (const auto& [key, t] : cache_) r.kept += t.lastUsed == clock_;
+    plan_ = makeDrawPlan(*quadtree_, [&](const QuadKey& key) { return tile(key); }, visible, params_.skirt);
+    return r;
+}
+
+void EditSession::refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, FrameReport& r) {
+    const auto t0 = Clock::now();
     std::optional<Clock::time_point> deadline;
     if (params_.refineBudgetMs > 0.0)
         deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(params_.refineBudgetMs));
     // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
     const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
-    r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view,
-                                                    deadline);
+    r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view, deadline);
     r.refineMs = msSince(t0);
-    if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
-    ++clock_;
-    std::vector<const Quad*> viewLeaves, ahead, madeAhead;
+}
+
+EditSession::FrameLeaves EditSession::collectLeaves(glm::dvec3 viewer, std::optional<glm::dvec3> predicted,
+                                                    const QuadVisibility& visible, FrameReport& r) const {
+    FrameLeaves out;
     auto isViewLeaf = [&](const Quad& q) {
         // With a predicted viewer the tree is refined for both: a quad is a leaf of the current
         // view when the current viewer alone would not subdivide it.
@@ -250,24 +277,23 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
             return;
         }
         if (viewLeaf) {
-            viewLeaves.push_back(&q);
+            out.view.push_back(&q);
             return;
         }
         const auto it = cache_.find(keyOf(q));
-        (it == cache_.end() || it->second.dirty ? ahead : madeAhead).push_back(&q);
+        (it == cache_.end() || it->second.dirty ? out.ahead : out.madeAhead).push_back(&q);
     });
-    r.viewQuads = viewLeaves.size();
-    // The quads shown: the view's leaves, or, when they and their ancestors are more tiles than
-    // the cache holds, the farthest ancestors in place of their children (editor/cache_fit.h).
-    const CacheFit fit = fitToCache(viewLeaves, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
-    r.shown = fit.shown.size();
-    r.replaced = fit.replaced.size();
+    r.viewQuads = out.view.size();
+    return out;
+}
+
+std::vector<const Quad*> EditSession::keepShown(const CacheFit& fit) {
     std::vector<const Quad*> needed;
     for (const Quad* q : fit.shown) {
         const auto it = cache_.find(keyOf(*q));
         if (it != cache_.end()) it->second.lastUsed = clock_;
-        // The ancestors' tiles stay too: they are what a renderer shows while a quad is made. A
-        // tile already marked this frame was reached from a sibling: so were those above it.
+        // The ancestors' tiles stay too: they are what is drawn while a quad is made (the draw
+        // plan). A tile already marked this frame was reached from a sibling: so were those above it.
         for (const Quad* a = q->parent; a; a = a->parent) {
             const auto at = cache_.find(keyOf(*a));
             if (at == cache_.end()) continue;
@@ -276,52 +302,46 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
         }
         if (it == cache_.end() || it->second.dirty) needed.push_back(q);
     }
-    auto byDistance = [](glm::dvec3 v) {
-        return [v](const Quad* a, const Quad* b) { return Quadtree::viewDistance(*a, v) < Quadtree::viewDistance(*b, v); };
-    };
+    return needed;
+}
+
+void EditSession::keepMadeAhead(std::vector<const Quad*> madeAhead, std::size_t kept, glm::dvec3 predicted) {
     // Tiles made ahead are kept until the view gets there, nearest to the predicted viewer first,
     // in the room the view leaves (its tiles, made this frame or not, and their ancestors').
-    if (predicted) {
-        std::size_t kept = fit.kept;
-        std::stable_sort(madeAhead.begin(), madeAhead.end(), byDistance(*predicted));
-        for (std::size_t i = 0; i < madeAhead.size() && kept < params_.cacheTiles; ++i, ++kept)
-            cache_.at(keyOf(*madeAhead[i])).lastUsed = clock_;
-    }
-    std::stable_sort(needed.begin(), needed.end(), byDistance(viewer));
-    t0 = Clock::now();
-    r.produced = produce(needed, budgetMs, t0);
-    r.pending = needed.size() - r.produced;
+    std::stable_sort(madeAhead.begin(), madeAhead.end(), nearestFirst(predicted));
+    for (std::size_t i = 0; i < madeAhead.size() && kept < params_.cacheTiles; ++i, ++kept)
+        cache_.at(keyOf(*madeAhead[i])).lastUsed = clock_;
+}
+
+std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs, Clock::time_point t0) {
     // Prefetch only with time left for the first quad ahead (it would otherwise always be made).
     // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"): the
     // budget less the tiles the LRU may not evict this frame (the view's, its ancestors', those
     // made ahead). Past it, the LRU would evict tiles made ahead before the view reached them.
-    if (predicted && r.pending == 0 && !ahead.empty()) {
-        std::size_t kept = 0;
-        for (const auto& [key, t] : cache_) kept += t.lastUsed == clock_;
-        const std::size_t room = params_.cacheTiles > kept ? params_.cacheTiles - kept : 0;
-        std::stable_sort(ahead.begin(), ahead.end(), byDistance(*predicted));
-        ahead.resize(std::min(ahead.size(), room));
-        const std::size_t first = ahead.empty() ? 0 : elementsOf(*ahead.front());
-        if (!ahead.empty() &&
-            (budgetMs <= 0.0 || msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) < budgetMs))
-            r.prefetched = produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
-    }
-    r.produceMs = msSince(t0);
+    if (ahead.empty()) return 0;
+    std::size_t kept = 0;
+    for (const auto& [key, t] : cache_) kept += t.lastUsed == clock_;
+    const std::size_t room = params_.cacheTiles > kept ? params_.cacheTiles - kept : 0;
+    std::stable_sort(ahead.begin(), ahead.end(), nearestFirst(predicted));
+    ahead.resize(std::min(ahead.size(), room));
+    if (ahead.empty()) return 0;
+    const std::size_t first = elementsOf(*ahead.front());
+    if (budgetMs > 0.0 && msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) >= budgetMs) return 0;
+    return produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
+}
+
+void EditSession::evict() {
     // A dirty tile nobody keeps this frame (a replaced leaf's, one between it and the quad standing
     // in for it, one below a replaced view leaf, a culled leaf's) is not made again now: the
-    // window would draw what an edit changed, so it goes, and the window draws an ancestor's.
+    // window would draw what an edit changed, so it goes, and the plan takes an ancestor's.
     std::erase_if(cache_, [&](const auto& entry) { return entry.second.dirty && entry.second.lastUsed != clock_; });
     // LRU: drop the least recently used tiles outside the view beyond the budget.
-    if (cache_.size() > params_.cacheTiles) {
-        std::vector<std::pair<std::uint64_t, QuadKey>> old;
-        for (const auto& [key, t] : cache_)
-            if (t.lastUsed < clock_) old.push_back({t.lastUsed, key});
-        std::sort(old.begin(), old.end());
-        for (std::size_t i = 0; i < old.size() && cache_.size() > params_.cacheTiles; ++i) cache_.erase(old[i].second);
-    }
-    r.cached = cache_.size();
-    for (const auto& [key, t] : cache_) r.kept += t.lastUsed == clock_;
-    return r;
+    if (cache_.size() <= params_.cacheTiles) return;
+    std::vector<std::pair<std::uint64_t, QuadKey>> old;
+    for (const auto& [key, t] : cache_)
+        if (t.lastUsed < clock_) old.push_back({t.lastUsed, key});
+    std::sort(old.begin(), old.end());
+    for (std::size_t i = 0; i < old.size() && cache_.size() > params_.cacheTiles; ++i) cache_.erase(old[i].second);
 }
 
 const CachedTile* EditSession::tile(const QuadKey& key) const {
@@ -330,21 +350,15 @@ const CachedTile* EditSession::tile(const QuadKey& key) const {
 }
 
 std::pair<const Quad*, const CachedTile*> EditSession::tileAt(Vec2 p) const {
-    std::pair<const Quad*, const CachedTile*> best{nullptr, nullptr};
-    const Quad* q = &quadtree_->root();
-    while (q) {
-        if (const CachedTile* t = tile(keyOf(*q))) best = {q, t};
-        if (q->isLeaf()) break;
-        const Vec2 c = q->bounds.center();
-        q = q->children[std::size_t(int(p.x >= c.x) | (int(p.y >= c.y) << 1))].get();
-    }
-    return best;
+    const DrawItem* item = plan_.itemAt(p);
+    if (!item || !item->tile) return {nullptr, nullptr};
+    return {findQuad(quadtree_->root(), item->tileKey), item->tile};
 }
 
 double EditSession::displayedHeight(Vec2 p) const {
-    const auto [q, t] = tileAt(p);
-    if (!t || !t->elevation.bounds.contains(p)) return doc_.dem->sample(p);
-    const ElevationTile& e = t->elevation;
+    const DrawItem* item = plan_.itemAt(p);
+    if (!item || !item->tile || !item->tile->elevation.bounds.contains(p)) return doc_.dem->sample(p);
+    const ElevationTile& e = item->tile->elevation;
     const Vec2 g = (p - e.bounds.min) / e.delta;
     const int i = std::clamp(int(std::floor(g.x)), 0, e.resolution - 1), j = std::clamp(int(std::floor(g.y)), 0, e.resolution - 1);
     const double fx = g.x - i, fy = g.y - j;

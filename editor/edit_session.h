@@ -16,7 +16,9 @@
 // neither shows nor keeps as an ancestor's is dropped (nothing would make it again).
 //
 // Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
-// leaves' tiles; the window draws a leaf whose tile is not made yet with its nearest ancestor's.
+// leaves' tiles. The draw plan: frame() ends by deciding what is drawn (editor/draw_plan.h):
+// each leaf with the tile that stands for it, its own or, while it is made, its nearest
+// ancestor's; the renderer draws that plan, and the displayed height reads it.
 // Prefetching: frame() may be given the viewer predicted a little later on its path (§8); with
 // budget left once the view is complete, it makes the tiles that viewer will need, within the
 // cache's room.
@@ -32,7 +34,9 @@
 #include <optional>
 #include <tuple>
 
+#include "editor/cache_fit.h"
 #include "editor/command.h"
+#include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
 #include "io/scene_document.h"
 #include "model/curve_data.h"
@@ -57,16 +61,7 @@ struct SessionParams {
     double refineBudgetMs = 0.0;
     AppearanceParams appearance;
     ElevationParams elevation;
-};
-
-using QuadKey = std::tuple<int, std::uint32_t, std::uint32_t>;  // level, x, y
-
-struct CachedTile {
-    AppearanceTile appearance;
-    ElevationTile elevation;
-    bool dirty = false;
-    std::uint64_t lastUsed = 0;
-    std::uint64_t version = 0;  // changes each time the tile is made (for GPU copies)
+    SkirtParams skirt;  // how far the draw plan's skirts hang (editor/draw_plan.h)
 };
 
 struct CommandReport {
@@ -112,8 +107,9 @@ public:
 
     // Unsaved changes: the scene differs from the one last saved (or opened).
     bool modified() const { return savedSerial_ != topSerial(); }
-    // Saves the document (io/scene_file.h, atomic) and marks it saved.
-    void save(const std::string& path);
+    // Marks the document as saved (by the caller, with io/scene_file.h: the session knows no file
+    // format): modified() is false while the scene is in this state.
+    void markSaved();
 
     // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
     // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
@@ -140,10 +136,15 @@ public:
     const Quadtree& quadtree() const { return *quadtree_; }
     const CurveDataCache& curveData() const { return *data_; }
     const CachedTile* tile(const QuadKey& key) const;
-    // The height shown at p: z_m of the deepest quad of the tree over p that has a tile
-    // (bilinear); the DEM where none has one.
+    // What the last frame drew (editor/draw_plan.h): every leaf with the tile standing for it.
+    // Valid until the next frame() or setRefineParams(); edits in between keep it (they mark
+    // tiles dirty and drop none).
+    const DrawPlan& plan() const { return plan_; }
+    // The height shown at p: z_m (bilinear) of the tile the plan draws over p; the DEM where it
+    // has none (before the first frame, or where no tile is made yet).
     double displayedHeight(Vec2 p) const;
-    // The deepest quad of the tree over p that has a tile, and its tile (nullptr, nullptr if none).
+    // The tile the plan draws over p and its quad (nullptr when an edit since the frame removed
+    // it); nullptr, nullptr where the plan draws no tile.
     std::pair<const Quad*, const CachedTile*> tileAt(Vec2 p) const;
     const std::map<QuadKey, CachedTile>& tiles() const { return cache_; }
 
@@ -156,6 +157,22 @@ private:
     };
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     std::uint64_t topSerial() const { return done_.empty() ? 0 : done_.back().serial; }
+    // The steps of frame() (§8).
+    struct FrameLeaves {
+        std::vector<const Quad*> view;       // visible leaves of the current view
+        std::vector<const Quad*> ahead;      // visible leaves only the predicted viewer has, without a clean tile
+        std::vector<const Quad*> madeAhead;  // the same, with one
+    };
+    void refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, FrameReport& r);
+    FrameLeaves collectLeaves(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, const QuadVisibility& visible,
+                              FrameReport& r) const;
+    // Marks the tiles of the shown quads and of their ancestors used; returns the shown quads
+    // whose tile is missing or dirty.
+    std::vector<const Quad*> keepShown(const CacheFit& fit);
+    void keepMadeAhead(std::vector<const Quad*> madeAhead, std::size_t kept, glm::dvec3 predicted);
+    std::size_t prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs,
+                         std::chrono::steady_clock::time_point t0);
+    void evict();
     // Makes the tiles of `quads` in order within the budget; returns how many were made.
     std::size_t produce(const std::vector<const Quad*>& quads, double budgetMs, std::chrono::steady_clock::time_point t0);
 
@@ -167,11 +184,10 @@ private:
     std::vector<Done> done_;
     std::vector<Done> undone_;  // command, group and serial kept for redo
     std::map<QuadKey, CachedTile> cache_;
+    DrawPlan plan_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
     ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time
 };
-
-QuadKey keyOf(const Quad& q);
 
 }  // namespace lacet

@@ -3,8 +3,13 @@
 // the user moves the camera and edits the current layer's curves (Fig. 13), with ImGui panels
 // for layers, the selection's properties, statistics and the accuracy knobs (ui/editor_panels.cpp).
 //
+// The editing itself (tools, selection, picking, locks, the draw tool's curve) is the window-less
+// editing controller's (editor/editing_controller.h); the window translates its input into the
+// controller's calls and the camera's moves, draws, and shows the panels. `lacet edit`
+// (app/cmd_edit.cpp) chooses and loads the document.
+//
 // Each frame: the queued input (window or script) is handled (camera moves; picks against the
-// depth buffer of the frame the user saw; edits as commands of the session), then
+// depth buffer of the frame the user saw; edits through the controller), then
 // EditSession::frame() refines the quadtree for the camera and makes the tiles of the visible
 // leaves within the per-frame budget, prefetching for the camera's predicted position, then the
 // terrain, the overlay and the panels are drawn.
@@ -22,9 +27,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "editor/edit_session.h"
 #include "editor/camera.h"
+#include "editor/edit_session.h"
+#include "editor/editing_controller.h"
 #include "ui/input_event.h"
+#include "ui/script_host.h"
 
 struct GLFWwindow;
 
@@ -35,9 +42,6 @@ class OverlayRenderer;
 class ScriptPlayer;
 
 struct EditorOptions {
-    std::string scene;          // a scene file; empty: Andorra when its data is there, else synthetic
-    std::string andorraDir = "../shared/data/andorra";
-    std::size_t syntheticCurves = 60000;
     std::string script;         // a scripted session (ui/script_player.h)
     std::string outDir = ".";   // where a script's screenshots and log go
     int width = 1280, height = 800;
@@ -46,67 +50,57 @@ struct EditorOptions {
     bool vsync = true;
 };
 
-enum class Tool { Select, Insert, DeletePoint, Draw };
-
-// What the pointer is on: a vertex of a curve, a node, or a curve.
-struct Pick {
-    enum class Kind { None, Vertex, Node, Curve } kind = Kind::None;
-    LayerId layer = 0;
-    ElementId id = kNoElement;  // curve or node
-    std::size_t index = 0;      // vertex index
-    double pixels = 1e30;       // distance on screen
+// The document the editor opens: the scene, the file it saves to (empty: none yet, a save goes to
+// the output folder), how the log names it, and a first message for the status line.
+struct EditorDocument {
+    SceneDocument document;
+    std::string path;
+    std::string label;
+    std::string message;
 };
 
-class EditorApp {
+class EditorApp final : public ScriptHost {
 public:
-    explicit EditorApp(const EditorOptions& options);
-    ~EditorApp();
+    EditorApp(const EditorOptions& options, EditorDocument document);
+    ~EditorApp() override;
     EditorApp(const EditorApp&) = delete;
     EditorApp& operator=(const EditorApp&) = delete;
 
     // Runs until the window closes (or the script ends); returns the exit status.
     int run();
 
-    // For scripts and tests.
-    EditSession& session() { return *session_; }
-    Camera& camera() { return camera_; }
-    int width() const { return width_; }
-    int height() const { return height_; }
-    void push(const InputEvent& e) { events_.push_back(e); }
-    std::optional<glm::dvec2> project(glm::dvec3 world) const;
-    glm::dvec3 groundPoint(Vec2 p) const;  // p at its displayed height
+    // ScriptHost: what scripts may do.
+    const EditSession& session() const override { return *session_; }
+    EditingController& controller() override { return *controller_; }
+    Camera& camera() override { return camera_; }
+    std::optional<glm::dvec2> project(glm::dvec3 world) const override;
+    glm::dvec3 groundPoint(Vec2 p) const override { return controller_->groundPoint(p); }
+    void push(const InputEvent& e) override { events_.push_back(e); }
+    void requestScreenshot(const std::string& path, bool panels, bool overlay) override;
     // Saves the document to `path` (the scene's own file when empty).
-    void save(const std::string& path = {});
+    void save(const std::string& path) override;
     // Opens a scene file in place of the current document (the camera stays).
-    void open(const std::string& path);
-    // The next frame is written to `path` (with or without the panels and the overlay), and
-    // the log records it.
-    void requestScreenshot(const std::string& path, bool panels, bool overlay);
-    std::size_t pendingTiles() const { return lastFrame_.pending; }
-    bool refineDeferred() const { return lastFrame_.refineDeferred; }
-    glm::vec3 background{0.55f, 0.70f, 0.88f};
-    nlohmann::json& log() { return log_; }
-    const Pick& selection() const { return selected_; }
-    void setBudget(double ms) { options_.budgetMs = ms; }
-    void setTool(Tool t) { tool_ = t; }
+    void open(const std::string& path) override;
+    void setBackground(glm::vec3 rgb) override { background_ = rgb; }
+    void setBudget(double ms) override { options_.budgetMs = ms; }
+    std::size_t pendingTiles() const override { return lastFrame_.pending; }
+    bool refineDeferred() const override { return lastFrame_.refineDeferred; }
+    nlohmann::json& log() override { return log_; }
 
 private:
     struct Screenshot {
         std::string path;
         bool panels = true, overlay = true;
     };
-    void loadInitialDocument();
     void resetSession(SceneDocument doc);
+    PickView pickView() const;
     void handle(const InputEvent& e);
     void onMouseDown(const InputEvent& e);
     void onMouseMove(const InputEvent& e);
     void onMouseUp(const InputEvent& e);
     void onKey(const InputEvent& e);
-    void execute(const Command& c, bool merge = false);
-    void finishDrawing();
-    Pick pick(double x, double y, bool verticesOnly) const;
-    std::optional<glm::dvec3> terrainAt(double x, double y) const;  // ray against the displayed terrain
-    double viewerHeight() const;
+    std::optional<glm::dvec3> terrainAt(glm::dvec2 pixel) const;  // the depth buffer the user saw
+    double viewerHeight() const;  // the camera's height above the displayed ground (m, >= 1)
     void drawOverlay();
     void drawPanels();
     void writeScreenshot(const Screenshot& s);
@@ -116,6 +110,7 @@ private:
     GLFWwindow* window_ = nullptr;
     int width_ = 0, height_ = 0;
     std::unique_ptr<EditSession> session_;
+    std::unique_ptr<EditingController> controller_;
     std::string scenePath_;
     SessionParams sessionParams_;
     Camera camera_;
@@ -127,33 +122,14 @@ private:
     Camera renderedCamera_;     // the camera and clip range it was drawn with
     glm::dvec2 renderedClip_{1.0, 1e5}, clip_{1.0, 1e5};
     std::optional<glm::dvec2> demRange_;
-    // What the overlay drew this frame: the points that can be picked, and the curves.
-    struct OverlayItem {
-        Pick pick;
-        glm::dvec2 pixel;
-    };
-    std::vector<OverlayItem> overlayItems_;
-    std::vector<ElementId> overlayCurves_;
-    // Interaction.
-    Tool tool_ = Tool::Select;
-    LayerId currentLayer_ = 0;
-    std::vector<char> layerVisible_, layerLocked_;
-    Pick selected_, dragging_;
-    bool dragMoved_ = false;  // the current drag has made its first move (later ones merge)
+    glm::vec3 background_{0.55f, 0.70f, 0.88f};
+    // Camera gestures (the controller has the editing ones).
     bool orbiting_ = false, panning_ = false;
     glm::dvec2 lastMouse_{0.0}, mouse_{0.0};
-    struct DrawPoint {
-        Vec2 p;
-        ElementId node = kNoElement;  // snapped to an existing node
-    };
-    std::vector<DrawPoint> drawing_;
-    float newWidth_ = 7.0f, newFootprint_ = 16.0f;
-    int newClass_ = 1;
     // Figures.
     FrameReport lastFrame_;
-    CommandReport lastCommand_;
     double lastUpdateMs_ = 0.0, lastRenderMs_ = 0.0;
-    std::size_t tilesProduced_ = 0, commands_ = 0, frames_ = 0;
+    std::size_t tilesProduced_ = 0, frames_ = 0;
     glm::dvec3 lastEye_{0.0}, velocity_{0.0};
     std::vector<Screenshot> screenshots_;
     nlohmann::json log_;

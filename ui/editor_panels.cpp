@@ -17,63 +17,54 @@ void EditorApp::drawPanels() {
     const Scene& scene = session_->document().scene;
     ImGui::SetNextWindowPos({10, 10}, ImGuiCond_FirstUseEver);
     ImGui::Begin("Layers", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    EditingController& ctl = *controller_;
     for (LayerId li = 0; li < scene.layers.size(); ++li) {
         ImGui::PushID(int(li));
-        bool visible = layerVisible_[li] != 0, locked = layerLocked_[li] != 0;
-        if (ImGui::RadioButton("##current", currentLayer_ == li)) {
-            currentLayer_ = li;
-            layerVisible_[li] = 1;
-            selected_ = {};
-            drawing_.clear();
-        }
+        bool points = ctl.pointsShown(li), locked = ctl.layerLocked(li);
+        if (ImGui::RadioButton("##current", ctl.currentLayer() == li)) ctl.setCurrentLayer(li);
         ImGui::SameLine();
         bool drawn = session_->layerVisible(li);
         if (ImGui::Checkbox("visible", &drawn)) session_->setLayerVisible(li, drawn);
         ImGui::SameLine();
-        if (ImGui::Checkbox("points", &visible)) layerVisible_[li] = visible;
+        if (ImGui::Checkbox("points", &points)) ctl.setPointsShown(li, points);
         ImGui::SameLine();
-        if (ImGui::Checkbox("locked", &locked)) layerLocked_[li] = locked;
+        if (ImGui::Checkbox("locked", &locked)) ctl.setLayerLocked(li, locked);
         ImGui::SameLine();
         ImGui::Text("%s (%s)", scene.layers[li].name.c_str(), std::string(toString(scene.layers[li].kind)).c_str());
         ImGui::PopID();
     }
     ImGui::Separator();
-    int tool = int(tool_);
+    int tool = int(ctl.tool());
     ImGui::RadioButton("Select / drag", &tool, int(Tool::Select));
     ImGui::SameLine();
     ImGui::RadioButton("Insert point", &tool, int(Tool::Insert));
     ImGui::RadioButton("Delete point", &tool, int(Tool::DeletePoint));
     ImGui::SameLine();
     ImGui::RadioButton("Draw curve", &tool, int(Tool::Draw));
-    if (Tool(tool) != tool_) drawing_.clear();
-    tool_ = Tool(tool);
-    if (tool_ == Tool::Draw) {
-        ImGui::TextWrapped("Click points (on a node: a junction); Enter ends, Escape cancels. %zu point(s).", drawing_.size());
-        ImGui::InputFloat("width (m)", &newWidth_);
-        ImGui::InputFloat("footprint (m)", &newFootprint_);
-        ImGui::InputInt("class", &newClass_);
+    ctl.setTool(Tool(tool));
+    if (ctl.tool() == Tool::Draw) {
+        ImGui::TextWrapped("Click points (on a node: a junction); Enter ends, Escape cancels. %zu point(s).", ctl.drawing().size());
+        ImGui::InputFloat("width (m)", &ctl.newCurve.width);
+        ImGui::InputFloat("footprint (m)", &ctl.newCurve.footprint);
+        ImGui::InputInt("class", &ctl.newCurve.cls);
     }
     ImGui::End();
 
     ImGui::SetNextWindowPos({10, 230}, ImGuiCond_FirstUseEver);
     ImGui::Begin("Selection", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    if (selected_.kind == Pick::Kind::Curve && selected_.id < scene.layers[selected_.layer].curves.size() &&
-        scene.layers[selected_.layer].curves[selected_.id].alive) {
-        const Curve& c = scene.layers[selected_.layer].curves[selected_.id];
-        ImGui::Text("Curve %u of %s: %zu vertices", selected_.id, scene.layers[selected_.layer].name.c_str(), c.vertices.size());
-        float w = c.w, wf = c.wf;
-        int cls = c.cls;
+    const Pick sel = ctl.selection();
+    if (sel.kind == Pick::Kind::Curve && sel.id < scene.layers[sel.layer].curves.size() && scene.layers[sel.layer].curves[sel.id].alive) {
+        const Curve& curve = scene.layers[sel.layer].curves[sel.id];
+        ImGui::Text("Curve %u of %s: %zu vertices", sel.id, scene.layers[sel.layer].name.c_str(), curve.vertices.size());
+        float w = curve.w, wf = curve.wf;
+        int cls = curve.cls;
         ImGui::InputFloat("width (m)", &w);
-        if (ImGui::IsItemDeactivatedAfterEdit()) execute(SetCurveWidthCmd{selected_.layer, selected_.id, w, std::max(w, c.wf)});
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveWidthCmd{sel.layer, sel.id, w, std::max(w, curve.wf)});
         ImGui::InputFloat("footprint (m)", &wf);
-        if (ImGui::IsItemDeactivatedAfterEdit()) execute(SetCurveWidthCmd{selected_.layer, selected_.id, c.w, wf});
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveWidthCmd{sel.layer, sel.id, curve.w, wf});
         ImGui::InputInt("class", &cls);
-        if (ImGui::IsItemDeactivatedAfterEdit())
-            execute(SetCurveClassCmd{selected_.layer, selected_.id, std::uint16_t(std::clamp(cls, 0, 65535))});
-        if (ImGui::Button("Delete curve")) {
-            execute(DeleteCurveCmd{selected_.layer, selected_.id});
-            selected_ = {};
-        }
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveClassCmd{sel.layer, sel.id, std::uint16_t(std::clamp(cls, 0, 65535))});
+        if (ImGui::Button("Delete curve")) ctl.deleteSelection();
     } else {
         ImGui::TextUnformatted("Nothing selected");
     }
@@ -87,9 +78,10 @@ void EditorApp::drawPanels() {
                 ts.fallback, lastFrame_.replaced);
     ImGui::Text("Tiles: %zu made, %zu prefetched, %zu pending", lastFrame_.produced, lastFrame_.prefetched, lastFrame_.pending);
     ImGui::Text("Cache: %zu / %zu tiles, GPU %zu, %zu uploads", lastFrame_.cached, session_->params().cacheTiles, ts.gpuTiles, ts.uploads);
-    ImGui::Text("Work: %zu tiles, %zu commands", tilesProduced_, commands_);
-    ImGui::Text("Last edit: apply %.2f ms, UPDATE %.2f ms", lastCommand_.applyMs, lastCommand_.updateMs);
-    ImGui::Text("  %zu quads changed, %zu tiles dirty", lastCommand_.changedQuads, lastCommand_.dirtyTiles);
+    const CommandReport& last = ctl.lastCommand();
+    ImGui::Text("Work: %zu tiles, %zu commands", tilesProduced_, ctl.commands());
+    ImGui::Text("Last edit: apply %.2f ms, UPDATE %.2f ms", last.applyMs, last.updateMs);
+    ImGui::Text("  %zu quads changed, %zu tiles dirty", last.changedQuads, last.dirtyTiles);
     ImGui::Text("Undo %zu, redo %zu%s", session_->undoDepth(), session_->redoDepth(), session_->modified() ? ", unsaved" : "");
     ImGui::Text("Viewer %.1f m above the ground%s", viewerHeight(), camera_.fly ? " (fly)" : "");
     ImGui::Separator();
@@ -132,7 +124,7 @@ void EditorApp::drawPanels() {
     if (ImGui::BeginPopupModal("Unsaved changes", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::Text("The scene has unsaved changes.");
         if (ImGui::Button("Save and quit")) {
-            save();
+            save({});
             closing_ = !session_->modified();
             if (closing_) glfwSetWindowShouldClose(window_, GLFW_TRUE);
             ImGui::CloseCurrentPopup();

@@ -12,7 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "raster/appearance_producer.h"
-#include "ui/editor_app.h"
+#include "ui/script_host.h"
 
 namespace lacet::ui {
 namespace {
@@ -59,7 +59,7 @@ LayerId layerOf(const Scene& scene, const nlohmann::json& v) {
 // to. The displayed height is not used: before the view is refined there it comes from a coarse
 // tile, which in mountains lies tens of metres off, and a close camera would end up under the
 // refined terrain.
-glm::dvec3 ground(EditorApp& app, Vec2 p) { return {p.x, p.y, app.session().document().dem->sample(p)}; }
+glm::dvec3 ground(ScriptHost& app, Vec2 p) { return {p.x, p.y, app.session().document().dem->sample(p)}; }
 
 void placeCamera(Camera& cam, const nlohmann::json& s) {
     if (s.contains("distance")) cam.distance = s["distance"].get<double>();
@@ -90,7 +90,7 @@ std::string ScriptPlayer::path(const std::string& file) const {
     return !file.empty() && file[0] == '/' ? file : outDir_ + "/" + file;
 }
 
-bool ScriptPlayer::step(EditorApp& app) {
+bool ScriptPlayer::step(ScriptHost& app) {
     while (next_ < steps_.size()) {
         const nlohmann::json& s = steps_[next_];
         try {
@@ -113,7 +113,7 @@ bool ScriptPlayer::step(EditorApp& app) {
     return false;
 }
 
-bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
+bool ScriptPlayer::begin(ScriptHost& app, const nlohmann::json& s) {
     const std::string kind = s["do"].get<std::string>();
     const Scene& scene = app.session().document().scene;
     frame_ = 0;
@@ -229,7 +229,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
     }
     if (kind == "tool") {
         const std::string n = s["name"].get<std::string>();
-        app.setTool(n == "insert" ? Tool::Insert : n == "delete_point" ? Tool::DeletePoint : n == "draw" ? Tool::Draw : Tool::Select);
+        app.controller().setTool(n == "insert" ? Tool::Insert : n == "delete_point" ? Tool::DeletePoint : n == "draw" ? Tool::Draw : Tool::Select);
         return true;
     }
     if (kind == "save") {
@@ -241,7 +241,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         return true;
     }
     if (kind == "background") {
-        app.background = glm::vec3(s["rgb"][0].get<float>(), s["rgb"][1].get<float>(), s["rgb"][2].get<float>());
+        app.setBackground(glm::vec3(s["rgb"][0].get<float>(), s["rgb"][1].get<float>(), s["rgb"][2].get<float>()));
         return true;
     }
     if (kind == "probe") {
@@ -249,8 +249,9 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
         // blending b and enforced height z_e against the DEM's z_o, and the appearance colour.
         nlohmann::json out;
         for (const auto& [name, p] : {std::pair<const char*, glm::dvec2>{"from", from_}, {"result", lastResult_}}) {
-            const auto [q, t] = app.session().tileAt(p);
-            if (!t) continue;
+            const DrawItem* shown = app.session().plan().itemAt(p);
+            if (!shown || !shown->tile) continue;
+            const CachedTile* t = shown->tile;
             const ElevationTile& e = t->elevation;
             const glm::ivec2 ij = glm::ivec2(glm::round((p - e.bounds.min) / e.delta));
             const std::size_t k = e.index(ij.x, ij.y);
@@ -258,7 +259,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
             const glm::ivec2 ai = glm::ivec2(glm::floor((p - a.bounds.min) / a.delta));
             const std::vector<std::uint8_t> texels = tileTexels(a);
             const std::size_t ak = a.index(ai.x, ai.y);
-            out[name] = {{"level", q->level}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
+            out[name] = {{"level", std::get<0>(shown->tileKey)}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
                          {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};
         }
         app.log()["probes"].push_back(out);
@@ -266,7 +267,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
     }
     if (kind == "inspect") {
         // The current layer's counts and the selected curve with its end nodes' degrees.
-        const Pick& sel = app.selection();
+        const Pick& sel = app.controller().selection();
         nlohmann::json out;
         const Layer& l = scene.layers[hasFocus_ ? focusLayer_ : 0];
         out["nodes"] = l.nodes.size(), out["curves"] = l.curves.size();
@@ -309,7 +310,7 @@ bool ScriptPlayer::begin(EditorApp& app, const nlohmann::json& s) {
     throw std::runtime_error("unknown step");
 }
 
-bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
+bool ScriptPlayer::continueStep(ScriptHost& app, const nlohmann::json& s) {
     const std::string kind = s["do"].get<std::string>();
     if (kind == "frames") return frame_ >= s.value("n", 1);
     if (kind == "wait_ms")  // real time, the live loop running meanwhile (a recorded session's pauses)
@@ -353,7 +354,7 @@ bool ScriptPlayer::continueStep(EditorApp& app, const nlohmann::json& s) {
     return true;
 }
 
-void ScriptPlayer::finish(EditorApp& app) {
+void ScriptPlayer::finish(ScriptHost& app) {
     std::ofstream out(path(logName_));
     out << app.log().dump(1) << "\n";
     if (!out) throw std::runtime_error(path(logName_) + ": cannot write the log");

@@ -1,7 +1,8 @@
 #pragma once
 // Scripted editor sessions (`lacet edit --script S.json`), for tests and for reproducing a bug:
 // a JSON object whose "steps" run one after the other, each over one or more frames of the live
-// loop, through the same input handling as the window. When the steps are done, the log (per
+// loop, through the same input handling as the window (ui/script_host.h: what a script may do).
+// When the steps are done, the log (per
 // frame figures, screenshots with their count of background pixels, the steps' results) is
 // written to "log" (default session-log.json) in the output folder and the editor exits.
 //
@@ -46,20 +47,20 @@
 
 namespace lacet::ui {
 
-class EditorApp;
+class ScriptHost;
 
 class ScriptPlayer {
 public:
     // Throws std::runtime_error naming the file and the reason when it cannot be read or parsed.
     ScriptPlayer(const std::string& path, const std::string& outDir);
     // Runs the current step for one frame; false when every step is done.
-    bool step(EditorApp& app);
+    bool step(ScriptHost& app);
     // Writes the log.
-    void finish(EditorApp& app);
+    void finish(ScriptHost& app);
 
 private:
-    bool begin(EditorApp& app, const nlohmann::json& s);     // true: the step is done at once
-    bool continueStep(EditorApp& app, const nlohmann::json& s);  // true: the step is done
+    bool begin(ScriptHost& app, const nlohmann::json& s);     // true: the step is done at once
+    bool continueStep(ScriptHost& app, const nlohmann::json& s);  // true: the step is done
     std::string path(const std::string& file) const;
 
     std::string file_, outDir_, logName_ = "session-log.json";

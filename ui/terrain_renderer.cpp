@@ -11,8 +11,6 @@
 namespace lacet::ui {
 namespace {
 
-constexpr double kSkirtSlope = 2.0;  // m of skirt per m of the coarsest fallback tile's sample spacing
-
 const char* kVertex = R"(#version 410 core
 layout(location = 0) in vec3 aGrid;  // i, j, 1 on the skirt
 uniform mat4 uViewProj;
@@ -196,7 +194,8 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     glUniformMatrix4fv(program_.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(glm::mat4(viewProj)));
     glUniform1f(program_.uniform("uN"), float(n));
     glUniform1f(program_.uniform("uViewerHeight"), float(view.heightAboveGround));
-    glUniform2f(program_.uniform("uMorphBand"), float(view.viewParams.morphStart), float(view.viewParams.morphWidth));
+    const ViewParams& vp = session.params().view;
+    glUniform2f(program_.uniform("uMorphBand"), float(vp.morphStart), float(vp.morphWidth));
     glUniform3fv(program_.uniform("uSun"), 1, glm::value_ptr(glm::normalize(sun)));
     glUniform1i(program_.uniform("uElevTex"), 0);
     glUniform1i(program_.uniform("uAppTex"), 1);
@@ -204,66 +203,42 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     glEnable(GL_DEPTH_TEST);
     glPolygonMode(GL_FRONT_AND_BACK, wireframe ? GL_LINE : GL_FILL);
 
-    // The leaves to draw, each with its tile: its own, else its nearest ancestor's.
-    struct Drawn {
-        const Quad* leaf;
-        const Quad* q;
-        const CachedTile* tile;
-    };
-    std::vector<Drawn> leaves;
-    double coarsest = 0.0;  // the largest sample spacing of an ancestor's tile drawn (m)
-    session.quadtree().forEachQuad([&](const Quad& leaf) {
-        if (!leaf.isLeaf()) return;
-        if (view.visible && !(*view.visible)(leaf)) {  // the session's test: it makes no tile there
-            ++stats_.culled;
-            return;
-        }
-        const Quad* q = &leaf;
-        const CachedTile* tile = session.tile(keyOf(*q));
-        while (!tile && q->parent) {
-            q = q->parent;
-            tile = session.tile(keyOf(*q));
-        }
-        if (!tile) {
-            ++stats_.missing;
-            return;
-        }
-        if (q != &leaf) coarsest = std::max(coarsest, tile->elevation.delta);
-        leaves.push_back({&leaf, q, tile});
-    });
-    for (const auto& [leafPtr, q, tile] : leaves) {
-        const Quad& leaf = *leafPtr;
-        const GpuTile* g = upload(keyOf(*q), *tile);
-        const double size = leaf.bounds.size().x;
-        // The skirt: a neighbour drawn with an ancestor's coarser surface can stand below this
-        // leaf's edge by its slope over one of its samples, on either side of a level change, so
-        // every skirt reaches that far (slopes up to 2, 63 degrees). A skirt shows only where the
-        // neighbour's surface is lower: where there would be a crack.
-        const double skirt = size * skirtFraction + kSkirtSlope * coarsest;
-        const glm::dvec3 lo(leaf.bounds.min.x - eye.x, leaf.bounds.min.y - eye.y, double(g->zmin) - skirt - eye.z);
-        const glm::dvec3 hi(leaf.bounds.max.x - eye.x, leaf.bounds.max.y - eye.y, double(g->zmax) - eye.z);
+    // The session's plan: every leaf with the tile that stands for it (editor/draw_plan.h).
+    const DrawPlan& plan = session.plan();
+    stats_.culled = plan.culled;
+    stats_.missing = plan.missing;
+    for (const DrawItem& item : plan.items) {
+        if (!item.drawn()) continue;
+        const GpuTile* g = upload(item.tileKey, *item.tile);
+        const double size = item.bounds.size().x;
+        // The box the leaf's surface and skirt fill, from its tile's heights: what is outside the
+        // frustum is not sent to the GPU (it would not change a pixel).
+        const glm::dvec3 lo(item.bounds.min.x - eye.x, item.bounds.min.y - eye.y, double(g->zmin) - item.skirt - eye.z);
+        const glm::dvec3 hi(item.bounds.max.x - eye.x, item.bounds.max.y - eye.y, double(g->zmax) - eye.z);
         if (!frustum.mayIntersect(lo, hi)) {
             ++stats_.culled;
             continue;
         }
         ++stats_.drawn;
-        stats_.fallback += q != &leaf;
-        const ElevationTile& e = tile->elevation;
-        const AppearanceTile& a = tile->appearance;
-        const glm::dvec2 eo = (leaf.bounds.min - e.bounds.min) / e.delta;
+        stats_.fallback += !item.ownTile();
+        const ElevationTile& e = item.tile->elevation;
+        const AppearanceTile& a = item.tile->appearance;
+        const glm::dvec2 eo = (item.bounds.min - e.bounds.min) / e.delta;
         const double es = size / e.delta, st = double(e.stride);
         glUniform4f(program_.uniform("uElev"), float((e.border + 0.5 + eo.x) / st), float((e.border + 0.5 + eo.y) / st),
                     float(es / st), float(es / st));
         glUniform2f(program_.uniform("uElevTexel"), float(1.0 / st), float(1.0 / st));
         glUniform1f(program_.uniform("uElevDelta"), float(e.delta));
-        const glm::dvec2 ao = (leaf.bounds.min - a.bounds.min) / a.delta;
+        const glm::dvec2 ao = (item.bounds.min - a.bounds.min) / a.delta;
         const double as = size / a.delta, ast = double(a.stride);
         glUniform4f(program_.uniform("uApp"), float((a.border + ao.x) / ast), float((a.border + ao.y) / ast), float(as / ast),
                     float(as / ast));
         glUniform3f(program_.uniform("uOrigin"), float(lo.x), float(lo.y), float(-eye.z));
         glUniform1f(program_.uniform("uSize"), float(size));
-        glUniform1f(program_.uniform("uMorph"), q == &leaf ? float(view.viewParams.K * size) : 0.0f);
-        glUniform1f(program_.uniform("uSkirt"), float(skirt));
+        // A leaf drawn with its own tile geomorphs towards its parent's heights (the K rule);
+        // with an ancestor's it shows that surface as it is.
+        glUniform1f(program_.uniform("uMorph"), item.ownTile() ? float(vp.K * size) : 0.0f);
+        glUniform1f(program_.uniform("uSkirt"), float(item.skirt));
         glUniform1i(program_.uniform("uWater"), g->water ? 1 : 0);
         glActiveTexture(GL_TEXTURE0);
         glBindTexture(GL_TEXTURE_2D, g->elevation);

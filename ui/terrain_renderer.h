@@ -6,12 +6,11 @@
 // Fresnel reflection of the sky where the appearance's water mask says water (the water path
 // runs only on tiles that hold water, and in them only where the mask is set).
 //
-// A leaf whose tile is not made yet is drawn with the nearest ancestor's tile (the coarser
-// view, shown until its own tile arrives). Leaves outside the view frustum are not drawn.
-// Every grid has a skirt: a vertical strip hanging from its border (`skirtFraction` of the quad
-// size, plus twice the sample spacing of the coarsest ancestor's tile drawn in the frame, which
-// can stand that far below a neighbour's edge), so that where two neighbours of different levels
-// or tiles do not meet exactly, no background shows through.
+// What is drawn is the session's draw plan (editor/draw_plan.h), decided once by the session:
+// each leaf with the tile that stands for it (an ancestor's while its own is being made) and the
+// reach of its skirt, the vertical strip hanging from its border so that where two neighbours of
+// different levels or tiles do not meet exactly, no background shows through. The renderer adds
+// only what the GPU needs: uploads, and leaving out leaves whose tile's box is outside the frustum.
 //
 // Textures live on the GPU per tile (RG32F z_m, z_c; RGBA8 appearance with mipmaps), copied again
 // when the session remakes the tile, and released with it.
@@ -29,7 +28,7 @@ namespace lacet::ui {
 
 struct TerrainStats {
     std::size_t drawn = 0;     // leaves drawn
-    std::size_t culled = 0;    // leaves outside the frustum
+    std::size_t culled = 0;    // leaves outside the frustum (the session's test, or their tile's box)
     std::size_t fallback = 0;  // leaves drawn with an ancestor's tile
     std::size_t missing = 0;   // leaves with no tile and no ancestor tile (not drawn)
     std::size_t uploads = 0;   // tiles copied to the GPU this frame
@@ -41,8 +40,6 @@ struct TerrainView {
     int width = 0, height = 0;
     glm::dvec2 clip{1.0, 1e5};
     double heightAboveGround = 100.0;  // the viewer's height for the K rule (as EditSession::frame)
-    ViewParams viewParams;  // the session's: its K rule and the geomorphing band
-    const QuadVisibility* visible = nullptr;  // the session's visibility test, if any
 };
 
 class TerrainRenderer {
@@ -58,7 +55,6 @@ public:
 
     const TerrainStats& stats() const { return stats_; }
     glm::vec3 sun{0.4f, -0.3f, 0.866f};
-    double skirtFraction = 0.03;
     bool wireframe = false;
 
 private:

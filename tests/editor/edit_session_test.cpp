@@ -265,7 +265,8 @@ TEST(EditSession, SavingMarksTheSceneUnmodifiedAndADragAfterItIsNewHistory) {
     const Vec2 p0 = session.document().scene.layers[kRoadsLayer].curves[curve].vertices[index].p;
     session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0 + Vec2(5.0, 0.0)}, true);
     const std::string path = ::testing::TempDir() + "/lacet_session_save.gpkg";
-    session.save(path);
+    saveScene(path, session.document());
+    session.markSaved();
     EXPECT_FALSE(session.modified());
     // The next drag step does not merge into the saved step: undoing it returns to the saved scene.
     session.execute(MoveVertexCmd{kRoadsLayer, curve, index, p0 + Vec2(9.0, 0.0)}, true);

@@ -1,0 +1,20 @@
+#include "app/import_summary.h"
+
+#include <nlohmann/json.hpp>
+
+namespace lacet::app {
+
+void printImportSummary(std::ostream& out, const ImportReport& r, const std::string& file) {
+    const nlohmann::json j = r.json();
+    out << "Imported into " << file << " in " << r.ms / 1000.0 << " s: " << r.featuresRead << " features read, " << r.unmapped
+        << " not mapped, " << r.problems.size() << " problems\n";
+    for (const auto& l : j["layers"])
+        out << "  " << l["name"].get<std::string>() << ": curves by class " << l["curves_by_class"].dump() << ", areas by class "
+            << l["areas_by_class"].dump() << ", nodes " << l["nodes"] << ", junctions " << l["junctions"] << ", bridges " << l["bridges"]
+            << "\n";
+    out << "  fit: " << j["fit"].dump() << "\n  duplicates: " << j["duplicates"].dump() << "\n  dem: " << j["dem"].dump()
+        << "\n  crs: " << j["crs"].dump() << "\n  river nodes below their surroundings: " << r.riverNodesBelowSurroundings * 100.0
+        << " % of " << r.riverNodesChecked << "\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
+}
+
+}  // namespace lacet::app

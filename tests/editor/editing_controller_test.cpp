@@ -1,0 +1,282 @@
+// The editing controller in process, without a display: picking against a camera, the lock
+// policy on every path a command can take, the draw tool's curve and its one undo step, drags,
+// and the ground under a pixel.
+#include "editor/editing_controller.h"
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "editor/draw_curve.h"
+#include "model/bezier.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+
+namespace lacet {
+namespace {
+
+SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({seed, curves});
+    doc.dem = makeSyntheticDem(doc.scene, {seed, 1000});
+    return doc;
+}
+
+SessionParams smallTiles() {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.view.maxLevel = 8;
+    return params;
+}
+
+// A session, its controller, and a camera looking down steeply at the scene's centre.
+struct Fixture {
+    EditSession session;
+    EditingController controller;
+    std::vector<std::string> messages;
+
+    Fixture() : session(syntheticDocument(7, 3000), smallTiles()), controller(session) {
+        controller.onMessage = [this](const std::string& m) { messages.push_back(m); };
+        // Looking at the middle of the road with the most vertices, from 1500 m.
+        const Layer& l = roads();
+        const Curve* road = &l.curves.front();
+        for (const Curve& c : l.curves)
+            if (c.alive && c.vertices.size() > road->vertices.size()) road = &c;
+        const Vec2 at = road->vertices[road->vertices.size() / 2].p;
+        PickView v;
+        v.camera.target = glm::dvec3(at.x, at.y, session.document().dem->sample(at));
+        v.camera.distance = 1500.0;
+        v.camera.pitch = 1.35;
+        v.width = 1000, v.height = 800;
+        const glm::dvec3 eye = v.camera.position();
+        v.clip = Camera::clipRange(eye.z - session.document().dem->sample({eye.x, eye.y}));
+        session.frame({eye.x, eye.y, eye.z - session.document().dem->sample({eye.x, eye.y})}, 0.0);
+        controller.setView(v);
+        controller.setCurrentLayer(kRoadsLayer);
+        controller.buildOverlay();
+    }
+    const Layer& roads() const { return session.document().scene.layers[kRoadsLayer]; }
+    // A pickable point of the overlay with no other pickable point within 3 pick radii.
+    const OverlayPoint& isolated(Pick::Kind kind) const {
+        const std::vector<OverlayPoint>& pts = controller.overlay().points;
+        for (const OverlayPoint& p : pts) {
+            if (p.pick.kind != kind) continue;
+            bool alone = true;
+            for (const OverlayPoint& q : pts) {
+                // A node is listed once per curve end it holds: those are the same point.
+                const bool same = q.pick.kind == p.pick.kind && q.pick.id == p.pick.id && q.pick.index == p.pick.index;
+                if (!same && q.pick.kind != Pick::Kind::None && glm::length(q.pixel - p.pixel) < 3.0 * kPickPixels) alone = false;
+            }
+            if (alone && p.pixel.x > 50 && p.pixel.y > 50 && p.pixel.x < 950 && p.pixel.y < 750) return p;
+        }
+        throw std::runtime_error("no isolated point of that kind in view among " + std::to_string(pts.size()));
+    }
+};
+
+TEST(EditingController, PicksThePointUnderThePixelAndTheCurveUnderItsPolygon) {
+    Fixture f;
+    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    // The overlay's point is the vertex on the displayed ground (lifted a little above it), and its
+    // pixel the camera's projection of it.
+    EXPECT_EQ(Vec2(v.world), f.roads().curves[v.pick.id].vertices[v.pick.index].p);
+    EXPECT_NEAR(v.world.z, f.controller.groundPoint(Vec2(v.world)).z, 1.0);
+    const auto px = f.controller.project(v.world);
+    ASSERT_TRUE(px);
+    EXPECT_LT(glm::length(*px - v.pixel), 1e-9);
+    for (const glm::dvec2 off : {glm::dvec2(0.0), glm::dvec2(6.0, 0.0), glm::dvec2(0.0, -7.0)}) {
+        const Pick p = f.controller.pick(v.pixel + off, false);
+        EXPECT_EQ(p.kind, Pick::Kind::Vertex);
+        EXPECT_EQ(p.id, v.pick.id);
+        EXPECT_EQ(p.index, v.pick.index);
+        EXPECT_NEAR(p.pixels, glm::length(off), 1e-9);
+    }
+    // Beyond the pick radius from every point and polygon: nothing.
+    EXPECT_EQ(f.controller.pick(v.pixel + glm::dvec2(3.0 * kPickPixels, 0.0), true).kind, Pick::Kind::None);
+    const OverlayPoint& n = f.isolated(Pick::Kind::Node);
+    EXPECT_EQ(f.controller.pick(n.pixel, true).kind, Pick::Kind::Node);
+    EXPECT_EQ(f.controller.pick(n.pixel, true).id, n.pick.id);
+    // The middle of a control polygon segment of the vertex's curve picks the curve (not a point).
+    const Curve& c = f.roads().curves[v.pick.id];
+    const auto a = f.controller.project(f.controller.groundPoint(c.vertices[v.pick.index].p));
+    const auto b = f.controller.project(f.controller.groundPoint(c.vertices[v.pick.index + 1].p));
+    ASSERT_TRUE(a && b);
+    if (glm::length(*b - *a) > 4.0 * kPickPixels) {
+        const Pick p = f.controller.pick(0.5 * (*a + *b), false);
+        EXPECT_EQ(p.kind, Pick::Kind::Curve);
+        EXPECT_EQ(p.id, v.pick.id);
+        EXPECT_EQ(f.controller.pick(0.5 * (*a + *b), true).kind, Pick::Kind::None);
+    }
+    // Another layer's points are drawn but not picked: the current layer decides.
+    f.controller.setCurrentLayer(kRiversLayer);
+    f.controller.buildOverlay();
+    const Pick other = f.controller.pick(v.pixel, false);
+    EXPECT_TRUE(other.kind == Pick::Kind::None || other.layer == kRiversLayer);
+}
+
+TEST(EditingController, TheGroundUnderAPixelProjectsBackToItOnTheDisplayedSurface) {
+    Fixture f;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> x(0.0, 1000.0), y(300.0, 800.0);
+    int found = 0;
+    for (int i = 0; i < 40; ++i) {
+        const glm::dvec2 pixel(x(rng), y(rng));
+        const auto g = groundAlongRay(f.session, f.controller.view(), pixel);
+        if (!g) continue;
+        ++found;
+        EXPECT_NEAR(g->z, f.session.displayedHeight({g->x, g->y}), 0.01);
+        const auto back = f.controller.project(*g);
+        ASSERT_TRUE(back);
+        EXPECT_LT(glm::length(*back - pixel), 0.01);
+    }
+    EXPECT_GT(found, 30);
+    // Straight up from under the horizon there is sky.
+    PickView up = f.controller.view();
+    up.camera.pitch = -0.5;
+    EXPECT_FALSE(groundAlongRay(f.session, up, {500.0, 10.0}));
+}
+
+TEST(EditingController, ALockedLayerRefusesEveryEditButNotTheHistory) {
+    Fixture f;
+    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    const Vec2 before = f.roads().curves[v.pick.id].vertices[v.pick.index].p;
+    // An edit made before the lock can still be undone.
+    ASSERT_TRUE(f.controller.execute(MoveVertexCmd{kRoadsLayer, v.pick.id, v.pick.index, before + Vec2(5.0, 0.0)}));
+    f.controller.setLayerLocked(kRoadsLayer, true);
+    const std::size_t depth = f.session.undoDepth();
+    // A command (a panel's, a script's) is refused with a message, and changes nothing.
+    EXPECT_FALSE(f.controller.execute(MoveVertexCmd{kRoadsLayer, v.pick.id, v.pick.index, before + Vec2(9.0, 0.0)}));
+    ASSERT_FALSE(f.messages.empty());
+    EXPECT_EQ(f.messages.back(), "Refused: the layer is locked");
+    EXPECT_EQ(f.roads().curves[v.pick.id].vertices[v.pick.index].p, before + Vec2(5.0, 0.0));
+    EXPECT_EQ(f.session.undoDepth(), depth);
+    // Pointer tools: nothing can be picked, dragged, inserted or deleted; nothing is drawn.
+    EXPECT_EQ(f.controller.pick(v.pixel, false).kind, Pick::Kind::None);
+    EXPECT_FALSE(f.controller.press(v.pixel));
+    EXPECT_FALSE(f.controller.dragging());
+    f.controller.setTool(Tool::DeletePoint);
+    f.controller.press(v.pixel);
+    f.controller.setTool(Tool::Draw);
+    f.controller.press({400.0, 500.0});
+    f.controller.press({600.0, 500.0});
+    EXPECT_TRUE(f.controller.drawing().empty());
+    EXPECT_FALSE(f.controller.finishDrawing());
+    f.controller.setTool(Tool::Select);
+    EXPECT_FALSE(f.controller.deleteSelection());
+    EXPECT_EQ(f.session.undoDepth(), depth);
+    // Other layers stay editable.
+    const Layer& rivers = f.session.document().scene.layers[kRiversLayer];
+    ElementId river = 0;
+    while (!rivers.curves[river].alive) ++river;
+    EXPECT_TRUE(f.controller.execute(SetCurveWidthCmd{kRiversLayer, river, 3.0f, 9.0f}));
+    f.controller.undo();
+    // The history walks through the lock.
+    EXPECT_TRUE(f.controller.undo());
+    EXPECT_EQ(f.roads().curves[v.pick.id].vertices[v.pick.index].p, before);
+    f.controller.setLayerLocked(kRoadsLayer, false);
+    EXPECT_TRUE(f.controller.execute(MoveVertexCmd{kRoadsLayer, v.pick.id, v.pick.index, before + Vec2(9.0, 0.0)}));
+}
+
+TEST(EditingController, ADragMovesThePointOntoTheGroundAsOneUndoStep) {
+    Fixture f;
+    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    const Vec2 before = f.roads().curves[v.pick.id].vertices[v.pick.index].p;
+    const std::size_t depth = f.session.undoDepth();
+    ASSERT_TRUE(f.controller.press(v.pixel));
+    ASSERT_TRUE(f.controller.dragging());
+    EXPECT_EQ(f.controller.selection().kind, Pick::Kind::Curve);
+    EXPECT_EQ(f.controller.selection().id, v.pick.id);
+    glm::dvec2 last{};
+    for (int i = 1; i <= 5; ++i) f.controller.drag(last = v.pixel + glm::dvec2(4.0 * i, 2.0 * i));
+    f.controller.release();
+    const auto ground = f.controller.groundAt(last);
+    ASSERT_TRUE(ground);
+    EXPECT_EQ(f.roads().curves[v.pick.id].vertices[v.pick.index].p, Vec2(ground->x, ground->y));
+    EXPECT_EQ(f.session.undoDepth(), depth + 1);
+    ASSERT_TRUE(f.controller.undo());
+    EXPECT_EQ(f.roads().curves[v.pick.id].vertices[v.pick.index].p, before);
+    // A press on the ground selects nothing and is left to the window (a pan).
+    EXPECT_FALSE(f.controller.press(v.pixel + glm::dvec2(3.0 * kPickPixels, 3.0 * kPickPixels)));
+    EXPECT_EQ(f.controller.selection().kind, Pick::Kind::None);
+}
+
+TEST(EditingController, TheDrawToolMakesOneCurveThroughTheClicksJoiningASnappedNode) {
+    Fixture f;
+    const OverlayPoint& n = f.isolated(Pick::Kind::Node);
+    const std::size_t degree = f.roads().nodes[n.pick.id].curves.size();
+    const std::size_t nodes = f.roads().nodes.size(), curves = f.roads().curves.size(), depth = f.session.undoDepth();
+    f.controller.setTool(Tool::Draw);
+    f.controller.newCurve = {5.0f, 12.0f, 3};
+    // From the node, then two clicks on the ground beside it.
+    const std::vector<glm::dvec2> clicks = {n.pixel, n.pixel + glm::dvec2(60.0, 25.0), n.pixel + glm::dvec2(130.0, 10.0)};
+    for (const glm::dvec2 c : clicks) f.controller.press(c);
+    ASSERT_EQ(f.controller.drawing().size(), 3u);
+    EXPECT_EQ(f.controller.drawing()[0], f.roads().nodes[n.pick.id].p);
+    ASSERT_TRUE(f.controller.finishDrawing());
+    EXPECT_TRUE(f.controller.drawing().empty());
+    ASSERT_EQ(f.roads().curves.size(), curves + 1);
+    EXPECT_EQ(f.roads().nodes.size(), nodes + 1);  // one new node: the far end
+    const Curve& c = f.roads().curves.back();
+    EXPECT_EQ(c.start, n.pick.id);
+    EXPECT_EQ(f.roads().nodes[n.pick.id].curves.size(), degree + 1);
+    EXPECT_EQ(c.vertices.size(), 7u);
+    EXPECT_EQ(c.w, 5.0f);
+    EXPECT_EQ(c.wf, 12.0f);
+    EXPECT_EQ(c.cls, 3);
+    for (std::size_t k = 1; k < 3; ++k) {
+        const auto g = f.controller.groundAt(clicks[k]);
+        ASSERT_TRUE(g);
+        EXPECT_EQ(c.vertices[3 * k].p, Vec2(g->x, g->y));
+    }
+    EXPECT_EQ(f.controller.selection().kind, Pick::Kind::Curve);
+    EXPECT_EQ(f.controller.selection().id, ElementId(curves));
+    // One undo step takes back the curve and the node made for it (two commands, one group).
+    EXPECT_EQ(f.session.undoDepth(), depth + 2);
+    ASSERT_TRUE(f.controller.undo());
+    EXPECT_EQ(f.session.undoDepth(), depth);
+    EXPECT_EQ(f.roads().curves.size(), curves);
+    EXPECT_EQ(f.roads().nodes.size(), nodes);
+    EXPECT_EQ(f.roads().nodes[n.pick.id].curves.size(), degree);
+    // One click is no curve; Escape drops the points.
+    f.controller.press(clicks[1]);
+    EXPECT_FALSE(f.controller.finishDrawing());
+    f.controller.press(clicks[1]);
+    f.controller.press(clicks[2]);
+    f.controller.cancel();
+    EXPECT_TRUE(f.controller.drawing().empty());
+}
+
+TEST(DrawCurve, PassesThroughEveryPointWithAContinuousTangent) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-500.0, 500.0);
+    for (int trial = 0; trial < 50; ++trial) {
+        std::vector<Vec2> p;
+        const int n = 2 + trial % 6;
+        for (int i = 0; i < n; ++i) p.push_back(Vec2(u(rng), u(rng)) + Vec2(1e6, -2e6));
+        const Curve c = curveThrough(p, {4.0f, 2.0f, 70000});
+        ASSERT_EQ(c.vertices.size(), std::size_t(3 * (n - 1) + 1));
+        EXPECT_EQ(c.w, 4.0f);
+        EXPECT_EQ(c.wf, 4.0f);  // a footprint narrower than the road is raised to it
+        EXPECT_EQ(c.cls, 65535);
+        for (int i = 0; i < n; ++i) {
+            EXPECT_EQ(c.vertices[std::size_t(3 * i)].p, p[std::size_t(i)]);
+            EXPECT_TRUE(c.vertices[std::size_t(3 * i)].onCurve);
+        }
+        // At an inner point, the incoming and outgoing control points are on one line through it
+        // (G1) and as far (C1: Catmull-Rom's tangent is the chord of the neighbours over 6).
+        for (int i = 1; i + 1 < n; ++i) {
+            const Vec2 in = c.vertices[std::size_t(3 * i)].p - c.vertices[std::size_t(3 * i - 1)].p;
+            const Vec2 out = c.vertices[std::size_t(3 * i + 1)].p - c.vertices[std::size_t(3 * i)].p;
+            EXPECT_LT(glm::length(in - out), 1e-9 * 1e6);
+            EXPECT_NEAR(glm::length(in), glm::length(p[std::size_t(i + 1)] - p[std::size_t(i - 1)]) / 6.0, 1e-6);
+        }
+    }
+    const std::vector<Vec2> one = {Vec2(1.0, 2.0)};
+    EXPECT_THROW(curveThrough(one, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lacet
