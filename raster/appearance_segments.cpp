@@ -1,6 +1,7 @@
 #include "raster/appearance_segments.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -18,6 +19,12 @@ double lowerBound(const Segment& sg, const Box& box) {
     const Vec2 lo = glm::min(sg.p0, sg.p1), hi = glm::max(sg.p0, sg.p1);
     const Vec2 gap = glm::max(glm::max(box.min - hi, lo - box.max), Vec2(0.0));
     return glm::length(gap);
+}
+
+// A segment with an infinite end would pass the lower bound (its box reaches everywhere) and,
+// its distances being NaN, leave an upper bound of 0 that prunes every other segment.
+bool finite(const Segment& sg) {
+    return std::isfinite(sg.p0.x) && std::isfinite(sg.p0.y) && std::isfinite(sg.p1.x) && std::isfinite(sg.p1.y);
 }
 
 }  // namespace
@@ -49,7 +56,7 @@ double candidatesNear(const std::vector<Segment>& segments, const Box& box, doub
                       std::vector<const Segment*>& out) {
     out.clear();
     for (const Segment& sg : segments)
-        if (lowerBound(sg, box) <= reach) out.push_back(&sg);
+        if (finite(sg) && lowerBound(sg, box) <= reach) out.push_back(&sg);
     if (out.empty()) return kInf;
     // The least upper bound among those in reach bounds the nearest distance at every point of
     // the box (if that is within reach at all).

@@ -23,7 +23,8 @@ std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const C
 // The segments that can be nearest to some point of `box` within `reach`: a segment whose
 // lower bound (the distance from its bounding box) exceeds the reach, or exceeds some segment's
 // upper bound over the box (the distance to a segment is convex, so its maximum over the box is
-// at a corner), is nearest nowhere in it. Returns the least lower bound of those kept.
+// at a corner), is nearest nowhere in it; nor is a segment with a non-finite end. Returns the
+// least lower bound of those kept (infinity if none).
 double candidatesNear(const std::vector<Segment>& segments, const Box& box, double reach,
                       std::vector<const Segment*>& out);
 
