@@ -38,7 +38,7 @@
 #include "editor/command.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "model/curve_data.h"
 #include "model/quadtree.h"
 #include "raster/appearance_producer.h"

@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "io/vector_import.h"
 
 namespace lacet {

@@ -22,7 +22,7 @@
 
 #include <functional>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "io/scene_frame.h"
 #include "io/spline_fit.h"
 #include "io/vector_import.h"

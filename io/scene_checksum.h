@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 
 namespace lacet {
 

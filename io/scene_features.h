@@ -45,7 +45,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "io/sqlite_db.h"
 
 namespace lacet {

@@ -36,7 +36,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 
 namespace lacet {
 

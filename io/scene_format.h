@@ -14,7 +14,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "io/sqlite_db.h"
 
 namespace lacet::scene_format {

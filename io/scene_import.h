@@ -24,7 +24,7 @@
 
 #include "io/dem_import.h"
 #include "io/network_builder.h"
-#include "io/scene_document.h"
+#include "io/document.h"
 #include "model/progress.h"
 
 namespace lacet {
