@@ -5,11 +5,44 @@
 namespace lacet {
 namespace {
 
-// A leaf key packed in 64 bits: the level (up to 63) and x, y (up to 2^28 each: any level a
-// double-precision quadtree reaches over a planet).
-std::uint64_t pack(int level, std::uint32_t x, std::uint32_t y) {
-    return (std::uint64_t(level) << 58) | (std::uint64_t(x & 0x1FFFFFFFu) << 29) | std::uint64_t(y & 0x1FFFFFFFu);
+// x in the even bits, y in the odd ones: a child index (x | y << 1) per level, the root's first.
+std::uint64_t interleave(std::uint32_t x, std::uint32_t y) {
+    std::uint64_t z = 0;
+    for (int b = 31; b >= 0; --b) z = (z << 2) | (std::uint64_t((y >> b) & 1u) << 1) | std::uint64_t((x >> b) & 1u);
+    return z;
 }
+
+struct PlanWalk {
+    DrawPlan& plan;
+    const std::function<const CachedTile*(const QuadKey&)>& tileOf;
+    const std::function<bool(const Quad&)>& visible;
+
+    // `tiled`: the nearest ancestor of q that has a tile (nullptr: none).
+    void visit(const Quad& q, const Quad* tiled, const CachedTile* tile) {
+        if (const CachedTile* own = tileOf(keyOf(q))) tiled = &q, tile = own;
+        if (!q.isLeaf()) {
+            for (const auto& c : q.children) visit(*c, tiled, tile);
+            return;
+        }
+        DrawItem item;
+        item.leaf = keyOf(q);
+        item.bounds = q.bounds;
+        item.visible = !visible || visible(q);
+        item.tileKey = tiled ? keyOf(*tiled) : item.leaf;
+        item.tile = tile;
+        if (!item.visible) ++plan.culled;
+        else if (!tile) ++plan.missing;
+        else {
+            ++plan.drawn;
+            if (tiled != &q) {
+                ++plan.fallback;
+                plan.coarsestAncestorDelta = std::max(plan.coarsestAncestorDelta, tile->elevation.delta);
+            }
+        }
+        plan.deepest = std::max(plan.deepest, q.level);
+        plan.items.push_back(item);
+    }
+};
 
 }  // namespace
 
@@ -19,54 +52,46 @@ DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile
                       const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt) {
     DrawPlan plan;
     plan.rootBounds = tree.root().bounds;
-    tree.forEachQuad([&](const Quad& leaf) {
-        if (!leaf.isLeaf()) return;
-        DrawItem item;
-        item.leaf = keyOf(leaf);
-        item.bounds = leaf.bounds;
-        item.visible = !visible || visible(leaf);
-        const Quad* q = &leaf;
-        const CachedTile* tile = tileOf(keyOf(*q));
-        while (!tile && q->parent) {
-            q = q->parent;
-            tile = tileOf(keyOf(*q));
-        }
-        item.tileKey = keyOf(*q);
-        item.tile = tile;
-        if (!item.visible) ++plan.culled;
-        else if (!tile) ++plan.missing;
-        else {
-            ++plan.drawn;
-            if (q != &leaf) {
-                ++plan.fallback;
-                plan.coarsestAncestorDelta = std::max(plan.coarsestAncestorDelta, tile->elevation.delta);
-            }
-        }
-        plan.deepest = std::max(plan.deepest, leaf.level);
-        plan.byKey.emplace(pack(leaf.level, leaf.tx, leaf.ty), plan.items.size());
-        plan.items.push_back(item);
-    });
+    PlanWalk{plan, tileOf, visible}.visit(tree.root(), nullptr, nullptr);
     for (DrawItem& item : plan.items)
         item.skirt = item.bounds.size().x * skirt.sizeFraction + skirt.slope * plan.coarsestAncestorDelta;
+    if (plan.deepest <= DrawPlan::kMaxZOrderLevel) {
+        plan.zStart.reserve(plan.items.size());
+        for (const DrawItem& item : plan.items) {
+            const auto [level, x, y] = item.leaf;
+            plan.zStart.push_back(interleave(x, y) << (2 * (plan.deepest - level)));
+        }
+    }
     return plan;
 }
 
 const DrawItem* DrawPlan::itemAt(Vec2 p) const {
     if (items.empty()) return nullptr;
     // Down from the root as the tree splits (model/quadtree.cpp: children at the centre, the upper
-    // half from the centre on), until the quad over p is a leaf of the plan; a point outside the
-    // root goes to the quads along its nearest edge.
+    // half from the centre on) to the deepest level; a point outside the root goes to the quads
+    // along its nearest edge.
+    const auto inLeaf = [&](const DrawItem& item, std::uint32_t x, std::uint32_t y) {
+        const auto [level, tx, ty] = item.leaf;
+        const int up = deepest - level;
+        return (x >> up) == tx && (y >> up) == ty;
+    };
     Box b = rootBounds;
     std::uint32_t x = 0, y = 0;
-    for (int level = 0; level <= deepest; ++level) {
-        const auto it = byKey.find(pack(level, x, y));
-        if (it != byKey.end()) return &items[it->second];
+    for (int level = 0; level < deepest; ++level) {
         const Vec2 mid = b.center();
-        const bool right = p.x >= mid.x, up = p.y >= mid.y;
-        b = Box{Vec2(right ? mid.x : b.min.x, up ? mid.y : b.min.y), Vec2(right ? b.max.x : mid.x, up ? b.max.y : mid.y)};
-        x = 2 * x + std::uint32_t(right), y = 2 * y + std::uint32_t(up);
+        const bool right = p.x >= mid.x, upper = p.y >= mid.y;
+        b = Box{Vec2(right ? mid.x : b.min.x, upper ? mid.y : b.min.y), Vec2(right ? b.max.x : mid.x, upper ? b.max.y : mid.y)};
+        x = 2 * x + std::uint32_t(right), y = 2 * y + std::uint32_t(upper);
     }
-    return nullptr;
+    if (zStart.empty()) {  // deeper than Z-order codes hold
+        for (const DrawItem& item : items)
+            if (inLeaf(item, x, y)) return &item;
+        return nullptr;
+    }
+    // The leaves tile the root in Z-order: the one over p is the last starting at or before p's code.
+    const auto it = std::upper_bound(zStart.begin(), zStart.end(), interleave(x, y));
+    const DrawItem& item = items[std::size_t(it - zStart.begin()) - 1];
+    return inLeaf(item, x, y) ? &item : nullptr;
 }
 
 }  // namespace lacet

@@ -21,7 +21,6 @@
 #include <cstdint>
 #include <functional>
 #include <tuple>
-#include <unordered_map>
 #include <vector>
 
 #include "model/quadtree.h"
@@ -63,19 +62,22 @@ struct DrawItem {
 };
 
 struct DrawPlan {
-    std::vector<DrawItem> items;  // every leaf, in the tree's order
+    std::vector<DrawItem> items;  // every leaf, in the tree's order (depth first, children in order: Z-order)
     double coarsestAncestorDelta = 0.0;  // the largest sample spacing of an ancestor's tile drawn (m)
     std::size_t drawn = 0, fallback = 0, missing = 0, culled = 0;  // leaves drawn, drawn with an ancestor's tile, visible without a tile, not visible
 
     // The item of the leaf over `p` (outside the root: of a leaf along its nearest edge; nullptr:
-    // an empty plan).
+    // an empty plan): the descent the tree makes, as a Z-order code, then a binary search.
     const DrawItem* itemAt(Vec2 p) const;
     void clear() { *this = DrawPlan{}; }
 
-    // Indexing for itemAt.
+    // For itemAt: the root's square, the deepest leaf's level, and each item's first Z-order code
+    // at that level (ascending; used while the deepest level is at most kMaxZOrderLevel, a linear
+    // search beyond).
+    static constexpr int kMaxZOrderLevel = 31;
     Box rootBounds;
     int deepest = 0;
-    std::unordered_map<std::uint64_t, std::size_t> byKey;  // packed leaf key -> item
+    std::vector<std::uint64_t> zStart;
 };
 
 // The plan for `tree`: every leaf with the tile `tileOf` finds for it or its nearest ancestor,
