@@ -117,63 +117,8 @@ bool ScriptPlayer::begin(ScriptHost& app, const nlohmann::json& s) {
     const std::string kind = s["do"].get<std::string>();
     const Scene& scene = app.session().document().scene;
     frame_ = 0;
-    if (kind == "camera") {
-        Camera& cam = app.camera();
-        if (s.contains("save")) {
-            saved_[s["save"].get<std::string>()] = cam;
-            return true;
-        }
-        if (s.contains("restore")) {
-            const auto it = saved_.find(s["restore"].get<std::string>());
-            if (it == saved_.end()) throw std::runtime_error("no camera saved as '" + s["restore"].get<std::string>() + "'");
-            cam = it->second;
-            return true;
-        }
-        placeCamera(cam, s);
-        if (s.contains("fly")) cam.setFly(s["fly"].get<bool>());
-        if (s.contains("target")) {
-            Vec2 t = scene.extent.center();
-            if (s["target"].is_array()) t = Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
-            else if (s["target"] == "drag_from") t = from_;
-            else if (s["target"] == "drag_result") t = lastResult_;
-            else if (s["target"] == "focus_node" && hasFocus_) t = scene.layers[focusLayer_].nodes[scene.layers[focusLayer_].curves[focusCurve_].start].p;
-            cam.target = ground(app, t);
-        }
-        if (s.contains("position")) {
-            if (s["position"].is_string()) {  // "scene": above its centre, `height` metres up
-                cam.flyPosition = ground(app, scene.extent.center()) + glm::dvec3(0.0, 0.0, s.value("height", 3000.0));
-            } else {
-                const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
-                cam.flyPosition = ground(app, p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
-            }
-        }
-        return true;
-    }
-    if (kind == "focus") {
-        const LayerId layer = layerOf(scene, s.value("layer", nlohmann::json(0)));
-        const Vec2 near = s.contains("near") ? Vec2(s["near"][0].get<double>(), s["near"][1].get<double>()) : scene.extent.center();
-        const double minWidth = s.value("min_width", 0.0);
-        const bool onCurve = s.value("on_curve", false);
-        double best = 1e300;
-        hasFocus_ = false;
-        const Layer& l = scene.layers[layer];
-        for (ElementId id = 0; id < l.curves.size(); ++id) {
-            const Curve& c = l.curves[id];
-            if (!c.alive || c.vertices.size() < 3 || c.w < minWidth) continue;
-            for (std::size_t k = 1; k + 1 < c.vertices.size(); ++k) {
-                if (onCurve && !c.vertices[k].onCurve) continue;
-                const double d = glm::length(c.vertices[k].p - near);
-                if (d < best) best = d, hasFocus_ = true, focusLayer_ = layer, focusCurve_ = id, focusIndex_ = k;
-            }
-        }
-        if (!hasFocus_) throw std::runtime_error("no curve to focus on");
-        const Vec2 p = l.curves[focusCurve_].vertices[focusIndex_].p;
-        app.camera().setFly(false);
-        app.camera().target = ground(app, p);
-        placeCamera(app.camera(), s);
-        app.log()["focus"] = {{"layer", focusLayer_}, {"curve", focusCurve_}, {"index", focusIndex_}, {"x", p.x}, {"y", p.y}};
-        return true;
-    }
+    if (kind == "camera") return beginCamera(app, s);
+    if (kind == "focus") return beginFocus(app, s);
     if (kind == "drag_focus") {
         if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
         from_ = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
@@ -244,70 +189,139 @@ bool ScriptPlayer::begin(ScriptHost& app, const nlohmann::json& s) {
         app.setBackground(glm::vec3(s["rgb"][0].get<float>(), s["rgb"][1].get<float>(), s["rgb"][2].get<float>()));
         return true;
     }
-    if (kind == "probe") {
-        // What the session's tiles hold at the last drag's start and end: the footprint's
-        // blending b and enforced height z_e against the DEM's z_o, and the appearance colour.
-        nlohmann::json out;
-        for (const auto& [name, p] : {std::pair<const char*, glm::dvec2>{"from", from_}, {"result", lastResult_}}) {
-            const DrawItem* shown = app.session().plan().itemAt(p);
-            if (!shown || !shown->tile) continue;
-            const CachedTile* t = shown->tile;
-            const ElevationTile& e = t->elevation;
-            const glm::ivec2 ij = glm::ivec2(glm::round((p - e.bounds.min) / e.delta));
-            const std::size_t k = e.index(ij.x, ij.y);
-            const AppearanceTile& a = t->appearance;
-            const glm::ivec2 ai = glm::ivec2(glm::floor((p - a.bounds.min) / a.delta));
-            const std::vector<std::uint8_t> texels = tileTexels(a);
-            const std::size_t ak = a.index(ai.x, ai.y);
-            out[name] = {{"level", std::get<0>(shown->tileKey)}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
-                         {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};
-        }
-        app.log()["probes"].push_back(out);
-        return true;
-    }
-    if (kind == "inspect") {
-        // The current layer's counts and the selected curve with its end nodes' degrees.
-        const Pick& sel = app.controller().selection();
-        nlohmann::json out;
-        const Layer& l = scene.layers[hasFocus_ ? focusLayer_ : 0];
-        out["nodes"] = l.nodes.size(), out["curves"] = l.curves.size();
-        std::size_t alive = 0;
-        for (const Curve& c : l.curves) alive += c.alive;
-        out["alive_curves"] = alive;
-        if (sel.kind == Pick::Kind::Curve) {
-            const Curve& c = scene.layers[sel.layer].curves[sel.id];
-            const Layer& sl = scene.layers[sel.layer];
-            out["selected"] = {{"curve", sel.id}, {"start", c.start}, {"end", c.end}, {"vertices", c.vertices.size()},
-                               {"start_degree", sl.nodes[c.start].curves.size()}, {"end_degree", sl.nodes[c.end].curves.size()}};
-        }
-        if (hasFocus_) {
-            const Curve& f = l.curves[focusCurve_];
-            out["focus_curve"] = {{"curve", focusCurve_}, {"start", f.start}, {"start_degree", l.nodes[f.start].curves.size()}};
-        }
-        app.log()["inspections"].push_back(out);
-        return true;
-    }
+    if (kind == "probe") return probe(app);
+    if (kind == "inspect") return inspect(app);
     if (kind == "budget") {
         app.setBudget(s["ms"].get<double>());
         return true;
     }
-    if (kind == "fly") {
-        Camera& cam = app.camera();
-        cam.setFly(true);
-        if (s.contains("pitch")) cam.pitch = radians(s["pitch"].get<double>());
-        if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
-        flyFrom_ = cam.flyPosition;
-        flyHeightFrom_ = std::max(1.0, flyFrom_.z - ground(app, {flyFrom_.x, flyFrom_.y}).z);
-        if (s["to"] == "focus") {
-            if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
-            const Vec2 p = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
-            flyTo_ = glm::dvec3(p.x, p.y, s.value("height", 5.0));
-        } else {
-            flyTo_ = glm::dvec3(s["to"][0].get<double>(), s["to"][1].get<double>(), s["to"][2].get<double>());
-        }
-        return continueStep(app, s);
-    }
+    if (kind == "fly") return beginFly(app, s);
     throw std::runtime_error("unknown step");
+}
+
+bool ScriptPlayer::beginCamera(ScriptHost& app, const nlohmann::json& s) {
+    const Scene& scene = app.session().document().scene;
+    Camera& cam = app.camera();
+    if (s.contains("save")) {
+        saved_[s["save"].get<std::string>()] = cam;
+        return true;
+    }
+    if (s.contains("restore")) {
+        const auto it = saved_.find(s["restore"].get<std::string>());
+        if (it == saved_.end()) throw std::runtime_error("no camera saved as '" + s["restore"].get<std::string>() + "'");
+        cam = it->second;
+        return true;
+    }
+    placeCamera(cam, s);
+    if (s.contains("fly")) cam.setFly(s["fly"].get<bool>());
+    if (s.contains("target")) {
+        Vec2 t = scene.extent.center();
+        if (s["target"].is_array()) t = Vec2(s["target"][0].get<double>(), s["target"][1].get<double>());
+        else if (s["target"] == "drag_from") t = from_;
+        else if (s["target"] == "drag_result") t = lastResult_;
+        else if (s["target"] == "focus_node" && hasFocus_) t = scene.layers[focusLayer_].nodes[scene.layers[focusLayer_].curves[focusCurve_].start].p;
+        cam.target = ground(app, t);
+    }
+    if (s.contains("position")) {
+        if (s["position"].is_string()) {  // "scene": above its centre, `height` metres up
+            cam.flyPosition = ground(app, scene.extent.center()) + glm::dvec3(0.0, 0.0, s.value("height", 3000.0));
+        } else {
+            const Vec2 p(s["position"][0].get<double>(), s["position"][1].get<double>());
+            cam.flyPosition = ground(app, p) + glm::dvec3(0.0, 0.0, s["position"][2].get<double>());
+        }
+    }
+    return true;
+}
+
+bool ScriptPlayer::beginFocus(ScriptHost& app, const nlohmann::json& s) {
+    const Scene& scene = app.session().document().scene;
+    const LayerId layer = layerOf(scene, s.value("layer", nlohmann::json(0)));
+    const Vec2 near = s.contains("near") ? Vec2(s["near"][0].get<double>(), s["near"][1].get<double>()) : scene.extent.center();
+    const double minWidth = s.value("min_width", 0.0);
+    const bool onCurve = s.value("on_curve", false);
+    double best = 1e300;
+    hasFocus_ = false;
+    const Layer& l = scene.layers[layer];
+    for (ElementId id = 0; id < l.curves.size(); ++id) {
+        const Curve& c = l.curves[id];
+        if (!c.alive || c.vertices.size() < 3 || c.w < minWidth) continue;
+        for (std::size_t k = 1; k + 1 < c.vertices.size(); ++k) {
+            if (onCurve && !c.vertices[k].onCurve) continue;
+            const double d = glm::length(c.vertices[k].p - near);
+            if (d < best) best = d, hasFocus_ = true, focusLayer_ = layer, focusCurve_ = id, focusIndex_ = k;
+        }
+    }
+    if (!hasFocus_) throw std::runtime_error("no curve to focus on");
+    const Vec2 p = l.curves[focusCurve_].vertices[focusIndex_].p;
+    app.camera().setFly(false);
+    app.camera().target = ground(app, p);
+    placeCamera(app.camera(), s);
+    app.log()["focus"] = {{"layer", focusLayer_}, {"curve", focusCurve_}, {"index", focusIndex_}, {"x", p.x}, {"y", p.y}};
+    return true;
+}
+
+bool ScriptPlayer::probe(ScriptHost& app) {
+    // What the session's tiles hold at the last drag's start and end: the footprint's
+    // blending b and enforced height z_e against the DEM's z_o, and the appearance colour.
+    nlohmann::json out;
+    for (const auto& [name, p] : {std::pair<const char*, glm::dvec2>{"from", from_}, {"result", lastResult_}}) {
+        const DrawItem* shown = app.session().plan().itemAt(p);
+        if (!shown || !shown->tile) continue;
+        const CachedTile* t = shown->tile;
+        const ElevationTile& e = t->elevation;
+        const glm::ivec2 ij = glm::ivec2(glm::round((p - e.bounds.min) / e.delta));
+        const std::size_t k = e.index(ij.x, ij.y);
+        const AppearanceTile& a = t->appearance;
+        const glm::ivec2 ai = glm::ivec2(glm::floor((p - a.bounds.min) / a.delta));
+        const std::vector<std::uint8_t> texels = tileTexels(a);
+        const std::size_t ak = a.index(ai.x, ai.y);
+        out[name] = {{"level", std::get<0>(shown->tileKey)}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
+                     {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};
+    }
+    app.log()["probes"].push_back(out);
+    return true;
+}
+
+bool ScriptPlayer::inspect(ScriptHost& app) {
+    const Scene& scene = app.session().document().scene;
+    // The current layer's counts and the selected curve with its end nodes' degrees.
+    const Pick& sel = app.controller().selection();
+    nlohmann::json out;
+    const Layer& l = scene.layers[hasFocus_ ? focusLayer_ : 0];
+    out["nodes"] = l.nodes.size(), out["curves"] = l.curves.size();
+    std::size_t alive = 0;
+    for (const Curve& c : l.curves) alive += c.alive;
+    out["alive_curves"] = alive;
+    if (sel.kind == Pick::Kind::Curve) {
+        const Curve& c = scene.layers[sel.layer].curves[sel.id];
+        const Layer& sl = scene.layers[sel.layer];
+        out["selected"] = {{"curve", sel.id}, {"start", c.start}, {"end", c.end}, {"vertices", c.vertices.size()},
+                           {"start_degree", sl.nodes[c.start].curves.size()}, {"end_degree", sl.nodes[c.end].curves.size()}};
+    }
+    if (hasFocus_) {
+        const Curve& f = l.curves[focusCurve_];
+        out["focus_curve"] = {{"curve", focusCurve_}, {"start", f.start}, {"start_degree", l.nodes[f.start].curves.size()}};
+    }
+    app.log()["inspections"].push_back(out);
+    return true;
+}
+
+bool ScriptPlayer::beginFly(ScriptHost& app, const nlohmann::json& s) {
+    const Scene& scene = app.session().document().scene;
+    Camera& cam = app.camera();
+    cam.setFly(true);
+    if (s.contains("pitch")) cam.pitch = radians(s["pitch"].get<double>());
+    if (s.contains("yaw")) cam.yaw = radians(s["yaw"].get<double>());
+    flyFrom_ = cam.flyPosition;
+    flyHeightFrom_ = std::max(1.0, flyFrom_.z - ground(app, {flyFrom_.x, flyFrom_.y}).z);
+    if (s["to"] == "focus") {
+        if (!hasFocus_) throw std::runtime_error("no focus vertex (use a focus step first)");
+        const Vec2 p = scene.layers[focusLayer_].curves[focusCurve_].vertices[focusIndex_].p;
+        flyTo_ = glm::dvec3(p.x, p.y, s.value("height", 5.0));
+    } else {
+        flyTo_ = glm::dvec3(s["to"][0].get<double>(), s["to"][1].get<double>(), s["to"][2].get<double>());
+    }
+    return continueStep(app, s);
 }
 
 bool ScriptPlayer::continueStep(ScriptHost& app, const nlohmann::json& s) {

@@ -61,6 +61,12 @@ public:
 private:
     bool begin(ScriptHost& app, const nlohmann::json& s);     // true: the step is done at once
     bool continueStep(ScriptHost& app, const nlohmann::json& s);  // true: the step is done
+    // The longer steps' beginnings (same contract as begin).
+    bool beginCamera(ScriptHost& app, const nlohmann::json& s);
+    bool beginFocus(ScriptHost& app, const nlohmann::json& s);
+    bool beginFly(ScriptHost& app, const nlohmann::json& s);
+    bool probe(ScriptHost& app);
+    bool inspect(ScriptHost& app);
     std::string path(const std::string& file) const;
 
     std::string file_, outDir_, logName_ = "session-log.json";
