@@ -51,6 +51,7 @@ QuadKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
 DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
                       const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt) {
     DrawPlan plan;
+    plan.gridCells = tree.params().elevationResolution;
     plan.rootBounds = tree.root().bounds;
     PlanWalk{plan, tileOf, visible}.visit(tree.root(), nullptr, nullptr);
     for (DrawItem& item : plan.items)

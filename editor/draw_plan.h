@@ -63,6 +63,10 @@ struct DrawItem {
 
 struct DrawPlan {
     std::vector<DrawItem> items;  // every leaf, in the tree's order (depth first, children in order: Z-order)
+    // The mesh each leaf is drawn with: a grid of gridCells x gridCells cells over its square (the
+    // tile grid's elevation resolution, one vertex per sample) and its skirt. The procedural
+    // objects' meshes (bridges, trees: §5.3) will join the items.
+    int gridCells = 0;
     double coarsestAncestorDelta = 0.0;  // the largest sample spacing of an ancestor's tile drawn (m)
     std::size_t drawn = 0, fallback = 0, missing = 0, culled = 0;  // leaves drawn, drawn with an ancestor's tile, visible without a tile, not visible
 
@@ -81,7 +85,8 @@ struct DrawPlan {
 };
 
 // The plan for `tree`: every leaf with the tile `tileOf` finds for it or its nearest ancestor,
-// visible when `visible` (empty: every leaf) says so, with its skirt.
+// visible when `visible` (empty: every leaf) says so, with its skirt and its grid (the tree's
+// elevation resolution).
 DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
                       const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt);
 

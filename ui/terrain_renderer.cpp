@@ -187,8 +187,9 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     const double aspect = double(view.width) / double(view.height);
     const Frustum frustum = cam.frustum(aspect, view.clip);
     const glm::dmat4 viewProj = cam.projection(aspect, view.clip) * cam.view();
-    const int n = session.quadtree().params().elevationResolution;
-    if (n != gridN_) buildGrid(n);
+    const DrawPlan& plan = session.plan();
+    const int n = plan.gridCells;
+    if (n > 0 && n != gridN_) buildGrid(n);  // an empty plan (no frame yet) draws nothing
 
     glUseProgram(program_.id());
     glUniformMatrix4fv(program_.uniform("uViewProj"), 1, GL_FALSE, glm::value_ptr(glm::mat4(viewProj)));
@@ -204,7 +205,6 @@ void TerrainRenderer::draw(const EditSession& session, const TerrainView& view) 
     glPolygonMode(GL_FRONT_AND_BACK, wireframe ? GL_LINE : GL_FILL);
 
     // The session's plan: every leaf with the tile that stands for it (editor/draw_plan.h).
-    const DrawPlan& plan = session.plan();
     stats_.culled = plan.culled;
     stats_.missing = plan.missing;
     for (const DrawItem& item : plan.items) {

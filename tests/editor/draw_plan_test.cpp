@@ -71,6 +71,7 @@ TEST(DrawPlan, EveryLeafDrawsItsNearestTiledAncestorAndLookupsAgreeWithTheTree) 
             }
         });
         EXPECT_EQ(plan.items.size(), leaves);
+        EXPECT_EQ(plan.gridCells, params.refine.elevationResolution);
         EXPECT_EQ(plan.drawn, drawn);
         EXPECT_EQ(plan.fallback, fallback);
         EXPECT_EQ(plan.missing, missing);
