@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -14,20 +15,24 @@ constexpr int kNodeRingSamples = 8;
 // Flattening of a curve into a polyline to place z-profile samples: segments per piece, at least.
 constexpr int kPolylineSegmentsPerPiece = 16;
 
-template <class T, class Map, class Key, class Compute>
-const T& getOrCompute(std::mutex& mutex, Map& map, const Key& key, std::atomic<std::size_t>& counter, Compute&& compute) {
+}  // namespace
+
+template <class T, class Compute>
+const T& CurveDataCache::getOrCompute(Map<T>& map, const Key& key, std::atomic<std::size_t>& counter,
+                                      Compute&& compute) const {
     {
-        std::lock_guard lock(mutex);
+        std::lock_guard lock(mutex_);
         if (auto it = map.find(key); it != map.end()) return *it->second;
     }
     auto value = compute();  // outside the lock: it may ask for other cached data
-    std::lock_guard lock(mutex);
+    std::lock_guard lock(mutex_);
     auto [it, inserted] = map.try_emplace(key, std::move(value));
-    if (inserted) ++counter;
+    if (inserted) {
+        ++counter;
+        if (key.id & kProceduralBit) procedural_.insert(key);
+    }
     return *it->second;
 }
-
-}  // namespace
 
 double ZProfile::at(double u) const {
     if (z.empty()) return 0.0;
@@ -44,8 +49,8 @@ CurveDataCache::CurveDataCache(const Quadtree& quadtree, const HeightField& heig
         throw std::invalid_argument("CurveDataCache: sample spacing and arc-length tolerance must be > 0, kernel radius >= 0");
 }
 
-const CurveDataCache::Arc& CurveDataCache::arc(LayerId layer, ElementId ancestor) const {
-    return getOrCompute<Arc>(mutex_, arcs_, Key{layer, ancestor}, counters_.arcLengthTables, [&] {
+const CurveDataCache::Arc& CurveDataCache::arc(LayerId layer, AncestorId ancestor) const {
+    return getOrCompute<Arc>(arcs_, Key{layer, ancestor}, counters_.arcLengthTables, [&] {
         auto a = std::make_unique<Arc>();
         a->start.push_back(0.0);
         forEachPiece(quadtree_.ancestorCurve(layer, ancestor).vertices, [&](const BezierPiece& b, std::size_t) {
@@ -56,7 +61,7 @@ const CurveDataCache::Arc& CurveDataCache::arc(LayerId layer, ElementId ancestor
     });
 }
 
-double CurveDataCache::u(LayerId layer, ElementId ancestor, double s) const {
+double CurveDataCache::u(LayerId layer, AncestorId ancestor, double s) const {
     const Arc& a = arc(layer, ancestor);
     if (a.pieces.empty() || s <= 0.0) return 0.0;
     const auto k = std::min(std::size_t(s), a.pieces.size() - 1);
@@ -66,7 +71,7 @@ double CurveDataCache::u(LayerId layer, ElementId ancestor, double s) const {
     return a.start[k] + arcLength(split(a.pieces[k], t).first, params_.arcLengthTolerance);
 }
 
-double CurveDataCache::length(LayerId layer, ElementId ancestor) const { return arc(layer, ancestor).start.back(); }
+double CurveDataCache::length(LayerId layer, AncestorId ancestor) const { return arc(layer, ancestor).start.back(); }
 
 double CurveDataCache::localNodeHeight(LayerId layer, ElementId node) const {
     const Vec2 c = quadtree_.scene().layers[layer].nodes[node].p;
@@ -84,7 +89,7 @@ double CurveDataCache::localNodeHeight(LayerId layer, ElementId node) const {
 }
 
 double CurveDataCache::nodeHeight(LayerId layer, ElementId node) const {
-    return getOrCompute<double>(mutex_, nodeHeights_, Key{layer, node}, counters_.nodeHeights, [&] {
+    return getOrCompute<double>(nodeHeights_, Key{layer, node}, counters_.nodeHeights, [&] {
         const Layer& l = quadtree_.scene().layers[layer];
         double h = localNodeHeight(layer, node);
         if (l.kind == LayerKind::Rivers) {
@@ -101,7 +106,7 @@ double CurveDataCache::nodeHeight(LayerId layer, ElementId node) const {
     });
 }
 
-std::unique_ptr<ZProfile> CurveDataCache::computeProfile(LayerId layer, ElementId ancestor) const {
+std::unique_ptr<ZProfile> CurveDataCache::computeProfile(LayerId layer, AncestorId ancestor) const {
     const Curve& c = quadtree_.ancestorCurve(layer, ancestor);
     const Arc& a = arc(layer, ancestor);
     // Flatten, then place samples at regular arc length along the polyline.
@@ -168,13 +173,13 @@ std::unique_ptr<ZProfile> CurveDataCache::computeProfile(LayerId layer, ElementI
     return prof;
 }
 
-const ZProfile& CurveDataCache::zProfile(LayerId layer, ElementId ancestor) const {
-    return getOrCompute<ZProfile>(mutex_, profiles_, Key{layer, ancestor}, counters_.zProfiles,
+const ZProfile& CurveDataCache::zProfile(LayerId layer, AncestorId ancestor) const {
+    return getOrCompute<ZProfile>(profiles_, Key{layer, ancestor}, counters_.zProfiles,
                                   [&] { return computeProfile(layer, ancestor); });
 }
 
 double CurveDataCache::lakeLevel(LayerId layer, ElementId area) const {
-    return getOrCompute<double>(mutex_, lakeLevels_, Key{layer, area}, counters_.lakeLevels, [&] {
+    return getOrCompute<double>(lakeLevels_, Key{layer, area}, counters_.lakeLevels, [&] {
         const Layer& l = quadtree_.scene().layers[layer];
         double lowest = INFINITY;
         for (const auto& loop : l.areas[area].loops)
@@ -187,8 +192,18 @@ double CurveDataCache::lakeLevel(LayerId layer, ElementId area) const {
     });
 }
 
-void CurveDataCache::dropProfile(LayerId layer, ElementId curve, std::vector<ElementRef>& dropped) {
-    if (profiles_.erase(Key{layer, curve}) > 0) dropped.push_back({layer, ElementKind::Curve, curve});
+void CurveDataCache::dropCurve(LayerId layer, ElementId curve, bool arcs, std::vector<ElementRef>& dropped) {
+    bool profile = profiles_.erase(Key{layer, curve}) > 0;
+    if (arcs) arcs_.erase(Key{layer, curve});
+    // Its procedural curves: the cached ones in its id range, whatever it expands to now.
+    const auto first = procedural_.lower_bound(Key{layer, proceduralId(curve, 0)});
+    const auto last = procedural_.upper_bound(Key{layer, proceduralId(curve, kMaxProceduralCurves - 1)});
+    for (auto it = first; it != last;) {
+        profile = profiles_.erase(*it) > 0 || profile;
+        if (arcs) arcs_.erase(*it);
+        it = arcs_.count(*it) || profiles_.count(*it) ? std::next(it) : procedural_.erase(it);
+    }
+    if (profile) dropped.push_back({layer, ElementKind::Curve, curve});
 }
 
 void CurveDataCache::dropDownstream(LayerId layer, ElementId node, std::vector<ElementRef>& dropped) {
@@ -202,7 +217,7 @@ void CurveDataCache::dropDownstream(LayerId layer, ElementId node, std::vector<E
         seen.push_back(n);
         nodeHeights_.erase(Key{layer, n});
         for (ElementId c : l.nodes[n].curves) {
-            dropProfile(layer, c, dropped);
+            dropCurve(layer, c, false, dropped);
             if (l.curves[c].start == n) pending.push_back(l.curves[c].end);
         }
     }
@@ -217,18 +232,13 @@ std::vector<ElementRef> CurveDataCache::invalidate(const Changeset& cs) {
             const Layer& l = scene.layers[r.layer];
             switch (r.kind) {
                 case ElementKind::Curve:
-                    for (std::size_t k = 0; k < 256; ++k) {  // its procedural curves, if any
-                        arcs_.erase(Key{r.layer, proceduralId(r.id, k)});
-                        dropProfile(r.layer, proceduralId(r.id, k), dropped);
-                    }
-                    arcs_.erase(Key{r.layer, r.id});
-                    dropProfile(r.layer, r.id, dropped);
+                    dropCurve(r.layer, r.id, true, dropped);
                     if (l.kind == LayerKind::Rivers && r.id < l.curves.size()) dropDownstream(r.layer, l.curves[r.id].end, dropped);
                     break;
                 case ElementKind::Node:
                     nodeHeights_.erase(Key{r.layer, r.id});
                     if (r.id < l.nodes.size())
-                        for (ElementId c : l.nodes[r.id].curves) dropProfile(r.layer, c, dropped);
+                        for (ElementId c : l.nodes[r.id].curves) dropCurve(r.layer, c, false, dropped);
                     if (l.kind == LayerKind::Rivers) dropDownstream(r.layer, r.id, dropped);
                     break;
                 case ElementKind::Area: lakeLevels_.erase(Key{r.layer, r.id}); break;

@@ -24,6 +24,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <unordered_map>
 #include <vector>
 
@@ -64,16 +65,19 @@ class CurveDataCache {
 public:
     CurveDataCache(const Quadtree& quadtree, const HeightField& heights, ZProfileParams params = {});
 
-    double u(LayerId layer, ElementId ancestor, double s) const;
-    double length(LayerId layer, ElementId ancestor) const;
-    const ZProfile& zProfile(LayerId layer, ElementId ancestor) const;
+    double u(LayerId layer, AncestorId ancestor, double s) const;
+    double length(LayerId layer, AncestorId ancestor) const;
+    const ZProfile& zProfile(LayerId layer, AncestorId ancestor) const;
     double nodeHeight(LayerId layer, ElementId node) const;
     double lakeLevel(LayerId layer, ElementId area) const;
 
     // Drops what the changeset touches: its curves, nodes and areas, the procedural curves of its
     // curves, and for rivers everything downstream of a touched river node or curve. Returns the
-    // ancestor curves whose computed z-profile was dropped: tiles made with it are stale even where
-    // the quad's graph did not change (a river downstream of an edit).
+    // root curves whose computed z-profile, or that of a procedural curve made from them, was
+    // dropped: tiles made with it are stale even where the quad's graph did not change (a river
+    // downstream of an edit). A root curve's procedural curves are found among the cached ones
+    // (by their id range, proceduralId()), not in the quadtree, so this may run before or after
+    // Quadtree::update.
     std::vector<ElementRef> invalidate(const Changeset& changeset);
 
     const CurveDataCounters& counters() const { return counters_; }
@@ -82,11 +86,14 @@ public:
 private:
     struct Key {
         LayerId layer;
-        ElementId id;
+        AncestorId id;  // an ancestor curve's, or a root node's or area's ElementId
         friend bool operator==(const Key&, const Key&) = default;
+        friend auto operator<=>(const Key&, const Key&) = default;
     };
     struct KeyHash {
-        std::size_t operator()(const Key& k) const { return std::hash<std::uint64_t>()(std::uint64_t(k.layer) << 32 | k.id); }
+        std::size_t operator()(const Key& k) const {
+            return std::hash<std::uint64_t>()(k.id ^ std::uint64_t(k.layer) * 0x9e3779b97f4a7c15u);
+        }
     };
     template <class T>
     using Map = std::unordered_map<Key, std::unique_ptr<T>, KeyHash>;
@@ -95,10 +102,14 @@ private:
         std::vector<BezierPiece> pieces;
         std::vector<double> start;  // u at each on-curve vertex
     };
-    const Arc& arc(LayerId layer, ElementId ancestor) const;
+    template <class T, class Compute>
+    const T& getOrCompute(Map<T>& map, const Key& key, std::atomic<std::size_t>& counter, Compute&& compute) const;
+    const Arc& arc(LayerId layer, AncestorId ancestor) const;
     double localNodeHeight(LayerId layer, ElementId node) const;
-    std::unique_ptr<ZProfile> computeProfile(LayerId layer, ElementId ancestor) const;
-    void dropProfile(LayerId layer, ElementId curve, std::vector<ElementRef>& dropped);
+    std::unique_ptr<ZProfile> computeProfile(LayerId layer, AncestorId ancestor) const;
+    // Drops the arc-length tables (with `arcs`) and z-profiles of root curve `curve` and of the
+    // procedural curves made from it.
+    void dropCurve(LayerId layer, ElementId curve, bool arcs, std::vector<ElementRef>& dropped);
     void dropDownstream(LayerId layer, ElementId node, std::vector<ElementRef>& dropped);
 
     const Quadtree& quadtree_;
@@ -109,6 +120,7 @@ private:
     mutable Map<ZProfile> profiles_;
     mutable Map<double> nodeHeights_;
     mutable Map<double> lakeLevels_;
+    mutable std::set<Key> procedural_;  // the procedural curves with an arc or a z-profile cached
     mutable CurveDataCounters counters_;
 };
 

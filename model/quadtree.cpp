@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -13,7 +14,8 @@ namespace lacet {
 
 struct Quadtree::Ancestors {
     struct Lists {
-        std::vector<ElementId> nodes, curves, areas;
+        std::vector<ElementId> nodes, areas;
+        std::vector<AncestorId> curves;
         bool empty() const { return nodes.empty() && curves.empty() && areas.empty(); }
     };
     std::vector<Lists> layers;
@@ -22,19 +24,28 @@ struct Quadtree::Ancestors {
         return std::all_of(layers.begin(), layers.end(), [](const Lists& l) { return l.empty(); });
     }
     void normalize() {
-        for (auto& l : layers)
-            for (auto* v : {&l.nodes, &l.curves, &l.areas}) {
-                std::sort(v->begin(), v->end());
-                v->erase(std::unique(v->begin(), v->end()), v->end());
-            }
+        auto sortUnique = [](auto& v) {
+            std::sort(v.begin(), v.end());
+            v.erase(std::unique(v.begin(), v.end()), v.end());
+        };
+        for (auto& l : layers) {
+            sortUnique(l.nodes);
+            sortUnique(l.curves);
+            sortUnique(l.areas);
+        }
     }
 };
 
-ElementId proceduralId(ElementId root, std::size_t k) {
-    if (k >= 256 || root >= (kProceduralBit >> 8))
-        throw std::length_error("proceduralId: root curve " + std::to_string(root) + " piece " + std::to_string(k) +
-                                " is out of the procedural id range");
-    return kProceduralBit | (root << 8) | ElementId(k);
+static_assert(kProceduralIndexBits + 32 < 64, "the flag, a root curve's id and k fit in an AncestorId");
+
+AncestorId proceduralId(ElementId root, std::size_t k) {
+    if (k >= kMaxProceduralCurves) {
+        std::ostringstream s;
+        s << "proceduralId(): root curve " << root << " expands to more than " << kMaxProceduralCurves
+          << " procedural curves (piece " << k << ")";
+        throw std::length_error(s.str());
+    }
+    return kProceduralBit | AncestorId(root) << kProceduralIndexBits | AncestorId(k);
 }
 
 Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep* procedural)
@@ -63,9 +74,9 @@ void Quadtree::expandRoot(LayerId layer, ElementId id) {
     if (!procedural_) return;
     std::vector<Curve> out;
     if (!procedural_->expand(scene_, layer, id, out)) return;
-    std::vector<ElementId> ids;
+    std::vector<AncestorId> ids;
     for (std::size_t k = 0; k < out.size(); ++k) {
-        const ElementId pid = proceduralId(id, k);
+        const AncestorId pid = proceduralId(id, k);
         ids.push_back(pid);
         proceduralCurves_[layer][pid] = std::move(out[k]);
     }
@@ -76,12 +87,12 @@ template <class F>
 void Quadtree::forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) const {
     const auto it = expandedFrom_[layer].find(id);
     if (it == expandedFrom_[layer].end()) return f(id);
-    for (ElementId pid : it->second) f(pid);
+    for (AncestorId pid : it->second) f(pid);
 }
 
-const Curve& Quadtree::ancestorCurve(LayerId layer, ElementId id) const {
+const Curve& Quadtree::ancestorCurve(LayerId layer, AncestorId id) const {
     if (id & kProceduralBit) return proceduralCurves_[layer].at(id);
-    return scene_.layers[layer].curves[id];
+    return scene_.layers[layer].curves[ElementId(id)];
 }
 
 double Quadtree::nodeMargin(LayerId layer, ElementId id, double quadSize) const {
@@ -100,7 +111,7 @@ Box Quadtree::childBounds(const Quad& q, int k) {
     return {min, max};
 }
 
-ClippedCurve Quadtree::rootCurve(LayerId layer, ElementId ancestor) const {
+ClippedCurve Quadtree::rootCurve(LayerId layer, AncestorId ancestor) const {
     const Curve& a = ancestorCurve(layer, ancestor);
     ClippedCurve c;
     c.vertices = a.vertices;
@@ -119,7 +130,7 @@ ClippedArea Quadtree::rootArea(LayerId layer, ElementId id) const {
     return a;
 }
 
-void Quadtree::clipCurveInto(LayerId layer, ElementId ancestor, std::span<const ClippedCurve> parent,
+void Quadtree::clipCurveInto(LayerId layer, AncestorId ancestor, std::span<const ClippedCurve> parent,
                              const Quad& child, std::vector<ClippedCurve>& out) const {
     const double margin = curveMargin(layer, ancestor, child.bounds.size().x);
     const double tol = params_.tolerance(child.bounds.size().x);
@@ -157,7 +168,7 @@ void Quadtree::subdivide(Quad& q) {
     auto fill = [&](Quad& kid) {
         std::vector<ClippedCurve> curves;
         std::vector<ClippedArea> areas;
-        auto addCurves = [&](LayerId l, ElementId a, std::span<const ClippedCurve> parent) {
+        auto addCurves = [&](LayerId l, AncestorId a, std::span<const ClippedCurve> parent) {
             curves.clear();
             clipCurveInto(l, a, parent, kid, curves);
             if (!curves.empty()) kid.layers[l].curves.emplace(a, std::move(curves));
@@ -177,7 +188,7 @@ void Quadtree::subdivide(Quad& q) {
                     if (layer.nodes[id].alive) addNode(l, id, layer.nodes[id].p);
                 for (ElementId id = 0; id < layer.curves.size(); ++id)
                     if (layer.curves[id].alive)
-                        forEachRootCurveAncestor(l, id, [&](ElementId a) {
+                        forEachRootCurveAncestor(l, id, [&](AncestorId a) {
                             const ClippedCurve rc = rootCurve(l, a);
                             addCurves(l, a, {&rc, 1});
                         });
@@ -287,7 +298,7 @@ UpdateStats Quadtree::update(const Changeset& changeset) {
                     lists.curves.push_back(r.id);
                     break;
                 }
-                for (ElementId pid : it->second) {
+                for (AncestorId pid : it->second) {
                     lists.curves.push_back(pid);
                     proceduralCurves_[r.layer].erase(pid);
                 }
@@ -309,7 +320,7 @@ UpdateStats Quadtree::update(const Changeset& changeset) {
             case ElementKind::Curve:
                 if (a.id < layer.curves.size() && layer.curves[a.id].alive) {
                     expandRoot(a.layer, a.id);
-                    forEachRootCurveAncestor(a.layer, a.id, [&](ElementId pid) { lists.curves.push_back(pid); });
+                    forEachRootCurveAncestor(a.layer, a.id, [&](AncestorId pid) { lists.curves.push_back(pid); });
                 }
                 break;
         }
@@ -356,8 +367,8 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
         const auto& a = added.layers[l];
         auto& r2 = removed2.layers[l];
         auto& a2 = added2.layers[l];
-        auto erase = [](const std::vector<ElementId>& ids, auto& map, std::vector<ElementId>& erased) {
-            for (ElementId id : ids)
+        auto erase = [](const auto& ids, auto& map, auto& erased) {
+            for (const auto id : ids)
                 if (map.erase(id)) erased.push_back(id);
         };
         // Alg. 6.1: first remove what was made from the removed elements...
@@ -389,7 +400,7 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
             ql.nodes[id] = pos;
             a2.nodes.push_back(id);
         }
-        for (ElementId id : a.curves) {
+        for (AncestorId id : a.curves) {
             curves.clear();
             if (parentIsRoot) {
                 const ClippedCurve rc = rootCurve(l, id);
@@ -433,7 +444,7 @@ void Quadtree::updateQuad(Quad& q, const Ancestors& removed, const Ancestors& ad
         for (auto& c : q.children) updateQuad(*c, removed2, added2, stats);
 }
 
-std::span<const ClippedCurve> Quadtree::createdFrom(const Quad& q, LayerId layer, ElementId ancestor,
+std::span<const ClippedCurve> Quadtree::createdFrom(const Quad& q, LayerId layer, AncestorId ancestor,
                                                     std::uint32_t parentIndex) {
     if (layer >= q.layers.size()) return {};
     const auto it = q.layers[layer].curves.find(ancestor);

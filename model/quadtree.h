@@ -10,7 +10,8 @@
 // pieces of ancestor `a` in a quad are made only from the pieces of `a` in its parent.
 //
 // The procedural step (Alg. 4.1) runs when the root is subdivided: it may replace a root curve by
-// procedural curves, which are ancestors in their own right (ids with kProceduralBit).
+// procedural curves, which are ancestors in their own right (AncestorId with kProceduralBit,
+// proceduralId() below).
 //
 // Order of calls: build a Quadtree over a Scene (it keeps a reference); subdivide()/merge() or
 // refineForViewer(); after each edit of the Scene (model/edits.h), update(changeset).
@@ -35,7 +36,7 @@ namespace lacet {
 
 struct QuadLayer {
     std::unordered_map<ElementId, Vec2> nodes;  // ancestor node -> its (unclipped) position
-    std::unordered_map<ElementId, std::vector<ClippedCurve>> curves;
+    std::unordered_map<AncestorId, std::vector<ClippedCurve>> curves;  // a root or procedural curve
     std::unordered_map<ElementId, std::vector<ClippedArea>> areas;
     bool empty() const { return nodes.empty() && curves.empty() && areas.empty(); }
 };
@@ -58,7 +59,7 @@ class ProceduralStep {
 public:
     virtual ~ProceduralStep() = default;
     // Fills `out` with the curves replacing root curve `id` and returns true, or returns false to
-    // keep the curve as it is. At most 256 curves per root curve.
+    // keep the curve as it is. Fewer than kMaxProceduralCurves curves per root curve.
     virtual bool expand(const Scene& scene, LayerId layer, ElementId id, std::vector<Curve>& out) const = 0;
     // Root curves (ElementKind::Curve refs) whose expansion reads an element the changeset changed
     // besides themselves (a road's bridges read the rivers it crosses): UPDATE re-expands them.
@@ -67,8 +68,22 @@ public:
     }
 };
 
-// Id of the k-th procedural curve made from root curve `root`.
-ElementId proceduralId(ElementId root, std::size_t k);
+// Id of the k-th procedural curve made from root curve `root`: kProceduralBit, then the root's id
+// (32 bits), then k (the low kProceduralIndexBits). A pure function of (root, k), so an UPDATE and
+// a rebuild give a curve the same id, for every root id; the ids of one root form the contiguous
+// range [proceduralId(root, 0), proceduralId(root, kMaxProceduralCurves - 1)] and sort by root,
+// then k. Throws std::length_error when k >= kMaxProceduralCurves.
+constexpr int kProceduralIndexBits = 31;
+constexpr std::size_t kMaxProceduralCurves = std::size_t(1) << kProceduralIndexBits;
+AncestorId proceduralId(ElementId root, std::size_t k);
+// The root curve an ancestor curve is, or was made from.
+constexpr ElementId rootCurveOf(AncestorId a) {
+    return (a & kProceduralBit) ? ElementId(a >> kProceduralIndexBits) : ElementId(a);
+}
+// k of the procedural curve proceduralId(root, k); 0 for a root curve.
+constexpr std::size_t proceduralIndex(AncestorId a) {
+    return (a & kProceduralBit) ? std::size_t(a & (kMaxProceduralCurves - 1)) : 0;
+}
 
 struct UpdateStats {
     std::size_t quadsVisited = 0;
@@ -120,9 +135,9 @@ public:
     UpdateStats update(const Changeset& changeset);
 
     // The ancestor curve: a root curve, or a procedural one.
-    const Curve& ancestorCurve(LayerId layer, ElementId id) const;
+    const Curve& ancestorCurve(LayerId layer, AncestorId id) const;
     // Clipping margins (metres) of an ancestor element in a quad of the given size.
-    double curveMargin(LayerId layer, ElementId id, double quadSize) const {
+    double curveMargin(LayerId layer, AncestorId id, double quadSize) const {
         const Curve& c = ancestorCurve(layer, id);
         return params_.curveMargin(double(c.w), double(c.wf), quadSize);
     }
@@ -132,7 +147,7 @@ public:
     double nodeMargin(LayerId layer, ElementId id, double quadSize) const;
 
     // CREATEDFROM(q)[(ancestor, parentIndex)]: the curves of q made from that parent piece.
-    static std::span<const ClippedCurve> createdFrom(const Quad& q, LayerId layer, ElementId ancestor,
+    static std::span<const ClippedCurve> createdFrom(const Quad& q, LayerId layer, AncestorId ancestor,
                                                      std::uint32_t parentIndex);
 
     template <class F>
@@ -153,9 +168,9 @@ private:
     void expandRoot(LayerId layer, ElementId id);
     template <class F>
     void forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) const;
-    ClippedCurve rootCurve(LayerId layer, ElementId ancestor) const;
+    ClippedCurve rootCurve(LayerId layer, AncestorId ancestor) const;
     ClippedArea rootArea(LayerId layer, ElementId id) const;
-    void clipCurveInto(LayerId layer, ElementId ancestor, std::span<const ClippedCurve> parent, const Quad& child,
+    void clipCurveInto(LayerId layer, AncestorId ancestor, std::span<const ClippedCurve> parent, const Quad& child,
                        std::vector<ClippedCurve>& out) const;
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
@@ -169,7 +184,7 @@ private:
     const ProceduralStep* procedural_;
     Quad root_;
     // Per layer: root curve -> the procedural curves made from it, and their geometry.
-    std::vector<std::unordered_map<ElementId, std::vector<ElementId>>> expandedFrom_;
+    std::vector<std::unordered_map<ElementId, std::vector<AncestorId>>> expandedFrom_;
     // Per layer, the attributes of each area when it was last clipped into the tree, and during
     // an update the modified areas whose attributes did not change (see update()).
     struct AreaAttributes {
@@ -180,7 +195,7 @@ private:
     };
     std::vector<std::unordered_map<ElementId, AreaAttributes>> areaAttributes_;
     std::vector<std::vector<ElementId>> geometryOnlyAreas_;
-    std::vector<std::unordered_map<ElementId, Curve>> proceduralCurves_;
+    std::vector<std::unordered_map<AncestorId, Curve>> proceduralCurves_;
 };
 
 }  // namespace lacet

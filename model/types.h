@@ -14,10 +14,15 @@ namespace lacet {
 using Vec2 = glm::dvec2;
 
 // Stable id of a root element inside its layer (its slot index; never reused after deletion).
-// Procedural ancestors (made by the procedural step at the root) carry kProceduralBit.
 using ElementId = std::uint32_t;
 constexpr ElementId kNoElement = 0xffffffffu;
-constexpr ElementId kProceduralBit = 0x80000000u;
+
+// Id of an ancestor curve (§4.2) in its layer: a root curve's own ElementId, or a procedural
+// curve's, made by the procedural step at the root (§4.3), which carries kProceduralBit and its
+// root curve's id and index (proceduralId(), model/quadtree.h). 64 bits so that every root curve
+// id, whatever the size of the layer, has room for its procedural curves.
+using AncestorId = std::uint64_t;
+constexpr AncestorId kProceduralBit = AncestorId(1) << 63;
 
 using LayerId = std::uint16_t;
 

@@ -24,7 +24,8 @@ using namespace appearance;
 struct DrawItem {
     LayerId layer;
     bool area;
-    ElementId id;
+    AncestorId id;  // an ancestor curve's, or an area's (areas have no procedural ancestors)
+    ElementId areaId() const { return ElementId(id); }
 };
 
 int rank(LayerKind kind) {
@@ -37,8 +38,8 @@ int rank(LayerKind kind) {
 }
 
 template <class Map>
-std::vector<ElementId> sortedKeys(const Map& m) {
-    std::vector<ElementId> ids;
+std::vector<typename Map::key_type> sortedKeys(const Map& m) {
+    std::vector<typename Map::key_type> ids;
     ids.reserve(m.size());
     for (const auto& [id, pieces] : m) ids.push_back(id);
     std::sort(ids.begin(), ids.end());
@@ -57,7 +58,7 @@ std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene, const std::
         if (surfaceOf(kind) != Surface::None)
             for (ElementId id : sortedKeys(quad.layers[l].areas)) items.push_back({l, true, id});
         if (kind == LayerKind::Roads || kind == LayerKind::Rivers)
-            for (ElementId id : sortedKeys(quad.layers[l].curves)) items.push_back({l, false, id});
+            for (AncestorId id : sortedKeys(quad.layers[l].curves)) items.push_back({l, false, id});
     }
     return items;
 }
@@ -67,9 +68,9 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
     const Scene& scene = qt.scene();
     const LayerKind kind = scene.layers[last.layer].kind;
     if (last.area) {
-        const auto& pieces = quad.layers[last.layer].areas.at(last.id);
+        const auto& pieces = quad.layers[last.layer].areas.at(last.areaId());
         if (pieces.size() == 1 && pieces.front().coversQuad)
-            return SurfaceShade{surfaceOf(kind), scene.layers[last.layer].areas[last.id].cls, last.id};
+            return SurfaceShade{surfaceOf(kind), scene.layers[last.layer].areas[last.areaId()].cls, last.areaId()};
         return std::nullopt;
     }
     if (kind != LayerKind::Rivers) return std::nullopt;
@@ -82,7 +83,7 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
         const bool holds = std::all_of(std::begin(corners), std::end(corners), [&](Vec2 q) {
             return distanceToSegment(q, sg.p0, sg.p1) <= limit;  // a capsule is convex
         });
-        if (holds) return SurfaceShade{Surface::Water, 0, last.id};
+        if (holds) return SurfaceShade{Surface::Water, 0, rootCurveOf(last.id)};
     }
     return std::nullopt;
 }
@@ -130,9 +131,9 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         const DrawItem& it = items[i];
         const Layer& layer = scene.layers[it.layer];
         if (it.area) {
-            const Area& a = layer.areas[it.id];
-            const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.id};
-            for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.id)) {
+            const Area& a = layer.areas[it.areaId()];
+            const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.areaId()};
+            for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.areaId())) {
                 drawArea(canvas, t, piece, shade, double(a.wf), counters);
                 if (counters) ++counters->areaPieces;
             }
@@ -150,7 +151,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
             else drawRoadSurface(canvas, segments, c);
         }
         for (std::size_t r = i; r <= last; ++r) {
-            const ElementId id = items[r].id;
+            const AncestorId id = items[r].id;
             const Curve& c = quadtree.ancestorCurve(it.layer, id);
             if (layer.kind == LayerKind::Rivers) {
                 drawRiverWater(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
@@ -165,8 +166,8 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
             ends.length = curveData.length(it.layer, id);
             ends.startRadius = junctionRadius(layer, c.start);
             ends.endRadius = junctionRadius(layer, c.end);
-            ends.startStop = hasStopLine(layer, c.start, id);
-            ends.endStop = hasStopLine(layer, c.end, id);
+            ends.startStop = hasStopLine(layer, c.start, rootCurveOf(id));
+            ends.endStop = hasStopLine(layer, c.end, rootCurveOf(id));
             drawMarkings(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c, ends);
             if (counters) ++counters->curvesWithMarkings;
         }

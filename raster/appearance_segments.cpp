@@ -29,7 +29,7 @@ bool finite(const Segment& sg) {
 
 }  // namespace
 
-std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a) {
+std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, AncestorId a) {
     std::vector<Segment> out;
     for (const ClippedCurve& run : pieces) {
         Vec2 prev{};

@@ -18,7 +18,7 @@ struct Segment {
 
 // The on-curve polyline of a curve's pieces in a quad, with the curvilinear coordinate u of
 // each vertex when `data` is given (0 otherwise).
-std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, ElementId a);
+std::vector<Segment> segmentsOf(const std::vector<ClippedCurve>& pieces, const CurveDataCache* data, LayerId l, AncestorId a);
 
 // The segments that can be nearest to some point of `box` within `reach`: a segment whose
 // lower bound (the distance from its bounding box) exceeds the reach, or exceeds some segment's

@@ -73,7 +73,7 @@ private:
     std::vector<float> d_;  // distance to the axis or border of the element that gave b and z_e
 };
 
-void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, ElementId a,
+void drawCurve(FootprintCanvas& canvas, const ElevationTile& tile, LayerId l, AncestorId a,
                const std::vector<ClippedCurve>& pieces, const Curve& c, const CurveDataCache& data) {
     // b = 1 within w/2 + 2 sqrt(2) delta: the sqrt(2) delta of §5.2 (bilinear interpolation of the
     // samples), plus sqrt(2) delta for the 3x3 filter, which reads one more sample out; so z_m

@@ -414,7 +414,7 @@ TEST(EditSession, AnEditedLeafThatAnAncestorStandsInForIsNotDrawnStale) {
     const auto& layers = session.document().scene.layers;
     for (LayerId l = 0; l < leaf->layers.size() && !move; ++l) {
         ElementId curve = kNoElement;
-        if (!leaf->layers[l].curves.empty()) curve = leaf->layers[l].curves.begin()->first;
+        if (!leaf->layers[l].curves.empty()) curve = rootCurveOf(leaf->layers[l].curves.begin()->first);
         else if (!leaf->layers[l].areas.empty()) curve = layers[l].areas[leaf->layers[l].areas.begin()->first].loops.front().front().curve;
         if (curve == kNoElement) continue;
         const ElementId node = layers[l].curves[curve].start;

@@ -114,7 +114,7 @@ Scene handScene() {
     std::erase(roads.nodes[d].curves, deadId);
     const ElementId deadNode = roads.addNode({std::nan("42"), -0.0});
     roads.nodes[deadNode].alive = false;
-    roads.nodes[deadNode].curves = {7, kProceduralBit | 3};
+    roads.nodes[deadNode].curves = {7, 0x80000003u};
     Curve after;  // a curve after the dead slot, so ids past it matter
     after.vertices = {{{700.0, 650.0}}, {{400.25, 100.0 / 3.0}}};
     after.start = c;

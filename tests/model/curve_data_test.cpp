@@ -1,12 +1,16 @@
 #include "model/curve_data.h"
 
 #include <cmath>
+#include <set>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include "model/edits.h"
+#include "model/quadtree_compare.h"
 #include "synth/synthetic_scene.h"
+#include "tests/model/split_roads.h"
 
 namespace lacet {
 namespace {
@@ -145,6 +149,79 @@ TEST(CurveData, RiversStayMonotoneAfterASourceMoves) {
         for (std::size_t i = 1; i < z.z.size(); ++i) EXPECT_LE(z.z[i], z.z[i - 1]);
         EXPECT_EQ(z.z.back(), cache.nodeHeight(kRiversLayer, rivers.curves[c].end));
     }
+}
+
+// Issue 13 item 3: proceduralId threw once a root curve id reached 2^23 (and for k >= 256), and
+// invalidate() probed 256 procedural ids per curve. Two roads with ids 2^23 and 2^23 + 1 (after as
+// many deleted slots), each cut into 300 procedural curves: UPDATE equals a rebuild, and the
+// cache, invalidated before or after the update, drops exactly the moved road's curves.
+TEST(CurveData, ProceduralCurvesOfRootCurveIdsAbove2To23AreUpdatedAndDropped) {
+    constexpr ElementId kFirst = ElementId(1) << 23;
+    Scene s;
+    s.extent = {{0, 0}, {1000, 1000}};
+    s.layers.resize(1);
+    Layer& roads = s.layers[0];
+    roads.kind = LayerKind::Roads;
+    const ElementId a = roads.addNode({100, 100}), b = roads.addNode({500, 600}), c = roads.addNode({900, 150});
+    Curve dead;
+    dead.alive = false;
+    roads.curves.reserve(kFirst + 2);
+    roads.curves.assign(kFirst, dead);
+    Curve road;
+    road.w = 6;
+    road.wf = 14;
+    road.vertices = {{{100, 100}}, {{300, 450}}, {{500, 600}}};
+    road.start = a;
+    road.end = b;
+    ASSERT_EQ(roads.addCurve(road), kFirst);
+    road.vertices = {{{500, 600}}, {{700, 300}}, {{900, 150}}};
+    road.start = b;
+    road.end = c;
+    ASSERT_EQ(roads.addCurve(road), kFirst + 1);
+
+    const test::CutRoadsIntoSegments step(150);
+    constexpr std::size_t kPerRoad = 300;
+    const Hills hills;
+    Quadtree qt(s, {}, &step);
+    CurveDataCache cache(qt, hills);
+    qt.refineForViewer({500.0, 500.0, 5.0}, ViewParams{.maxLevel = 6});
+    std::set<AncestorId> ancestors;
+    qt.forEachQuad([&](const Quad& q) {
+        if (q.layers.empty()) return;
+        for (const auto& [id, pieces] : q.layers[0].curves) ancestors.insert(id);
+    });
+    std::set<AncestorId> expected;
+    for (ElementId root : {kFirst, kFirst + 1})
+        for (std::size_t k = 0; k < kPerRoad; ++k) expected.insert(proceduralId(root, k));
+    ASSERT_EQ(ancestors, expected);
+    for (AncestorId id : ancestors) cache.zProfile(0, id);
+
+    // Every cached profile and length is what a cache made now computes.
+    auto expectFresh = [&](const char* when) {
+        CurveDataCache fresh(qt, hills);
+        for (AncestorId id : ancestors) {
+            EXPECT_EQ(cache.zProfile(0, id).z, fresh.zProfile(0, id).z) << when << ": curve " << id;
+            EXPECT_EQ(cache.length(0, id), fresh.length(0, id)) << when << ": curve " << id;
+        }
+    };
+    // Invalidated before the update (as the editor does)...
+    std::size_t before = cache.counters().zProfiles;
+    const Changeset first = moveVertex(s, 0, kFirst, 1, {350, 420});
+    EXPECT_EQ(cache.invalidate(first), (std::vector<ElementRef>{{0, ElementKind::Curve, kFirst}}));
+    qt.update(first);
+    Quadtree rebuilt(s, {}, &step);
+    rebuilt.copyStructureOf(qt);
+    const auto diff = compareQuadtrees(qt, rebuilt);
+    EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details[0]);
+    expectFresh("invalidated before the update");
+    EXPECT_EQ(cache.counters().zProfiles - before, kPerRoad);
+    // ...or after it.
+    before = cache.counters().zProfiles;
+    const Changeset second = moveVertex(s, 0, kFirst + 1, 1, {720, 330});
+    qt.update(second);
+    EXPECT_EQ(cache.invalidate(second), (std::vector<ElementRef>{{0, ElementKind::Curve, kFirst + 1}}));
+    expectFresh("invalidated after the update");
+    EXPECT_EQ(cache.counters().zProfiles - before, kPerRoad);
 }
 
 }  // namespace

@@ -1,8 +1,12 @@
 #include "model/quadtree.h"
 
+#include <algorithm>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <set>
+#include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -106,12 +110,12 @@ TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
     const SplitRoadsInTwo step;
     Quadtree qt(s, {}, &step);
     qt.refineForViewer({500.0, 150.0, 5.0}, ViewParams{.maxLevel = 7});
-    std::set<ElementId> ancestors;
+    std::set<AncestorId> ancestors;
     qt.forEachQuad([&](const Quad& q) {
         if (q.layers.empty()) return;
         for (const auto& [a, pieces] : q.layers[0].curves) ancestors.insert(a);
     });
-    EXPECT_EQ(ancestors, (std::set<ElementId>{proceduralId(0, 0), proceduralId(0, 1)}));
+    EXPECT_EQ(ancestors, (std::set<AncestorId>{proceduralId(0, 0), proceduralId(0, 1)}));
     EXPECT_EQ(qt.ancestorCurve(0, proceduralId(0, 1)).end, 1u);
     // Editing the root road updates its procedural curves everywhere, as a rebuild would.
     const auto cs = moveVertex(s, 0, 0, 2, {650.0, 300.0});
@@ -120,6 +124,29 @@ TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
     rebuilt.copyStructureOf(qt);
     const auto diff = compareQuadtrees(qt, rebuilt);
     EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details[0]);
+}
+
+// Issue 13 item 3: proceduralId threw for root curve ids from 2^23 on (and for k >= 256), so a
+// layer of more than 8 million curves could not take a procedural step.
+TEST(Quadtree, ProceduralIdsOfEveryRootCurveIdAreDistinctOrderedAndGiveBackRootAndIndex) {
+    const ElementId roots[] = {0, 1, (1u << 23) - 1, 1u << 23, (1u << 23) + 1, 0x7fffffffu, 0x80000000u, kNoElement - 1};
+    const std::size_t ks[] = {0, 1, 255, 256, 65535, 65536, kMaxProceduralCurves - 1};
+    std::vector<AncestorId> ids;
+    for (ElementId root : roots) {
+        EXPECT_EQ(AncestorId(root) & kProceduralBit, 0u);
+        EXPECT_EQ(rootCurveOf(root), root);
+        EXPECT_EQ(proceduralIndex(root), 0u);
+        for (std::size_t k : ks) {
+            const AncestorId pid = proceduralId(root, k);
+            EXPECT_NE(pid & kProceduralBit, 0u) << root << " " << k;
+            EXPECT_EQ(rootCurveOf(pid), root) << k;
+            EXPECT_EQ(proceduralIndex(pid), k) << root;
+            ids.push_back(pid);
+        }
+    }
+    // By root, then k: the ids of one root are one range, apart from every other root's.
+    EXPECT_EQ(std::adjacent_find(ids.begin(), ids.end(), std::greater_equal<>()), ids.end());
+    EXPECT_THROW(proceduralId(0, kMaxProceduralCurves), std::length_error);
 }
 
 TEST(Quadtree, UpdateMarksExactlyTheQuadsWhoseGraphChanged) {

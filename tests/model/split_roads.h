@@ -32,4 +32,34 @@ public:
     }
 };
 
+// Every road's polyline of on-curve vertices cut into `perSegment` straight procedural curves
+// per segment (k in segment order), the first starting at the road's start node and the last
+// ending at its end node.
+class CutRoadsIntoSegments : public ProceduralStep {
+public:
+    explicit CutRoadsIntoSegments(int perSegment) : perSegment_(perSegment) {}
+    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<Curve>& out) const override {
+        if (s.layers[l].kind != LayerKind::Roads) return false;
+        const Curve& c = s.layers[l].curves[id];
+        std::vector<Vec2> on;
+        for (const Vertex& v : c.vertices)
+            if (v.onCurve) on.push_back(v.p);
+        out.clear();
+        for (std::size_t i = 0; i + 1 < on.size(); ++i)
+            for (int j = 0; j < perSegment_; ++j) {
+                Curve piece = c;
+                piece.vertices = {{on[i] + (on[i + 1] - on[i]) * (double(j) / perSegment_)},
+                                  {on[i] + (on[i + 1] - on[i]) * (double(j + 1) / perSegment_)}};
+                piece.start = out.empty() ? c.start : kNoElement;
+                piece.end = kNoElement;
+                out.push_back(std::move(piece));
+            }
+        if (!out.empty()) out.back().end = c.end;
+        return true;
+    }
+
+private:
+    int perSegment_;
+};
+
 }  // namespace lacet::test
