@@ -14,6 +14,7 @@
 #include "bench/bench_util.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
+#include "model/view_params.h"
 #include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
 #include "raster/tile_images.h"
@@ -251,7 +252,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--seed", o->seed, "Random seed of the synthetic scene and DEM");
     cmd->add_option("--curves", o->curves, "Target number of curves of the synthetic scene");
     cmd->add_option("--region", o->region, "X0,Y0,X1,Y1 in metres (default: the whole scene)")->delimiter(',');
-    cmd->add_option("--level", o->level, "Quadtree level of the tiles")->check(CLI::Range(0, 24));
+    cmd->add_option("--level", o->level, "Quadtree level of the tiles")->check(CLI::Range(0, ViewParams{}.maxLevel));
     cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");

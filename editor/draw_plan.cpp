@@ -1,6 +1,9 @@
 #include "editor/draw_plan.h"
 
 #include <algorithm>
+#include <stdexcept>
+
+#include "model/view_params.h"
 
 namespace lacet {
 namespace {
@@ -56,12 +59,12 @@ DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile
     PlanWalk{plan, tileOf, visible}.visit(tree.root(), nullptr, nullptr);
     for (DrawItem& item : plan.items)
         item.skirt = item.bounds.size().x * skirt.sizeFraction + skirt.slope * plan.coarsestAncestorDelta;
-    if (plan.deepest <= DrawPlan::kMaxZOrderLevel) {
-        plan.zStart.reserve(plan.items.size());
-        for (const DrawItem& item : plan.items) {
-            const auto [level, x, y] = item.leaf;
-            plan.zStart.push_back(interleave(x, y) << (2 * (plan.deepest - level)));
-        }
+    if (plan.deepest > ViewParams::kMaxLevel)
+        throw std::invalid_argument("makeDrawPlan(): the tree is deeper than ViewParams::kMaxLevel");
+    plan.zStart.reserve(plan.items.size());
+    for (const DrawItem& item : plan.items) {
+        const auto [level, x, y] = item.leaf;
+        plan.zStart.push_back(interleave(x, y) << (2 * (plan.deepest - level)));
     }
     return plan;
 }
@@ -83,11 +86,6 @@ const DrawItem* DrawPlan::itemAt(Vec2 p) const {
         const bool right = p.x >= mid.x, upper = p.y >= mid.y;
         b = Box{Vec2(right ? mid.x : b.min.x, upper ? mid.y : b.min.y), Vec2(right ? b.max.x : mid.x, upper ? b.max.y : mid.y)};
         x = 2 * x + std::uint32_t(right), y = 2 * y + std::uint32_t(upper);
-    }
-    if (zStart.empty()) {  // deeper than Z-order codes hold
-        for (const DrawItem& item : items)
-            if (inLeaf(item, x, y)) return &item;
-        return nullptr;
     }
     // The leaves tile the root in Z-order: the one over p is the last starting at or before p's code.
     const auto it = std::upper_bound(zStart.begin(), zStart.end(), interleave(x, y));

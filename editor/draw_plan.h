@@ -53,11 +53,11 @@ struct SkirtParams {
 struct DrawItem {
     QuadKey leaf;                      // the leaf
     Box bounds;                        // its square (metres)
-    QuadKey tileKey;                   // the quad whose tile stands for it (the leaf or an ancestor)
+    QuadKey tileKey;                   // the quad whose tile stands for it (the leaf or an ancestor; the leaf when none does)
     const CachedTile* tile = nullptr;  // that tile; nullptr: none yet (not drawn)
     bool visible = false;              // passed the frame's visibility test
     double skirt = 0.0;                // metres below the edges
-    bool ownTile() const { return tileKey == leaf; }
+    bool ownTile() const { return tile && tileKey == leaf; }
     bool drawn() const { return visible && tile; }
 };
 
@@ -75,10 +75,8 @@ struct DrawPlan {
     const DrawItem* itemAt(Vec2 p) const;
     void clear() { *this = DrawPlan{}; }
 
-    // For itemAt: the root's square, the deepest leaf's level, and each item's first Z-order code
-    // at that level (ascending; used while the deepest level is at most kMaxZOrderLevel, a linear
-    // search beyond).
-    static constexpr int kMaxZOrderLevel = 31;
+    // For itemAt: the root's square, the deepest leaf's level (at most ViewParams::kMaxLevel), and
+    // each item's first Z-order code at that level (ascending).
     Box rootBounds;
     int deepest = 0;
     std::vector<std::uint64_t> zStart;

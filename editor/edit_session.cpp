@@ -47,6 +47,7 @@ std::size_t elementsOf(const Quad& q) {
 
 EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(std::move(document)), params_(params) {
     if (!doc_.dem) throw std::invalid_argument("EditSession: the document has no DEM");
+    params_.view.validate();
     heights_ = std::make_unique<DemHeightField>(*doc_.dem);
     quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
@@ -152,6 +153,13 @@ bool EditSession::redo(CommandReport* report) {
 
 void EditSession::markSaved() { savedSerial_ = topSerial(); }
 
+void EditSession::setK(double K) {
+    ViewParams view = params_.view;
+    view.K = K;
+    view.validate();
+    params_.view = view;
+}
+
 void EditSession::setRefineParams(const RefineParams& refine) {
     params_.refine = refine;
     data_.reset();
@@ -241,6 +249,7 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     r.pending = needed.size() - r.produced;
     if (predicted && r.pending == 0) r.prefetched = prefetch(leaves.ahead, *predicted, budgetMs, t0);
     r.produceMs = msSince(t0);
+    plan_.clear();  // it points at tiles eviction may drop
     evict();
     r.cached = cache_.size();
     for (const auto& [key, t] : cache_) r.kept += t.lastUsed == clock_;

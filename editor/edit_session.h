@@ -110,6 +110,9 @@ public:
     // Marks the document as saved (by the caller, with io/scene_file.h: the session knows no file
     // format): modified() is false while the scene is in this state.
     void markSaved();
+    // Forgets the redo history (after a command group was taken back because it was refused: its
+    // undoing is no step of the user's to redo).
+    void forgetRedo() { undone_.clear(); }
 
     // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
     // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
@@ -121,7 +124,7 @@ public:
 
     // Accuracy knobs applied live: K takes effect at the next frame; new refinement parameters
     // rebuild the quadtree and drop every tile.
-    void setK(double K) { params_.view.K = K; }
+    void setK(double K);  // K > 0 (ViewParams), else std::invalid_argument and nothing changes
     void setRefineBudget(double ms) { params_.refineBudgetMs = ms; }
     void setRefineParams(const RefineParams& refine);
     // Hides a layer from the textures (its appearance and footprint) or shows it again: the tiles
@@ -143,8 +146,8 @@ public:
     // The height shown at p: z_m (bilinear) of the tile the plan draws over p; the DEM where it
     // has none (before the first frame, or where no tile is made yet).
     double displayedHeight(Vec2 p) const;
-    // The tile the plan draws over p and its quad (nullptr when an edit since the frame removed
-    // it); nullptr, nullptr where the plan draws no tile.
+    // The tile the plan draws over p and its quad in the tree (edits keep the tree's shape);
+    // nullptr, nullptr where the plan draws no tile.
     std::pair<const Quad*, const CachedTile*> tileAt(Vec2 p) const;
     const std::map<QuadKey, CachedTile>& tiles() const { return cache_; }
 

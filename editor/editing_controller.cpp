@@ -100,7 +100,7 @@ bool EditingController::redo() {
 bool EditingController::deleteSelection() {
     if (selected_.kind != Pick::Kind::Curve) return false;
     const bool done = execute(DeleteCurveCmd{selected_.layer, selected_.id});
-    if (done) selected_ = {};
+    selected_ = {};
     return done;
 }
 
@@ -132,8 +132,11 @@ bool EditingController::finishDrawing() {
     execute(AddCurveCmd{current_, c});
     session_.endGroup();
     if (session_.document().scene.layers[current_].curves.size() == curvesBefore) {
-        // The curve was refused (the message says why): take back the nodes made for it.
-        if (session_.undoDepth() > depthBefore) session_.undo(&lastCommand_);
+        // The curve was refused (the message says why): take back the nodes made for it, for good.
+        if (session_.undoDepth() > depthBefore) {
+            session_.undo(&lastCommand_);
+            session_.forgetRedo();
+        }
         return false;
     }
     selected_ = {Pick::Kind::Curve, current_, ElementId(curvesBefore), 0, 0.0};
@@ -233,8 +236,8 @@ bool EditingController::press(glm::dvec2 pixel) {
                 return true;
             }
             const std::size_t index = insertIndex(layer.curves[p.id], pixel);
-            if (execute(InsertVertexCmd{current_, p.id, index, Vertex{Vec2(at->x, at->y), true, false}}))
-                selected_ = {Pick::Kind::Curve, current_, p.id, 0, 0.0};
+            execute(InsertVertexCmd{current_, p.id, index, Vertex{Vec2(at->x, at->y), true, false}});
+            selected_ = {Pick::Kind::Curve, current_, p.id, 0, 0.0};
             return true;
         }
         case Tool::DeletePoint: {
@@ -323,7 +326,8 @@ const Overlay& EditingController::buildOverlay(std::size_t pointBudget) {
     return overlay_;
 }
 
-std::optional<glm::dvec3> groundAlongRay(const EditSession& session, const PickView& view, glm::dvec2 pixel, double stepMetres) {
+std::optional<glm::dvec3> groundAlongRay(const EditSession& session, const PickView& view, glm::dvec2 pixel,
+                                         const GroundRayParams& params) {
     const Ray ray = view.camera.ray(pixel.x, pixel.y, view.width, view.height);
     auto above = [&](double t) {
         const glm::dvec3 p = ray.origin + t * ray.direction;
@@ -332,11 +336,11 @@ std::optional<glm::dvec3> groundAlongRay(const EditSession& session, const PickV
     double t0 = view.clip.x, h0 = above(t0);
     if (!(h0 > 0.0)) return std::nullopt;  // the eye is under the surface, or the height is not a number
     while (t0 < view.clip.y) {
-        const double t1 = std::min(view.clip.y, t0 + std::max(stepMetres, 0.01 * t0));
+        const double t1 = std::min(view.clip.y, t0 + std::max(params.minStepMetres, params.stepFraction * t0));
         const double h1 = above(t1);
         if (h1 <= 0.0) {
             double lo = t0, hi = t1;  // above at lo, on or under at hi
-            while (hi - lo > 1e-3) {
+            while (hi - lo > params.precisionMetres) {
                 const double mid = 0.5 * (lo + hi);
                 (above(mid) > 0.0 ? lo : hi) = mid;
             }

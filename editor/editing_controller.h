@@ -101,7 +101,6 @@ public:
     NewCurveStyle newCurve;  // what the draw tool's curves get
     const std::vector<Vec2>& drawing() const { return drawn_; }
     const Pick& selection() const { return selected_; }
-    void clearSelection() { selected_ = dragging_ = {}; }
 
     // A command through the lock policy; false when refused (the message says why).
     bool execute(const Command& command, bool merge = false);
@@ -110,7 +109,7 @@ public:
     bool redo();
     const CommandReport& lastCommand() const { return lastCommand_; }
     std::size_t commands() const { return commands_; }
-    // Keys: Delete deletes the selected curve; Escape drops the curve being drawn, else the
+    // Keys: Delete deletes the selected curve (the selection is cleared either way); Escape drops the curve being drawn, else the
     // selection; Enter ends the curve being drawn (a curve of its points, joining the nodes it
     // was snapped to, made as one undo step; false when none was made).
     bool deleteSelection();
@@ -165,10 +164,17 @@ private:
     std::size_t commands_ = 0;
 };
 
+// How the ray through a pixel is marched to the displayed surface.
+struct GroundRayParams {
+    double minStepMetres = 1.0;     // the shortest step (m, > 0)
+    double stepFraction = 0.01;     // a step's length as a share of the distance along the ray (> 0)
+    double precisionMetres = 1e-3;  // where the crossing is bisected to (m, > 0)
+};
+
 // Where the ray through `pixel` first meets the session's displayed surface (nullopt: the sky, or
-// beyond the far plane): marched in steps of 1% of the distance (at least `stepMetres`), then
-// bisected to 1 mm.
+// beyond the far plane): marched in steps, then bisected. A ridge thinner than a step may be
+// crossed unseen.
 std::optional<glm::dvec3> groundAlongRay(const EditSession& session, const PickView& view, glm::dvec2 pixel,
-                                         double stepMetres = 1.0);
+                                         const GroundRayParams& params = {});
 
 }  // namespace lacet

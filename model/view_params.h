@@ -17,14 +17,17 @@
 // It must end where the parent's level begins, morphStart + morphWidth = 2 (morphEnd()), and start
 // after the leaf's own level begins, morphStart >= 1.
 
+#include <cmath>
+#include <stdexcept>
+
 namespace lacet {
 
 struct ViewParams {
     // Subdivide quads closer to the viewer than K times their size (dimensionless, > 0; the paper
     // uses 2.8). Larger K: finer quads at a given distance, more tiles to make.
     double K = 2.8;
-    // Deepest quadtree level (the root is level 0; >= 0). Level 24 is quads of about 6 mm over a
-    // 100 km scene, deeper than any view needs.
+    // Deepest quadtree level (the root is level 0; 0 to kMaxLevel). Level 24 is quads of about 6 mm
+    // over a 100 km scene, deeper than any view needs.
     int maxLevel = 24;
     // Where the geomorphing band starts, in units of K times the leaf size (in [1, 2)).
     double morphStart = 1.6;
@@ -33,6 +36,18 @@ struct ViewParams {
     double morphWidth = 0.4;
 
     double morphEnd() const { return morphStart + morphWidth; }
+
+    // Quads are numbered with 32-bit coordinates, and the draw plan (editor/draw_plan.h) orders
+    // leaves by 64-bit Z-order codes: 31 levels.
+    static constexpr int kMaxLevel = 31;
+
+    // Throws std::invalid_argument naming the knob out of its range.
+    void validate() const {
+        if (!(K > 0.0)) throw std::invalid_argument("ViewParams: K must be > 0");
+        if (maxLevel < 0 || maxLevel > kMaxLevel) throw std::invalid_argument("ViewParams: maxLevel must be in [0, 31]");
+        if (!(morphStart >= 1.0 && morphWidth > 0.0 && std::abs(morphEnd() - 2.0) < 1e-12))
+            throw std::invalid_argument("ViewParams: the morph band must start at or after 1 and end at 2 (morphStart + morphWidth)");
+    }
 };
 
 }  // namespace lacet

@@ -14,7 +14,7 @@ namespace lacet::appearance {
 // v (signed: > 0 on the left of the direction of travel), u of the nearest segment and the kCap
 // flag (nearest to a capped end, beyond it), for the pixels within `reach` metres and a pixel of
 // the polyline, and lists them as touched (the caller clears them). Among segments at the same
-// distance the first one wins. tests/raster/distance_field_reference_test.cpp holds it to every
+// distance the first one wins. tests/raster/appearance_curves_test.cpp holds it to every
 // segment measured at every pixel.
 void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach);
 

@@ -5,6 +5,9 @@
 #include "editor/draw_plan.h"
 
 #include <random>
+#include <vector>
+
+#include <glm/geometric.hpp>
 
 #include <gtest/gtest.h>
 
@@ -91,6 +94,43 @@ TEST(DrawPlan, EveryLeafDrawsItsNearestTiledAncestorAndLookupsAgreeWithTheTree) 
         }
     }
     EXPECT_GT(fallbacks, 0u);  // the budget left leaves drawn with an ancestor's tile
+}
+
+TEST(DrawPlan, AFullCacheDrawsAncestorsAndAnEditChangesNothingShownUntilTheNextFrame) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.view.maxLevel = 10;
+    params.cacheTiles = 30;  // far fewer than the view's leaves: ancestors stand in (editor/cache_fit.h)
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({22, 1500});
+    doc.dem = makeSyntheticDem(doc.scene, {22, 1000});
+    EditSession session(std::move(doc), params);
+    const Box ext = session.document().scene.extent;
+    const Vec2 c = ext.center();
+    session.frame({c.x, c.y, 5.0}, 0.0);
+    const DrawPlan& plan = session.plan();
+    EXPECT_GT(plan.fallback, 0u);
+    EXPECT_EQ(plan.missing, 0u);
+    // Heights shown over a grid of points, then a node near the centre moved by 20 m.
+    std::vector<Vec2> points;
+    std::vector<double> shown;
+    for (int j = 0; j <= 40; ++j)
+        for (int i = 0; i <= 40; ++i) {
+            points.push_back(ext.min + ext.size() * Vec2(i / 40.0, j / 40.0));
+            shown.push_back(session.displayedHeight(points.back()));
+        }
+    const Layer& roads = session.document().scene.layers[kRoadsLayer];
+    ElementId node = kNoElement;
+    for (ElementId n = 0; n < roads.nodes.size(); ++n)
+        if (roads.nodes[n].alive && (node == kNoElement || glm::length(roads.nodes[n].p - c) < glm::length(roads.nodes[node].p - c))) node = n;
+    ASSERT_NE(node, kNoElement);
+    const CommandReport r = session.execute(MoveNodeCmd{kRoadsLayer, node, roads.nodes[node].p + Vec2(20.0, 0.0)});
+    EXPECT_GT(r.dirtyTiles, 0u);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        EXPECT_EQ(session.displayedHeight(points[k]), shown[k]);
+        const auto [q, t] = session.tileAt(points[k]);
+        EXPECT_EQ(t, deepestTileOver(session, points[k]).second);
+    }
 }
 
 TEST(DrawPlan, AnEmptyPlanFindsNothingAndTheDisplayedHeightIsTheDem) {

@@ -61,7 +61,7 @@ struct Fixture {
     }
     const Layer& roads() const { return session.document().scene.layers[kRoadsLayer]; }
     // A pickable point of the overlay with no other pickable point within 3 pick radii.
-    const OverlayPoint& isolated(Pick::Kind kind) const {
+    OverlayPoint isolated(Pick::Kind kind) const {
         const std::vector<OverlayPoint>& pts = controller.overlay().points;
         for (const OverlayPoint& p : pts) {
             if (p.pick.kind != kind) continue;
@@ -79,7 +79,7 @@ struct Fixture {
 
 TEST(EditingController, PicksThePointUnderThePixelAndTheCurveUnderItsPolygon) {
     Fixture f;
-    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
     // The overlay's point is the vertex on the displayed ground (lifted a little above it), and its
     // pixel the camera's projection of it.
     EXPECT_EQ(Vec2(v.world), f.roads().curves[v.pick.id].vertices[v.pick.index].p);
@@ -96,7 +96,7 @@ TEST(EditingController, PicksThePointUnderThePixelAndTheCurveUnderItsPolygon) {
     }
     // Beyond the pick radius from every point and polygon: nothing.
     EXPECT_EQ(f.controller.pick(v.pixel + glm::dvec2(3.0 * kPickPixels, 0.0), true).kind, Pick::Kind::None);
-    const OverlayPoint& n = f.isolated(Pick::Kind::Node);
+    const OverlayPoint n = f.isolated(Pick::Kind::Node);
     EXPECT_EQ(f.controller.pick(n.pixel, true).kind, Pick::Kind::Node);
     EXPECT_EQ(f.controller.pick(n.pixel, true).id, n.pick.id);
     // The middle of a control polygon segment of the vertex's curve picks the curve (not a point).
@@ -113,8 +113,16 @@ TEST(EditingController, PicksThePointUnderThePixelAndTheCurveUnderItsPolygon) {
     // Another layer's points are drawn but not picked: the current layer decides.
     f.controller.setCurrentLayer(kRiversLayer);
     f.controller.buildOverlay();
+    bool drawn = false;
+    for (const OverlayPoint& p : f.controller.overlay().points)
+        if (Vec2(p.world) == Vec2(v.world) && p.style == v.style) {
+            drawn = true;
+            EXPECT_FALSE(p.current);
+            EXPECT_EQ(p.pick.kind, Pick::Kind::None);
+        }
+    EXPECT_TRUE(drawn);
     const Pick other = f.controller.pick(v.pixel, false);
-    EXPECT_TRUE(other.kind == Pick::Kind::None || other.layer == kRiversLayer);
+    EXPECT_FALSE(other.kind == Pick::Kind::Vertex && other.layer == kRoadsLayer);
 }
 
 TEST(EditingController, TheGroundUnderAPixelProjectsBackToItOnTheDisplayedSurface) {
@@ -141,7 +149,7 @@ TEST(EditingController, TheGroundUnderAPixelProjectsBackToItOnTheDisplayedSurfac
 
 TEST(EditingController, ALockedLayerRefusesEveryEditButNotTheHistory) {
     Fixture f;
-    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
     const Vec2 before = f.roads().curves[v.pick.id].vertices[v.pick.index].p;
     // An edit made before the lock can still be undone.
     ASSERT_TRUE(f.controller.execute(MoveVertexCmd{kRoadsLayer, v.pick.id, v.pick.index, before + Vec2(5.0, 0.0)}));
@@ -182,7 +190,7 @@ TEST(EditingController, ALockedLayerRefusesEveryEditButNotTheHistory) {
 
 TEST(EditingController, ADragMovesThePointOntoTheGroundAsOneUndoStep) {
     Fixture f;
-    const OverlayPoint& v = f.isolated(Pick::Kind::Vertex);
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
     const Vec2 before = f.roads().curves[v.pick.id].vertices[v.pick.index].p;
     const std::size_t depth = f.session.undoDepth();
     ASSERT_TRUE(f.controller.press(v.pixel));
@@ -205,7 +213,7 @@ TEST(EditingController, ADragMovesThePointOntoTheGroundAsOneUndoStep) {
 
 TEST(EditingController, TheDrawToolMakesOneCurveThroughTheClicksJoiningASnappedNode) {
     Fixture f;
-    const OverlayPoint& n = f.isolated(Pick::Kind::Node);
+    const OverlayPoint n = f.isolated(Pick::Kind::Node);
     const std::size_t degree = f.roads().nodes[n.pick.id].curves.size();
     const std::size_t nodes = f.roads().nodes.size(), curves = f.roads().curves.size(), depth = f.session.undoDepth();
     f.controller.setTool(Tool::Draw);
@@ -247,6 +255,69 @@ TEST(EditingController, TheDrawToolMakesOneCurveThroughTheClicksJoiningASnappedN
     f.controller.press(clicks[2]);
     f.controller.cancel();
     EXPECT_TRUE(f.controller.drawing().empty());
+}
+
+TEST(EditingController, InsertAndDeletePointToolsEditThePickedCurve) {
+    Fixture f;
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
+    const Curve before = f.roads().curves[v.pick.id];
+    // Insert: a click on the control polygon, away from its points, adds an on-curve vertex there,
+    // before the end of the nearest segment.
+    const Curve& c = f.roads().curves[v.pick.id];
+    const auto a = f.controller.project(f.controller.groundPoint(c.vertices[v.pick.index].p));
+    const auto b = f.controller.project(f.controller.groundPoint(c.vertices[v.pick.index + 1].p));
+    ASSERT_TRUE(a && b);
+    ASSERT_GT(glm::length(*b - *a), 4.0 * kPickPixels) << "the segment is too short on screen to click between its points";
+    const glm::dvec2 mid = 0.5 * (*a + *b);
+    f.controller.setTool(Tool::Insert);
+    ASSERT_TRUE(f.controller.press(mid));
+    const Curve& inserted = f.roads().curves[v.pick.id];
+    ASSERT_EQ(inserted.vertices.size(), before.vertices.size() + 1);
+    const auto g = f.controller.groundAt(mid);
+    ASSERT_TRUE(g);
+    EXPECT_EQ(inserted.vertices[v.pick.index + 1].p, Vec2(g->x, g->y));
+    EXPECT_TRUE(inserted.vertices[v.pick.index + 1].onCurve);
+    EXPECT_EQ(f.controller.selection().id, v.pick.id);
+    ASSERT_TRUE(f.controller.undo());
+    // A click on the ground with the insert tool inserts nothing, and says so.
+    f.controller.press(mid + glm::dvec2(3.0 * kPickPixels, 3.0 * kPickPixels));
+    EXPECT_EQ(f.roads().curves[v.pick.id].vertices.size(), before.vertices.size());
+    EXPECT_EQ(f.messages.back(), "Insert: click on a curve of the current layer");
+    // Delete point: the picked inner vertex goes (or the edit is refused, with a message, when the
+    // curve cannot lose it); nothing else changes.
+    f.controller.buildOverlay();
+    f.controller.setTool(Tool::DeletePoint);
+    const std::size_t messages = f.messages.size();
+    f.controller.press(v.pixel);
+    const Curve& after = f.roads().curves[v.pick.id];
+    if (after.vertices.size() == before.vertices.size()) {
+        ASSERT_GT(f.messages.size(), messages);
+        EXPECT_EQ(f.messages.back().rfind("Refused: ", 0), 0u);
+    } else {
+        ASSERT_LT(after.vertices.size(), before.vertices.size());
+        for (const Vertex& w : after.vertices) EXPECT_NE(w.p, before.vertices[v.pick.index].p);
+        ASSERT_TRUE(f.controller.undo());
+        EXPECT_EQ(f.roads().curves[v.pick.id].vertices.size(), before.vertices.size());
+    }
+}
+
+TEST(EditingController, ARefusedDrawnCurveTakesBackItsNodesForGood) {
+    Fixture f;
+    const std::size_t nodes = f.roads().nodes.size(), curves = f.roads().curves.size(), depth = f.session.undoDepth();
+    f.controller.setTool(Tool::Draw);
+    // A negative width, which the model refuses (after the nodes of the curve's ends were made).
+    f.controller.newCurve.width = -1.0f;
+    f.controller.press({450.0, 500.0});
+    f.controller.press({550.0, 520.0});
+    ASSERT_EQ(f.controller.drawing().size(), 2u);
+    EXPECT_FALSE(f.controller.finishDrawing());
+    ASSERT_FALSE(f.messages.empty());
+    EXPECT_EQ(f.messages.back().rfind("Refused: ", 0), 0u) << f.messages.back();
+    EXPECT_EQ(f.roads().curves.size(), curves);
+    EXPECT_EQ(f.roads().nodes.size(), nodes);
+    EXPECT_EQ(f.session.undoDepth(), depth);
+    EXPECT_EQ(f.session.redoDepth(), 0u);  // redo cannot bring the orphan nodes back
+    EXPECT_FALSE(f.controller.redo());
 }
 
 TEST(DrawCurve, PassesThroughEveryPointWithAContinuousTangent) {
