@@ -1,8 +1,8 @@
 #pragma once
 // What a frame shows (§8 of the paper: the terrain is drawn leaf by leaf with each quad's
 // textures, an ancestor's while a quad's own are being made): the one place that decides which
-// tile stands for each leaf. EditSession::frame() makes the plan after it has made the frame's
-// tiles; the renderer uploads and draws it and decides nothing; the height shown at a point
+// tile stands for each leaf. The session (EditSession::plan()) makes the plan from the tree and
+// the tiles frame() left; the renderer uploads and draws it and decides nothing; the height shown at a point
 // (EditSession::displayedHeight, what picks and the overlay stand on) reads the same plan.
 //
 // A plan lists every leaf of the quadtree, the view's and the others (culled, or beyond the view),

@@ -16,9 +16,10 @@
 // neither shows nor keeps as an ancestor's is dropped (nothing would make it again).
 //
 // Visibility: frame() takes a predicate (the window's frustum test) and makes only the visible
-// leaves' tiles. The draw plan: frame() ends by deciding what is drawn (editor/draw_plan.h):
-// each leaf with the tile that stands for it, its own or, while it is made, its nearest
-// ancestor's; the renderer draws that plan, and the displayed height reads it.
+// leaves' tiles. The draw plan: the session decides what a frame draws (editor/draw_plan.h, made
+// from what frame() left when first read): each leaf with the tile that stands for it, its own
+// or, while it is made, its nearest ancestor's; the renderer draws that plan, and the displayed
+// height reads it.
 // Prefetching: frame() may be given the viewer predicted a little later on its path (§8); with
 // budget left once the view is complete, it makes the tiles that viewer will need, within the
 // cache's room.
@@ -139,10 +140,12 @@ public:
     const Quadtree& quadtree() const { return *quadtree_; }
     const CurveDataCache& curveData() const { return *data_; }
     const CachedTile* tile(const QuadKey& key) const;
-    // What the last frame drew (editor/draw_plan.h): every leaf with the tile standing for it.
-    // Valid until the next frame() or setRefineParams(); edits in between keep it (they mark
-    // tiles dirty and drop none).
-    const DrawPlan& plan() const { return plan_; }
+    // What the last frame draws (editor/draw_plan.h): every leaf with the tile standing for it,
+    // made from the tree and the cache as frame() left them (and the visibility test it was
+    // given, kept until the next frame) when first read. Edits in between change neither: they
+    // keep the tree's shape and mark tiles dirty without dropping any. Valid until the next
+    // frame() or setRefineParams(). Not for concurrent first reads.
+    const DrawPlan& plan() const;
     // The height shown at p: z_m (bilinear) of the tile the plan draws over p; the DEM where it
     // has none (before the first frame, or where no tile is made yet).
     double displayedHeight(Vec2 p) const;
@@ -187,7 +190,9 @@ private:
     std::vector<Done> done_;
     std::vector<Done> undone_;  // command, group and serial kept for redo
     std::map<QuadKey, CachedTile> cache_;
-    DrawPlan plan_;
+    mutable DrawPlan plan_;
+    mutable bool planPending_ = false;  // frame() ran since the plan was made
+    QuadVisibility planVisible_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
     ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time
