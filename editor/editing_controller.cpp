@@ -20,6 +20,9 @@ LayerId layerOf(const Command& c) {
 constexpr double kOverlayMarginPixels = 20.0;
 // Overlay lines and points hang this far above the displayed ground (metres), above the surface.
 constexpr double kOverlayLiftMetres = 0.5;
+// The overlay shows curves with a vertex within this many viewer heights plus this many metres of
+// where the camera looks.
+constexpr double kOverlayRadiusHeights = 4.0, kOverlayRadiusMetres = 400.0;
 
 }  // namespace
 
@@ -284,7 +287,7 @@ const Overlay& EditingController::buildOverlay(std::size_t pointBudget) {
     const Scene& scene = session_.document().scene;
     const Camera& camera = view_.camera;
     const glm::dvec3 eye = camera.position();
-    const double radius = 4.0 * viewerHeight() + 400.0;
+    const double radius = kOverlayRadiusHeights * viewerHeight() + kOverlayRadiusMetres;
     const Vec2 centre = camera.fly ? Vec2(eye.x, eye.y) : Vec2(camera.target.x, camera.target.y);
     auto near = [&](const Curve& c) {
         return std::any_of(c.vertices.begin(), c.vertices.end(), [&](const Vertex& v) { return glm::length(v.p - centre) < radius; });
