@@ -238,17 +238,17 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     refine(viewer, predicted, r);
     if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
-    const FrameLeaves leaves = collectLeaves(viewer, predicted, visible, r);
+    FrameLeaves leaves = collectLeaves(viewer, predicted, visible, r);
     const CacheFit fit = fitToCache(leaves.view, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
     r.shown = fit.shown.size();
     r.replaced = fit.replaced.size();
     std::vector<const Quad*> needed = keepShown(fit);
-    if (predicted) keepMadeAhead(leaves.madeAhead, fit.kept, *predicted);
+    if (predicted) keepMadeAhead(std::move(leaves.madeAhead), fit.kept, *predicted);
     std::stable_sort(needed.begin(), needed.end(), nearestFirst(viewer));
     const auto t0 = Clock::now();
     r.produced = produce(needed, budgetMs, t0);
     r.pending = needed.size() - r.produced;
-    if (predicted && r.pending == 0) r.prefetched = prefetch(leaves.ahead, *predicted, budgetMs, t0);
+    if (predicted && r.pending == 0) r.prefetched = prefetch(std::move(leaves.ahead), *predicted, budgetMs, t0);
     r.produceMs = msSince(t0);
     plan_.clear();  // it points at tiles eviction may drop
     planPending_ = false;

@@ -27,6 +27,7 @@
 // Undo granularity: a drag is many commands merged into one undo step (execute(cmd, merge)),
 // and a compound edit (a new road: its nodes, then its curve) is one group.
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -149,6 +150,9 @@ public:
     // The height shown at p: z_m (bilinear) of the tile the plan draws over p; the DEM where it
     // has none (before the first frame, or where no tile is made yet).
     double displayedHeight(Vec2 p) const;
+    // How high a viewer at `eye` is above the displayed ground (metres, at least 1: the K rule
+    // and the clip range need a positive height).
+    double heightAboveGround(glm::dvec3 eye) const { return std::max(1.0, eye.z - displayedHeight({eye.x, eye.y})); }
     // The tile the plan draws over p and its quad in the tree (edits keep the tree's shape);
     // nullptr, nullptr where the plan draws no tile.
     std::pair<const Quad*, const CachedTile*> tileAt(Vec2 p) const;

@@ -154,10 +154,7 @@ std::optional<glm::dvec3> EditingController::groundAt(glm::dvec2 pixel) const {
     return view_.ground ? view_.ground(pixel) : groundAlongRay(session_, view_, pixel);
 }
 
-double EditingController::viewerHeight() const {
-    const glm::dvec3 eye = view_.camera.position();
-    return std::max(1.0, eye.z - session_.displayedHeight({eye.x, eye.y}));
-}
+double EditingController::viewerHeight() const { return session_.heightAboveGround(view_.camera.position()); }
 
 bool EditingController::pickable(const Pick& p) const {
     if (p.layer != current_) return false;

@@ -158,10 +158,7 @@ void EditorApp::status(const std::string& message) {
 
 std::optional<glm::dvec2> EditorApp::project(glm::dvec3 world) const { return camera_.project(world, width_, height_, clip_); }
 
-double EditorApp::viewerHeight() const {
-    const glm::dvec3 eye = camera_.position();
-    return std::max(1.0, eye.z - session_->displayedHeight({eye.x, eye.y}));
-}
+double EditorApp::viewerHeight() const { return session_->heightAboveGround(camera_.position()); }
 
 PickView EditorApp::pickView() const {
     PickView v;
