@@ -17,7 +17,9 @@ std::string_view toString(LayerKind kind) {
 }
 
 ElementId Layer::addNode(Vec2 p) {
-    nodes.push_back(Node{p, {}, true});
+    Node n;
+    n.p = p;
+    nodes.push_back(std::move(n));
     return ElementId(nodes.size() - 1);
 }
 
