@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "model/roundabouts.h"
 #include "model/validate.h"
 
 namespace lacet {
@@ -276,6 +277,16 @@ Changeset setAreaFootprint(Scene& s, LayerId layer, ElementId area, float wf) {
     Changeset cs;
     cs.modify({layer, ElementKind::Area, area});
     return cs;
+}
+
+Changeset setNodeRoundabout(Scene& s, LayerId layer, ElementId node, float radius) {
+    Node& n = liveNode(s, layer, node);
+    if (auto reason = roundaboutRefusal(s, layer, node, radius)) throw EditError(name(s, layer, "node", node) + ": " + *reason);
+    n.roundabout = radius;
+    Changeset cs;
+    cs.modify({layer, ElementKind::Node, node});
+    for (ElementId id : n.curves) cs.modify({layer, ElementKind::Curve, id});
+    return done(cs);
 }
 
 }  // namespace lacet

@@ -44,5 +44,9 @@ Changeset setCurveWidth(Scene& s, LayerId layer, ElementId curve, float w, float
 Changeset setCurveClass(Scene& s, LayerId layer, ElementId curve, std::uint16_t cls);
 Changeset setAreaClass(Scene& s, LayerId layer, ElementId area, std::uint16_t cls);
 Changeset setAreaFootprint(Scene& s, LayerId layer, ElementId area, float wf);
+// Sets the radius (m) of the roundabout at a node of a Roads layer (§4.3, Fig. 5 right; 0 removes
+// it). A radius that does not fit (roundaboutRefusal(), model/roundabouts.h) throws EditError with
+// the reason. Reports the node and every curve at it as modified: their expansions change.
+Changeset setNodeRoundabout(Scene& s, LayerId layer, ElementId node, float radius);
 
 }  // namespace lacet
