@@ -14,6 +14,7 @@
 #include "bench/bench_util.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
+#include "model/graph_step.h"
 #include "model/view_params.h"
 #include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
@@ -178,7 +179,8 @@ void run(const RenderOptions& o) {
     const double prepareMs = msSince(t0);
 
     TerminalProgress progress;
-    Quadtree qt(scene, refine);
+    GraphStep graphStep(scene);  // bridges and roundabouts (§4.3)
+    Quadtree qt(scene, refine, &graphStep);
     std::vector<const Quad*> quads;
     quads.reserve(std::size_t(plan.tiles()));
     t0 = Clock::now();
@@ -240,7 +242,11 @@ void run(const RenderOptions& o) {
               << appearanceCounters.curvesWithMarkings << ", markings below a texel " << appearanceCounters.markingsBelowTexel
               << ", area pieces " << appearanceCounters.areaPieces << ", triangles " << appearanceCounters.triangles
               << ", water texels " << appearanceCounters.waterTexels << ", u tables computed "
-              << data.counters().arcLengthTables << "\n";
+              << data.counters().arcLengthTables << "; graph step: crossings tested " << graphStep.counters().crossingsTested
+              << ", found " << graphStep.counters().crossingsFound << ", bridges made " << graphStep.counters().bridgesMade
+              << ", imported bridges " << graphStep.counters().importedBridges << ", roads at roundabouts "
+              << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
+              << counters.curvesOnStructures << "\n";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "bench/bench_util.h"
 #include "io/scene_file.h"
+#include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "model/validate.h"
 #include "synth/synthetic_dem.h"
@@ -63,7 +64,8 @@ void run(const SynthOptions& o) {
                           {"generate_ms", synthMs}};
     if (o.altitude > 0.0) {
         t0 = Clock::now();
-        Quadtree qt(s);
+        GraphStep qtStep(s);
+        Quadtree qt(s, {}, &qtStep);
         const Vec2 centre = s.extent.center();
         qt.refineForViewer({centre.x, centre.y, o.altitude}, o.view);
         const double buildMs = msSince(t0);

@@ -2,6 +2,7 @@
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "synth/synthetic_scene.h"
 
@@ -47,7 +48,8 @@ nlohmann::json benchAccuracy(const std::vector<double>& tolerancesTexels, std::s
         Error err;
         for (int rep = 0; rep < kRepetitions; ++rep) {
             const auto t0 = Clock::now();
-            Quadtree qt(s, params);
+            GraphStep qtStep(s);
+            Quadtree qt(s, params, &qtStep);
             qt.refineForViewer({c.x, c.y, 10.0}, view);
             times.push_back(msSince(t0));
             if (rep > 0) continue;

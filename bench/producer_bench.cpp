@@ -7,6 +7,7 @@
 
 #include <tbb/task_arena.h>
 
+#include "model/graph_step.h"
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
 #include "io/scene_file.h"
@@ -51,7 +52,8 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
     const Dem& dem = *doc.dem;
     const double demMs = msSince(t0);
     const DemHeightField heights(dem);
-    Quadtree qt(scene);
+    GraphStep qtStep(scene);
+    Quadtree qt(scene, {}, &qtStep);
     CurveDataCache data(qt, heights);
     const AppearanceParams ap;
     const ElevationParams ep;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <tuple>
 
+#include "model/graph_step.h"
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
 #include "raster/appearance_producer.h"
@@ -99,7 +100,8 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
     const DemHeightField heights(dem);
     std::vector<Key> keys;
     {
-        Quadtree qt(scene);
+        GraphStep qtStep(scene);
+        Quadtree qt(scene, {}, &qtStep);
         keys = viewQuads(qt, scene, views, 8, 12);
     }
     nlohmann::json out;
@@ -108,7 +110,8 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
 
     // Anti-aliasing: samples per texel axis at 256, against 8 x 8.
     {
-        Quadtree qt(scene);
+        GraphStep qtStep(scene);
+        Quadtree qt(scene, {}, &qtStep);
         std::vector<const Quad*> quads;
         for (const Key& k : keys) quads.push_back(reach(qt, k));
         CurveDataCache data(qt, heights);
@@ -146,7 +149,8 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
     {
         constexpr int kReference = 1536;
         auto produceAt = [&](int resolution, std::vector<double>* times) {
-            Quadtree qt(scene, RefineParams{{.resolution = resolution}});
+            GraphStep qtStep(scene);
+            Quadtree qt(scene, RefineParams{{.resolution = resolution}}, &qtStep);
             std::vector<const Quad*> quads;
             for (const Key& k : keys) quads.push_back(reach(qt, k));
             CurveDataCache data(qt, heights);
@@ -181,7 +185,8 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
     // Error: max |z_m - reference| over the elevation tiles of the quads, and the largest
     // difference between the profiles themselves, sampled every metre.
     {
-        Quadtree qt(scene);
+        GraphStep qtStep(scene);
+        Quadtree qt(scene, {}, &qtStep);
         std::vector<const Quad*> quads;
         for (const Key& k : keys) quads.push_back(reach(qt, k));
         std::vector<std::pair<LayerId, ElementId>> curvesWithProfiles;

@@ -5,6 +5,7 @@
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "model/graph_step.h"
 #include "model/edits.h"
 #include "model/quadtree.h"
 #include "synth/random_edits.h"
@@ -38,7 +39,8 @@ Target roadControlPointNearCentre(const Scene& s) {
 // Times the subdivision of every internal quad of `like` in a fresh tree, per child quad, by the
 // level of the children made.
 std::map<int, std::vector<double>> timeClipAndRefineByLevel(const Scene& s, const Quadtree& like) {
-    Quadtree fresh(s);
+    GraphStep freshStep(s);
+    Quadtree fresh(s, {}, &freshStep);
     std::map<int, std::vector<double>> byLevel;
     auto rec = [&](auto& self, Quad& q, const Quad& l) -> void {
         if (l.isLeaf()) return;
@@ -66,7 +68,8 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
         const Target target = roadControlPointNearCentre(s);
         const Vec2 at = s.layers[kRoadsLayer].curves[target.curve].vertices[target.vertex].p;
         t0 = Clock::now();
-        Quadtree qt(s);
+        GraphStep qtStep(s);
+        Quadtree qt(s, {}, &qtStep);
         qt.refineForViewer({at.x, at.y, altitude}, view);
         const double buildMs = msSince(t0);
         std::mt19937_64 rng(seed);
@@ -82,7 +85,8 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
         }
         t0 = Clock::now();
         {
-            Quadtree rebuilt(s);
+            GraphStep rebuiltStep(s);
+            Quadtree rebuilt(s, {}, &rebuiltStep);
             rebuilt.copyStructureOf(qt);
         }
         const double rebuildMs = msSince(t0);

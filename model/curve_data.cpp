@@ -1,5 +1,7 @@
 #include "model/curve_data.h"
 
+#include "model/graph_step.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iterator>
@@ -45,6 +47,10 @@ double ZProfile::at(double u) const {
 
 CurveDataCache::CurveDataCache(const Quadtree& quadtree, const HeightField& heights, ZProfileParams params)
     : quadtree_(quadtree), heights_(heights), params_(params) {
+    if (const auto* step = dynamic_cast<const GraphStep*>(quadtree.procedural())) {
+        deckClearance_ = step->params().clearance;
+        deckThickness_ = step->params().deckThickness;
+    }
     if (!(params_.sampleSpacing > 0.0) || !(params_.kernelRadius >= 0.0) || !(params_.arcLengthTolerance > 0.0))
         throw std::invalid_argument("CurveDataCache: sample spacing and arc-length tolerance must be > 0, kernel radius >= 0");
 }
@@ -74,7 +80,43 @@ double CurveDataCache::u(LayerId layer, AncestorId ancestor, double s) const {
 double CurveDataCache::length(LayerId layer, AncestorId ancestor) const { return arc(layer, ancestor).start.back(); }
 
 double CurveDataCache::localNodeHeight(LayerId layer, ElementId node) const {
-    const Vec2 c = quadtree_.scene().layers[layer].nodes[node].p;
+    const Layer& l = quadtree_.scene().layers[layer];
+    const Vec2 c = l.nodes[node].p;
+    if (l.kind == LayerKind::Rivers) {
+        // A river lies on the valley floor: its node is as low as the lowest terrain at it and
+        // along the river reaches that flow into it, within kernelRadius (arc length) upstream,
+        // sampled every sampleSpacing / 4 at most. A mean over a disc counted the valley's sides
+        // and lifted the river above its bed (and the downstream clamp carried that height down
+        // the river); the reaches downstream are left out, being lower only because the river
+        // descends (their minimum would sink the node by the slope times kernelRadius). So the
+        // height depends on the node and the curves ending there, which is what invalidate()
+        // drops for a river edit (the node and everything downstream of it).
+        constexpr double kSamplesPerSpacing = 4.0;
+        const double step = params_.sampleSpacing / kSamplesPerSpacing;
+        double lowest = heights_.height(c);
+        for (ElementId id : l.nodes[node].curves) {
+            const Curve& cv = l.curves[id];
+            if (!cv.alive || cv.end != node || !cv.areas.empty()) continue;  // an area's border is not a river
+            std::vector<BezierPiece> pieces;
+            forEachPiece(cv.vertices, [&](const BezierPiece& b, std::size_t) { pieces.push_back(b); });
+            // Walk up the curve from its end, kernelRadius at most.
+            double walked = 0.0;
+            Vec2 prev = c;
+            bool within = true;
+            for (std::size_t k = pieces.size(); k-- > 0 && within;) {
+                const BezierPiece b = pieces[k].reversed();
+                const int n = std::max(1, int(std::ceil(arcLength(b, step) / step)));
+                for (int i = 1; i <= n && within; ++i) {
+                    const Vec2 p = evaluate(b, double(i) / n);
+                    walked += glm::length(p - prev);
+                    prev = p;
+                    within = walked <= params_.kernelRadius;
+                    if (within) lowest = std::min(lowest, heights_.height(p));
+                }
+            }
+        }
+        return lowest;
+    }
     double sum = heights_.height(c);
     int n = 1;
     for (double r : {0.5 * params_.kernelRadius, params_.kernelRadius}) {
@@ -107,6 +149,82 @@ double CurveDataCache::nodeHeight(LayerId layer, ElementId node) const {
 }
 
 std::unique_ptr<ZProfile> CurveDataCache::computeProfile(LayerId layer, AncestorId ancestor) const {
+    if (const ProceduralCurve* pc = quadtree_.proceduralCurve(layer, ancestor)) return proceduralProfile(layer, ancestor, *pc);
+    auto prof = terrainProfile(layer, ancestor);
+    if (quadtree_.ancestorCurve(layer, ancestor).flags & kBridge) liftDeck(layer, ancestor, {}, *prof);
+    return prof;
+}
+
+std::unique_ptr<ZProfile> CurveDataCache::proceduralProfile(LayerId layer, AncestorId ancestor, const ProceduralCurve& pc) const {
+    const double len = length(layer, ancestor);
+    auto prof = std::make_unique<ZProfile>();
+    prof->length = len;
+    const auto n = std::size_t(std::max(1.0, std::ceil(len / params_.sampleSpacing))) + 1;
+    prof->spacing = len / double(n - 1);
+    prof->z.resize(n);
+    if (pc.followsRoot()) {
+        // The part of the root curve's profile it follows, so that the pieces of a road meet at one
+        // height (their arc lengths agree with the root's within the arc-length tolerance).
+        const ElementId root = rootCurveOf(ancestor);
+        const ZProfile& rp = zProfile(layer, root);
+        const double u0 = u(layer, root, pc.rootS0), u1 = u(layer, root, pc.rootS1);
+        for (std::size_t i = 0; i < n; ++i) prof->z[i] = rp.at(u0 + (u1 - u0) * double(i) / double(n - 1));
+    } else {
+        // A ring arc: level with its node.
+        const ElementId node = pc.ringAtStart != kNoElement ? pc.ringAtStart : pc.ringAtEnd;
+        std::fill(prof->z.begin(), prof->z.end(), node != kNoElement ? nodeHeight(layer, node) : 0.0);
+    }
+    // A road trimmed at a ring meets it at the ring's (its node's) height.
+    const double reach = std::min(params_.kernelRadius, 0.5 * len);
+    for (const auto& [node, atStart] : {std::pair{pc.ringAtStart, true}, std::pair{pc.ringAtEnd, false}}) {
+        if (node == kNoElement || !pc.followsRoot() || reach <= 0.0) continue;
+        const double d = nodeHeight(layer, node) - (atStart ? prof->z.front() : prof->z.back());
+        for (std::size_t i = 0; i < n; ++i) {
+            const double ui = prof->spacing * double(i);
+            prof->z[i] += d * std::max(0.0, 1.0 - (atStart ? ui : len - ui) / reach);
+        }
+    }
+    if (pc.curve.flags & kBridge) liftDeck(layer, ancestor, pc.spans, *prof);
+    return prof;
+}
+
+void CurveDataCache::liftDeck(LayerId layer, AncestorId ancestor, std::span<const BridgeSpan> spans, ZProfile& prof) const {
+    // A deck runs straight between its ends (where it meets the road on the ground), never under
+    // the terrain profile it replaces, and rises where it must to clear what it spans: over each
+    // span's crossed footprint (u +- halfLength) its road surface stands `clearance` plus the deck's
+    // thickness above the crossed curve's profile, easing back to the straight line at the ends.
+    auto& z = prof.z;
+    const std::size_t n = z.size();
+    if (n < 2) return;
+    const double len = prof.length;
+    const std::vector<double> ground = z;
+    for (std::size_t i = 0; i < n; ++i) z[i] = ground.front() + (ground.back() - ground.front()) * double(i) / double(n - 1);
+    std::vector<double> lift(n, 0.0);
+    for (const BridgeSpan& sp : spans) {
+        const ZProfile& over = zProfile(sp.layer, sp.over);
+        {
+            std::lock_guard lock(mutex_);
+            readers_[Key{sp.layer, sp.over}].insert(Key{layer, ancestor});
+        }
+        const double ou = u(sp.layer, sp.over, sp.overS);
+        const double overHalf = sp.halfLength;
+        double water = -INFINITY;  // the crossed profile's highest point across its footprint
+        for (double d : {-params_.sampleSpacing, 0.0, params_.sampleSpacing}) water = std::max(water, over.at(ou + d));
+        const double need = water + deckClearance_ + deckThickness_;
+        const double a = std::max(0.0, sp.u - overHalf), b = std::min(len, sp.u + overHalf);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double ui = prof.spacing * double(i);
+            // 1 over [a, b], easing (cosine) to 0 at the deck's ends.
+            double w = 1.0;
+            if (ui < a) w = a > 0.0 ? 0.5 - 0.5 * std::cos(std::numbers::pi * ui / a) : 1.0;
+            if (ui > b) w = len > b ? 0.5 - 0.5 * std::cos(std::numbers::pi * (len - ui) / (len - b)) : 1.0;
+            lift[i] = std::max(lift[i], w * std::max(0.0, need - z[i]));
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) z[i] = std::max(z[i] + lift[i], ground[i]);
+}
+
+std::unique_ptr<ZProfile> CurveDataCache::terrainProfile(LayerId layer, AncestorId ancestor) const {
     const Curve& c = quadtree_.ancestorCurve(layer, ancestor);
     const Arc& a = arc(layer, ancestor);
     // Flatten, then place samples at regular arc length along the polyline.
@@ -204,6 +322,14 @@ void CurveDataCache::dropCurve(LayerId layer, ElementId curve, bool arcs, std::v
         it = arcs_.count(*it) || profiles_.count(*it) ? std::next(it) : procedural_.erase(it);
     }
     if (profile) dropped.push_back({layer, ElementKind::Curve, curve});
+    // Decks whose height read this curve's profile (a bridge over a river downstream of an edit).
+    const auto readers = readers_.find(Key{layer, curve});
+    if (readers != readers_.end()) {
+        const std::set<Key> decks = std::move(readers->second);
+        readers_.erase(readers);
+        for (const Key& k : decks)
+            if (profiles_.erase(k) > 0) dropped.push_back({k.layer, ElementKind::Curve, rootCurveOf(k.id)});
+    }
 }
 
 void CurveDataCache::dropDownstream(LayerId layer, ElementId node, std::vector<ElementRef>& dropped) {

@@ -15,7 +15,14 @@
 // - rivers (LayerKind::Rivers) flow from start to end and never rise: a river node is no higher
 //   than any river node upstream of it, and the profile is the running minimum clamped between its
 //   end nodes' heights;
-// - lakes (areas of LayerKind::Lakes) are flat at the lowest height of their border.
+// - lakes (areas of LayerKind::Lakes) are flat at the lowest height of their border;
+// - a procedural curve (model/procedural.h) follows the part of its root curve's profile it was
+//   cut from, so a road's pieces meet at one height; a road trimmed at a roundabout meets the ring
+//   at its node's height, and a ring arc is level with it;
+// - a bridge (kBridge) runs straight between its ends, never under the terrain profile it
+//   replaces, and rises where it must so that its underside (road surface less the graph step's
+//   deckThickness) stands `clearance` above the profile of every curve it spans; when that
+//   profile is dropped (an edit upstream of a river), the deck's is dropped with it.
 //
 // Order of calls: construct over a Quadtree (for ancestor curves) and a HeightField; ask u(),
 // zProfile(), nodeHeight(), lakeLevel() from any number of threads; after each edit call
@@ -107,6 +114,12 @@ private:
     const Arc& arc(LayerId layer, AncestorId ancestor) const;
     double localNodeHeight(LayerId layer, ElementId node) const;
     std::unique_ptr<ZProfile> computeProfile(LayerId layer, AncestorId ancestor) const;
+    // The terrain under the curve, smoothed, pulled to its node heights (rivers never rising).
+    std::unique_ptr<ZProfile> terrainProfile(LayerId layer, AncestorId ancestor) const;
+    // A procedural curve's: the part of its root's profile it follows (or its ring's height),
+    // met by the ring's height at a trimmed end, lifted over its spans for a bridge.
+    std::unique_ptr<ZProfile> proceduralProfile(LayerId layer, AncestorId ancestor, const ProceduralCurve& pc) const;
+    void liftDeck(LayerId layer, AncestorId ancestor, std::span<const BridgeSpan> spans, ZProfile& prof) const;
     // Drops the arc-length tables (with `arcs`) and z-profiles of root curve `curve` and of the
     // procedural curves made from it.
     void dropCurve(LayerId layer, ElementId curve, bool arcs, std::vector<ElementRef>& dropped);
@@ -121,6 +134,9 @@ private:
     mutable Map<double> nodeHeights_;
     mutable Map<double> lakeLevels_;
     mutable std::set<Key> procedural_;  // the procedural curves with an arc or a z-profile cached
+    // Crossed curve -> the bridge decks whose profile read its profile (dropped with it).
+    mutable std::unordered_map<Key, std::set<Key>, KeyHash> readers_;
+    double deckClearance_ = 5.0, deckThickness_ = 1.2;  // from the quadtree's GraphStep, if any
     mutable CurveDataCounters counters_;
 };
 

@@ -24,12 +24,26 @@ enum class LayerKind : std::uint8_t { Roads, Rivers, Lakes, Fields, Forests, Oth
 
 std::string_view toString(LayerKind kind);
 
-// Curve flags (parameters kept from the source data).
-enum CurveFlag : std::uint16_t { kBridge = 1u << 0, kTunnel = 1u << 1 };
+// Curve flags. From the source data or the user: kBridge (the curve is a bridge: no footprint,
+// not drawn on the terrain, a deck mesh), kTunnel (no footprint, not drawn between its portals),
+// kNoBridge (the graph step makes no bridge on this curve where it crosses a river: a ford),
+// kRoundabout (a roundabout's ring, imported as such). Set by the graph step on the curves it makes
+// (model/procedural.h): kYieldAtStart / kYieldAtEnd (a yield line where the curve enters a ring).
+enum CurveFlag : std::uint16_t {
+    kBridge = 1u << 0,
+    kTunnel = 1u << 1,
+    kNoBridge = 1u << 2,
+    kRoundabout = 1u << 3,
+    kYieldAtStart = 1u << 4,
+    kYieldAtEnd = 1u << 5,
+};
 
 struct Node {
     Vec2 p{0.0};
     std::vector<ElementId> curves;  // adjacent curves
+    // Radius (m) of the roundabout the graph step makes at this junction (§4.3, Fig. 5 right); 0
+    // for none.
+    float roundabout = 0.0f;
     bool alive = true;
 };
 

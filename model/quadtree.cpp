@@ -48,7 +48,7 @@ AncestorId proceduralId(ElementId root, std::size_t k) {
     return kProceduralBit | AncestorId(root) << kProceduralIndexBits | AncestorId(k);
 }
 
-Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep* procedural)
+Quadtree::Quadtree(const Scene& scene, RefineParams params, ProceduralStep* procedural)
     : scene_(scene), params_(params), procedural_(procedural) {
     if (!(params_.toleranceTexels > 0.0))
         throw std::invalid_argument("Quadtree: the refinement tolerance must be positive");
@@ -72,7 +72,7 @@ Quadtree::Quadtree(const Scene& scene, RefineParams params, const ProceduralStep
 
 void Quadtree::expandRoot(LayerId layer, ElementId id) {
     if (!procedural_) return;
-    std::vector<Curve> out;
+    std::vector<ProceduralCurve> out;
     if (!procedural_->expand(scene_, layer, id, out)) return;
     std::vector<AncestorId> ids;
     for (std::size_t k = 0; k < out.size(); ++k) {
@@ -91,8 +91,20 @@ void Quadtree::forEachRootCurveAncestor(LayerId layer, ElementId id, F&& f) cons
 }
 
 const Curve& Quadtree::ancestorCurve(LayerId layer, AncestorId id) const {
-    if (id & kProceduralBit) return proceduralCurves_[layer].at(id);
+    if (id & kProceduralBit) return proceduralCurves_[layer].at(id).curve;
     return scene_.layers[layer].curves[ElementId(id)];
+}
+
+const ProceduralCurve* Quadtree::proceduralCurve(LayerId layer, AncestorId id) const {
+    if (!(id & kProceduralBit)) return nullptr;
+    const auto it = proceduralCurves_[layer].find(id);
+    return it == proceduralCurves_[layer].end() ? nullptr : &it->second;
+}
+
+std::span<const AncestorId> Quadtree::expansionOf(LayerId layer, ElementId id) const {
+    const auto it = expandedFrom_[layer].find(id);
+    if (it == expandedFrom_[layer].end()) return {};
+    return it->second;
 }
 
 double Quadtree::nodeMargin(LayerId layer, ElementId id, double quadSize) const {
@@ -281,7 +293,7 @@ UpdateStats Quadtree::update(const Changeset& changeset) {
     Changeset cs = changeset;
     if (procedural_) {
         std::vector<ElementRef> dependents;
-        procedural_->dependents(scene_, changeset, dependents);
+        procedural_->update(scene_, changeset, dependents);
         for (const ElementRef& r : dependents) cs.modify(r);
         cs.normalize();
     }

@@ -30,6 +30,7 @@
 #include "model/changeset.h"
 #include "model/clip_and_refine.h"
 #include "model/graph.h"
+#include "model/procedural.h"
 #include "model/view_params.h"
 
 namespace lacet {
@@ -51,21 +52,6 @@ struct Quad {
     std::array<std::unique_ptr<Quad>, 4> children;
     std::vector<QuadLayer> layers;  // one per scene layer; empty for the root
     bool isLeaf() const { return !children[0]; }
-};
-
-// A graph transformation applied when the root is subdivided (§4.3). It must be a pure function
-// of the scene: the same root curve always expands to the same procedural curves.
-class ProceduralStep {
-public:
-    virtual ~ProceduralStep() = default;
-    // Fills `out` with the curves replacing root curve `id` and returns true, or returns false to
-    // keep the curve as it is. Fewer than kMaxProceduralCurves curves per root curve.
-    virtual bool expand(const Scene& scene, LayerId layer, ElementId id, std::vector<Curve>& out) const = 0;
-    // Root curves (ElementKind::Curve refs) whose expansion reads an element the changeset changed
-    // besides themselves (a road's bridges read the rivers it crosses): UPDATE re-expands them.
-    virtual void dependents(const Scene& scene, const Changeset& changeset, std::vector<ElementRef>& out) const {
-        (void)scene, (void)changeset, (void)out;
-    }
 };
 
 // Id of the k-th procedural curve made from root curve `root`: kProceduralBit, then the root's id
@@ -93,7 +79,8 @@ struct UpdateStats {
 class Quadtree {
 public:
     // Validates the scene first (throws ValidationError).
-    explicit Quadtree(const Scene& scene, RefineParams params = {}, const ProceduralStep* procedural = nullptr);
+    // `procedural` (may be null) must outlive the tree; UPDATE calls its update().
+    explicit Quadtree(const Scene& scene, RefineParams params = {}, ProceduralStep* procedural = nullptr);
     Quadtree(const Quadtree&) = delete;
     Quadtree& operator=(const Quadtree&) = delete;
 
@@ -136,6 +123,11 @@ public:
 
     // The ancestor curve: a root curve, or a procedural one.
     const Curve& ancestorCurve(LayerId layer, AncestorId id) const;
+    // What the procedural step made for procedural curve `id` (null for a root curve's id).
+    const ProceduralCurve* proceduralCurve(LayerId layer, AncestorId id) const;
+    // The procedural curves root curve `id` expands to now (empty when it is kept as it is).
+    std::span<const AncestorId> expansionOf(LayerId layer, ElementId id) const;
+    const ProceduralStep* procedural() const { return procedural_; }
     // Clipping margins (metres) of an ancestor element in a quad of the given size.
     double curveMargin(LayerId layer, AncestorId id, double quadSize) const {
         const Curve& c = ancestorCurve(layer, id);
@@ -181,7 +173,7 @@ private:
 
     const Scene& scene_;
     RefineParams params_;
-    const ProceduralStep* procedural_;
+    ProceduralStep* procedural_;
     Quad root_;
     // Per layer: root curve -> the procedural curves made from it, and their geometry.
     std::vector<std::unordered_map<ElementId, std::vector<AncestorId>>> expandedFrom_;
@@ -195,7 +187,7 @@ private:
     };
     std::vector<std::unordered_map<ElementId, AreaAttributes>> areaAttributes_;
     std::vector<std::vector<ElementId>> geometryOnlyAreas_;
-    std::vector<std::unordered_map<AncestorId, Curve>> proceduralCurves_;
+    std::vector<std::unordered_map<AncestorId, ProceduralCurve>> proceduralCurves_;
 };
 
 }  // namespace lacet

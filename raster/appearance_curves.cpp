@@ -90,6 +90,26 @@ void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const
     drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f);
 }
 
+void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, double length,
+                       double portalLength) {
+    // The parts of the polyline within portalLength of either end, cut at that u.
+    std::vector<Segment> mouths;
+    for (const Segment& sg : segments)
+        for (const auto& [lo, hi] : {std::pair{0.0, portalLength}, std::pair{length - portalLength, length}}) {
+            const double a = std::max(sg.u0, lo), b = std::min(sg.u1, hi);
+            if (!(a < b) || !(sg.u1 > sg.u0)) continue;
+            Segment m = sg;
+            m.p0 = sg.p0 + (sg.p1 - sg.p0) * ((a - sg.u0) / (sg.u1 - sg.u0));
+            m.p1 = sg.p0 + (sg.p1 - sg.p0) * ((b - sg.u0) / (sg.u1 - sg.u0));
+            m.u0 = a;
+            m.u1 = b;
+            mouths.push_back(m);
+        }
+    if (mouths.empty()) return;
+    drawBand(canvas, mouths, 0.5 * double(c.w) + 1.0, tunnelPortalColour(), 0.0f);
+    drawBand(canvas, mouths, 0.5 * double(c.w), roadColour(c.cls) * 0.35f, 0.0f);
+}
+
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
     const MarkingGeometry g;
     const double hw = 0.5 * double(c.w);

@@ -32,6 +32,11 @@ struct RoadEnds {
     bool startStop = false, endStop = false;
 };
 
+// A tunnel's portals: its road, darkened, within portalLength metres (u) of either end, framed by
+// a 1 m border of the portal's stone (the rest of a tunnel is not drawn: it is under the ground).
+void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, double length,
+                       double portalLength);
+
 // Side lines, the dashed centre line and stop lines, from the curvilinear coordinate u of the
 // segments (segmentsOf with curve data).
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);

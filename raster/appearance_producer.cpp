@@ -46,7 +46,8 @@ std::vector<typename Map::key_type> sortedKeys(const Map& m) {
     return ids;
 }
 
-std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene, const std::vector<bool>& hidden) {
+std::vector<DrawItem> drawList(const Quad& quad, const Quadtree& qt, const std::vector<bool>& hidden) {
+    const Scene& scene = qt.scene();
     std::vector<LayerId> layers(quad.layers.size());
     for (LayerId l = 0; l < layers.size(); ++l) layers[l] = l;
     std::stable_sort(layers.begin(), layers.end(),
@@ -55,10 +56,17 @@ std::vector<DrawItem> drawList(const Quad& quad, const Scene& scene, const std::
     for (LayerId l : layers) {
         if (l < hidden.size() && hidden[l]) continue;
         const LayerKind kind = scene.layers[l].kind;
-        if (surfaceOf(kind) != Surface::None)
+        // A river layer's areas come after its curves: drawn over their banks, under their water.
+        const bool areasAfterCurves = kind == LayerKind::Rivers;
+        if (surfaceOf(kind) != Surface::None && !areasAfterCurves)
             for (ElementId id : sortedKeys(quad.layers[l].areas)) items.push_back({l, true, id});
         if (kind == LayerKind::Roads || kind == LayerKind::Rivers)
-            for (AncestorId id : sortedKeys(quad.layers[l].curves)) items.push_back({l, false, id});
+            for (AncestorId id : sortedKeys(quad.layers[l].curves))
+                if (!(qt.ancestorCurve(l, id).flags & kBridge)  // a deck: the object meshes draw it, the river shows under it
+                    && qt.ancestorCurve(l, id).areas.empty())   // an area's border (a river area's): drawn with the area
+                    items.push_back({l, false, id});
+        if (surfaceOf(kind) != Surface::None && areasAfterCurves)
+            for (ElementId id : sortedKeys(quad.layers[l].areas)) items.push_back({l, true, id});
     }
     return items;
 }
@@ -106,7 +114,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
     if (counters) ++counters->tiles;
 
     const Scene& scene = quadtree.scene();
-    const std::vector<DrawItem> items = drawList(quad, scene, params.hiddenLayers);
+    const std::vector<DrawItem> items = drawList(quad, quadtree, params.hiddenLayers);
     if (params.detectUniform && !items.empty())
         if (const auto shade = coveringShade(quad, quadtree, t, items.back())) {
             t.uniform = true;
@@ -127,16 +135,20 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
     drawGround(canvas, t, dem, cells);
     const MarkingGeometry marking;
     const bool markingsShow = marking.lineWidth >= params.markingMinTexels * t.delta;
+    auto drawAreaItem = [&](const DrawItem& it) {
+        const Layer& layer = scene.layers[it.layer];
+        const Area& a = layer.areas[it.areaId()];
+        const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.areaId()};
+        for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.areaId())) {
+            drawArea(canvas, t, piece, shade, double(a.wf), counters);
+            if (counters) ++counters->areaPieces;
+        }
+    };
     for (std::size_t i = 0; i < items.size(); ++i) {
         const DrawItem& it = items[i];
         const Layer& layer = scene.layers[it.layer];
         if (it.area) {
-            const Area& a = layer.areas[it.areaId()];
-            const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.areaId()};
-            for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.areaId())) {
-                drawArea(canvas, t, piece, shade, double(a.wf), counters);
-                if (counters) ++counters->areaPieces;
-            }
+            drawAreaItem(it);
             continue;
         }
         // The curves of one layer are consecutive items: draw them together, in two passes.
@@ -146,10 +158,19 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         if (counters) counters->curvesDrawn += last - i + 1;
         for (std::size_t r = i; r <= last; ++r) {
             const Curve& c = quadtree.ancestorCurve(it.layer, items[r].id);
+            if (c.flags & kTunnel) {  // under the ground but for its portals
+                drawTunnelPortals(canvas, segmentsOf(curves.at(items[r].id), &curveData, it.layer, items[r].id), c,
+                                  curveData.length(it.layer, items[r].id), params.tunnelPortalLength);
+                continue;
+            }
             const auto segments = segmentsOf(curves.at(items[r].id), nullptr, it.layer, items[r].id);
             if (layer.kind == LayerKind::Rivers) drawRiverBanks(canvas, segments, c);
             else drawRoadSurface(canvas, segments, c);
         }
+        // The layer's areas that follow its curves (a river layer's): over the banks, under the water.
+        std::size_t lastArea = last;
+        while (lastArea + 1 < items.size() && items[lastArea + 1].area && items[lastArea + 1].layer == it.layer) ++lastArea;
+        for (std::size_t r = last + 1; r <= lastArea; ++r) drawAreaItem(items[r]);
         for (std::size_t r = i; r <= last; ++r) {
             const AncestorId id = items[r].id;
             const Curve& c = quadtree.ancestorCurve(it.layer, id);
@@ -157,7 +178,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
                 drawRiverWater(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
                 continue;
             }
-            if (!roadHasMarkings(c.cls)) continue;
+            if (!roadHasMarkings(c.cls) || (c.flags & kTunnel)) continue;
             if (!markingsShow) {
                 if (counters) ++counters->markingsBelowTexel;
                 continue;
@@ -171,7 +192,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
             drawMarkings(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c, ends);
             if (counters) ++counters->curvesWithMarkings;
         }
-        i = last;
+        i = lastArea;
     }
     canvas.scratch().clean = true;
     resolve(canvas, canvas.scratch(), t, t.rgbm);

@@ -46,6 +46,7 @@ struct AppearanceParams {
     double groundCellMin = 5.0;     // m: smallest cell of that grid (the colour varies at the DEM's
                                     // scale, 20 to 30 m; finer cells cost time and change nothing seen)
     bool detectUniform = true;      // false: rasterize uniform quads too (for tests)
+    double tunnelPortalLength = 6.0; // m at each end of a tunnel drawn as its portal
     std::vector<bool> hiddenLayers; // layers not drawn (index: LayerId; missing: shown)
 };
 

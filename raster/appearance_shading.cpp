@@ -175,6 +175,7 @@ glm::vec3 borderStripColour(Surface surface) {
 }
 
 glm::vec3 riverBankColour() { return {0.56f, 0.51f, 0.39f}; }
+glm::vec3 tunnelPortalColour() { return {0.42f, 0.41f, 0.39f}; }
 
 glm::vec3 roadColour(std::uint16_t cls) {
     switch (cls) {
@@ -190,6 +191,7 @@ bool roadHasMarkings(std::uint16_t cls) { return cls <= 1; }
 Surface surfaceOf(LayerKind kind) {
     switch (kind) {
         case LayerKind::Lakes: return Surface::Water;
+        case LayerKind::Rivers: return Surface::Water;  // river areas (large rivers, §4.1)
         case LayerKind::Fields: return Surface::Field;
         case LayerKind::Forests: return Surface::Forest;
         case LayerKind::Other: return Surface::Other;

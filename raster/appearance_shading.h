@@ -107,6 +107,7 @@ inline Rgbm SurfaceShader::at(Vec2 p) const {
 glm::vec3 borderStripColour(Surface surface);
 // River banks (between w/2 and wf/2 of the axis).
 glm::vec3 riverBankColour();
+glm::vec3 tunnelPortalColour();  // the stone frame of a tunnel's mouth
 
 // Roads: asphalt by class (0 primary, 1 secondary, 2 track), and markings.
 glm::vec3 roadColour(std::uint16_t cls);

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/segment.h"
+#include "raster/appearance_segments.h"
 #include "raster/rasterizer.h"
 
 namespace lacet {
@@ -120,13 +121,19 @@ bool insideLoops(const std::vector<ClippedLoop>& loops, Vec2 q) {
     return inside;
 }
 
-void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<ClippedArea>& pieces, double wf, float level) {
+// An area's footprint (§5.2, the three steps of areas): b = 1 inside, b falling to 0 at wf outside
+// the real border (not the closing curves of clipped areas), and z_e = level(k) at sample k in
+// both regions: the lake level, or a river area's axial profile (AxialHeights).
+template <class Level>
+void drawAreaFootprint(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<ClippedArea>& pieces, double wf,
+                       Level&& level) {
     const double reach = wf + kSqrt2 * tile.delta;
     for (const ClippedArea& area : pieces) {
         // Inside: every sample of the tile is tested (tiles are small: 25 x 25 plus border).
         for (int j = -tile.border; j <= tile.resolution + tile.border; ++j)
             for (int i = -tile.border; i <= tile.resolution + tile.border; ++i)
-                if (area.coversQuad || insideLoops(area.loops, tile.position(i, j))) canvas.put(tile.index(i, j), 1.0f, level, 0.0f);
+                if (area.coversQuad || insideLoops(area.loops, tile.position(i, j)))
+                    canvas.put(tile.index(i, j), 1.0f, level(tile.index(i, j)), 0.0f);
         if (area.coversQuad) continue;
         // Banks: outside the real border, down to 0 at wf.
         for (const ClippedLoop& loop : area.loops) {
@@ -139,7 +146,7 @@ void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<Cl
                     const Vec2 p0 = prev, p1 = v.p;
                     canvas.capsule(p0, p1, reach, [&](std::size_t idx, Vec2 q) {
                         const double d = distanceToSegment(q, p0, p1);
-                        canvas.put(idx, blend(d, kSqrt2 * tile.delta, reach), level, float(d));
+                        canvas.put(idx, blend(d, kSqrt2 * tile.delta, reach), level(idx), float(d));
                     });
                 }
                 prev = v.p;
@@ -148,6 +155,98 @@ void drawLake(FootprintCanvas& canvas, ElevationTile& tile, const std::vector<Cl
         }
     }
 }
+
+// A river area's z_e (§5.2: "z_e <- z(u) ... by drawing a strip based on the axial curve"): at
+// every sample of the tile, the axial curve's z-profile at the point of the axial curve nearest to
+// the sample. The axial curve is the area's root curve, whole (its nearest point may lie outside
+// the quad). Only its Bezier pieces that can hold the nearest point of some sample are flattened
+// (a piece whose control box is farther from the tile than some piece's start is from every
+// corner of the tile is nearest nowhere in it); then, per block of samples, the candidate
+// segments (appearance::candidatesNear) are measured (model/segment.h).
+class AxialHeights {
+public:
+    AxialHeights(const ElevationTile& tile, LayerId l, ElementId axial, const Curve& curve, const CurveDataCache& data)
+        : z_(tile.b.size(), 0.0f) {
+        const Box box{tile.position(-tile.border, -tile.border),
+                      tile.position(tile.resolution + tile.border, tile.resolution + tile.border)};
+        const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
+        std::vector<BezierPiece> pieces;
+        forEachPiece(curve.vertices, [&](const BezierPiece& b, std::size_t) { pieces.push_back(b); });
+        if (pieces.empty()) return;
+        std::vector<double> lower(pieces.size());
+        double upper = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < pieces.size(); ++k) {
+            lower[k] = boxDistance(box, controlBounds(pieces[k]));
+            double farthest = 0.0;
+            for (const Vec2& c : corners) farthest = std::max(farthest, glm::length(c - pieces[k].start()));
+            upper = std::min(upper, farthest);
+        }
+        const double step = std::max(tile.delta, kMinAxialStep);
+        for (std::size_t k = 0; k < pieces.size(); ++k) {
+            if (lower[k] > upper) continue;
+            const BezierPiece& b = pieces[k];
+            double polygon = 0.0;
+            for (int i = 0; i < b.degree; ++i) polygon += glm::length(b.p[std::size_t(i) + 1] - b.p[std::size_t(i)]);
+            const int n = b.degree == 1 ? 1 : std::clamp(int(std::ceil(polygon / step)), kMinAxialSegments, kMaxAxialSegments);
+            // u at the piece's ends is exact; inside, it follows the chords' length.
+            const double u0 = data.u(l, axial, double(k)), u1 = data.u(l, axial, double(k + 1));
+            std::vector<Vec2> pts(std::size_t(n) + 1);
+            std::vector<double> cum(pts.size(), 0.0);
+            for (int i = 0; i <= n; ++i) {
+                pts[std::size_t(i)] = i == 0 ? b.start() : i == n ? b.end() : evaluate(b, double(i) / n);
+                if (i > 0) cum[std::size_t(i)] = cum[std::size_t(i) - 1] + glm::length(pts[std::size_t(i)] - pts[std::size_t(i) - 1]);
+            }
+            const double total = cum.back();
+            for (int i = 0; i < n; ++i) {
+                appearance::Segment sg;
+                sg.p0 = pts[std::size_t(i)];
+                sg.p1 = pts[std::size_t(i) + 1];
+                sg.u0 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(i)] / total : u0;
+                sg.u1 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(i) + 1] / total : u1;
+                segments_.push_back(sg);
+            }
+        }
+        const ZProfile& profile = data.zProfile(l, axial);
+        std::vector<const appearance::Segment*> candidates;
+        const int first = -tile.border, last = tile.resolution + tile.border;
+        for (int j0 = first; j0 <= last; j0 += kSampleBlock)
+            for (int i0 = first; i0 <= last; i0 += kSampleBlock) {
+                const int i1 = std::min(last, i0 + kSampleBlock - 1), j1 = std::min(last, j0 + kSampleBlock - 1);
+                appearance::candidatesNear(segments_, Box{tile.position(i0, j0), tile.position(i1, j1)},
+                                           std::numeric_limits<double>::infinity(), candidates);
+                for (int j = j0; j <= j1; ++j)
+                    for (int i = i0; i <= i1; ++i) {
+                        const Vec2 q = tile.position(i, j);
+                        double best = std::numeric_limits<double>::infinity(), u = 0.0;
+                        for (const appearance::Segment* sg : candidates) {
+                            const SegmentNearest n = nearestOnSegment(q, sg->p0, sg->p1);
+                            if (n.distance2 < best) {
+                                best = n.distance2;
+                                u = sg->u0 + (sg->u1 - sg->u0) * n.t;
+                            }
+                        }
+                        z_[tile.index(i, j)] = float(profile.at(u));
+                    }
+            }
+    }
+
+    float operator()(std::size_t k) const { return z_[k]; }
+
+private:
+    static constexpr double kMinAxialStep = 0.5;  // metres: the longest flattened segment is max(delta, this)
+    static constexpr int kMinAxialSegments = 4;   // per curved piece
+    static constexpr int kMaxAxialSegments = 256; // per piece
+    static constexpr int kSampleBlock = 8;        // samples per side of the blocks whose candidate segments are found together
+
+    static double boxDistance(const Box& a, const Box& b) {
+        const double dx = std::max({0.0, b.min.x - a.max.x, a.min.x - b.max.x});
+        const double dy = std::max({0.0, b.min.y - a.max.y, a.min.y - b.max.y});
+        return std::sqrt(dx * dx + dy * dy);
+    }
+
+    std::vector<appearance::Segment> segments_;
+    std::vector<float> z_;  // z_e at each sample (ElevationTile::index)
+};
 
 // 3x3 Gaussian (1 2 1) x (1 2 1) / 16 of z_m where b > 0, on every sample but the outer ring.
 void filterWhereBlended(ElevationTile& t) {
@@ -201,6 +300,10 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
         if (kind == LayerKind::Roads || kind == LayerKind::Rivers) {
             for (const auto& [a, pieces] : quad.layers[l].curves) {
                 const Curve& c = quadtree.ancestorCurve(l, a);
+                if (c.flags & (kBridge | kTunnel)) {  // the terrain under a deck or over a tunnel stays as it is
+                    if (counters) ++counters->curvesOnStructures;
+                    continue;
+                }
                 if (double(c.w) < 2.0 * t.delta) {
                     if (counters) ++counters->curvesSkippedThin;
                     continue;
@@ -208,10 +311,21 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
                 drawCurve(canvas, t, l, a, pieces, c, curveData);
                 if (counters) ++counters->curvesDrawn;
             }
-        } else if (kind == LayerKind::Lakes) {
+        }
+        if (kind == LayerKind::Lakes || kind == LayerKind::Rivers) {
+            // Lakes, and river areas without an axial curve: flat at the lowest height of their
+            // border. River areas with one: its descending profile at the nearest point.
             for (const auto& [a, pieces] : quad.layers[l].areas) {
-                drawLake(canvas, t, pieces, double(scene.layers[l].areas[a].wf), float(curveData.lakeLevel(l, a)));
-                if (counters) ++counters->lakesDrawn;
+                const Area& area = scene.layers[l].areas[a];
+                const double wf = double(area.wf);
+                if (kind == LayerKind::Rivers && area.axial != kNoElement) {
+                    const AxialHeights axial(t, l, area.axial, scene.layers[l].curves[area.axial], curveData);
+                    drawAreaFootprint(canvas, t, pieces, wf, axial);
+                } else {
+                    const float level = float(curveData.lakeLevel(l, a));
+                    drawAreaFootprint(canvas, t, pieces, wf, [level](std::size_t) { return level; });
+                }
+                if (counters && kind == LayerKind::Lakes) ++counters->lakesDrawn;
             }
         }
     }

@@ -40,6 +40,7 @@ struct ElevationCounters {
     std::atomic<std::size_t> tiles{0};
     std::atomic<std::size_t> curvesDrawn{0};
     std::atomic<std::size_t> curvesSkippedThin{0};  // w < 2 delta: no z-profile asked
+    std::atomic<std::size_t> curvesOnStructures{0};  // bridges and tunnels: no footprint
     std::atomic<std::size_t> lakesDrawn{0};
 };
 

@@ -1,5 +1,9 @@
 #include "synth/incremental_check.h"
 
+#include <optional>
+
+#include "model/graph_step.h"
+
 #include <chrono>
 #include <random>
 
@@ -25,7 +29,9 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
                           s.extent.min.y + uniform01(rng) * s.extent.size().y,
                           p.viewerHeight + uniform01(rng) * p.viewerHeightRange);
     };
-    Quadtree qt(s, {}, p.procedural);
+    std::optional<GraphStep> step;
+    if (!p.procedural) step.emplace(s);
+    Quadtree qt(s, {}, p.procedural ? p.procedural : &*step);
     qt.refineForViewer(viewer(), view);
     IncrementalCheckReport r;
     for (int i = 0; i < p.edits; ++i) {
@@ -38,7 +44,9 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
         qt.update(e.changeset);
         r.updateMs.push_back(msSince(t0));
         t0 = std::chrono::steady_clock::now();
-        Quadtree rebuilt(s, {}, p.procedural);
+        std::optional<GraphStep> freshStep;
+        if (!p.procedural) freshStep.emplace(s);
+        Quadtree rebuilt(s, {}, p.procedural ? p.procedural : &*freshStep);
         rebuilt.copyStructureOf(qt);
         r.rebuildMs.push_back(msSince(t0));
         const QuadtreeDiff diff = compareQuadtrees(qt, rebuilt, p.detailsPerEdit);

@@ -26,7 +26,9 @@ struct IncrementalCheckParams {
     double reach = 100.0;              // metres: how far an edit moves points (applyRandomEdit)
     double viewerHeight = 1.0;         // metres above the extent's plane: the lowest viewer...
     double viewerHeightRange = 20.0;   // ...and the range above it (uniform)
-    const ProceduralStep* procedural = nullptr;  // the quadtree's procedural step at the root, if any
+    // The quadtree's procedural step at the root: the scene's GraphStep (bridges, roundabouts; the
+    // rebuild gets a fresh one, so the step's own index is checked too), or this one when set.
+    ProceduralStep* procedural = nullptr;
     bool stopAtFirstMismatch = false;  // stop after the first edit whose update differs
     std::size_t detailsPerEdit = 3;    // mismatch descriptions kept per edit (compareQuadtrees)
     std::size_t maxDetails = 20;       // and in all

@@ -1,6 +1,7 @@
 #include "model/curve_data.h"
 
 #include <cmath>
+#include <iostream>
 #include <set>
 #include <vector>
 
@@ -179,7 +180,7 @@ TEST(CurveData, ProceduralCurvesOfRootCurveIdsAbove2To23AreUpdatedAndDropped) {
     road.end = c;
     ASSERT_EQ(roads.addCurve(road), kFirst + 1);
 
-    const test::CutRoadsIntoSegments step(150);
+    test::CutRoadsIntoSegments step(150);
     constexpr std::size_t kPerRoad = 300;
     const Hills hills;
     Quadtree qt(s, {}, &step);
@@ -222,6 +223,84 @@ TEST(CurveData, ProceduralCurvesOfRootCurveIdsAbove2To23AreUpdatedAndDropped) {
     EXPECT_EQ(cache.invalidate(second), (std::vector<ElementRef>{{0, ElementKind::Curve, kFirst + 1}}));
     expectFresh("invalidated after the update");
     EXPECT_EQ(cache.counters().zProfiles - before, kPerRoad);
+}
+
+// A V-shaped valley: z = a |x| + b y, its floor along x = 0 descending to the south.
+class VValley : public HeightField {
+public:
+    static constexpr double kSideSlope = 0.4;   // a, m/m across the valley
+    static constexpr double kDownSlope = 0.03;  // b, m/m along its floor
+    double height(Vec2 p) const override { return kSideSlope * std::abs(p.x) + kDownSlope * p.y; }
+};
+
+// A river never stands above the valley floor it runs in, and never rises (§5.2). A main river
+// down the floor of a V valley, in two curves (the first a cubic with its controls on the axis),
+// and a tributary coming down the valley's side to the confluence: every profile sample is at or
+// below the terrain under it. (Node heights were the mean over a disc, which counts the valley's
+// sides: 7 m above the floor here, carried down the river by the clamp between node heights.)
+// Within kernelRadius of a curve's downstream end, the smoothing kernel, whose indices are clamped
+// at the end, averages the descent with copies of the end sample: the profile stands above the
+// floor there by up to 0.4 slope x spacing for this kernel (computeProfile), which endAllowance
+// bounds; elsewhere only the arc-length tolerance and rounding separate them.
+TEST(CurveData, RiversInAVValleyNeverStandAboveItsFloorNorRise) {
+    Scene s;
+    s.extent = {{-700.0, -100.0}, {700.0, 1300.0}};
+    s.layers.push_back({"rivers", LayerKind::Rivers, {}, {}, {}});
+    Layer& rivers = s.layers[0];
+    const ElementId source = rivers.addNode({0.0, 1000.0}), confluence = rivers.addNode({0.0, 500.0}), mouth = rivers.addNode({0.0, 0.0});
+    const ElementId spring = rivers.addNode({300.0, 650.0});
+    auto addRiver = [&](ElementId a, ElementId b, std::vector<Vertex> inner, float w) {
+        Curve c;
+        c.vertices.push_back({rivers.nodes[a].p, true});
+        for (const Vertex& v : inner) c.vertices.push_back(v);
+        c.vertices.push_back({rivers.nodes[b].p, true});
+        c.start = a;
+        c.end = b;
+        c.w = w;
+        c.wf = 2.0f * w;
+        return rivers.addCurve(std::move(c));
+    };
+    addRiver(source, confluence, {{{0.0, 800.0}, false}, {{0.0, 650.0}, false}}, 10.0f);
+    addRiver(confluence, mouth, {}, 12.0f);
+    addRiver(spring, confluence, {}, 4.0f);
+    const VValley valley;
+    Quadtree qt(s);
+    CurveDataCache cache(qt, valley);
+    const ZProfileParams& params = cache.params();
+    constexpr double kRounding = 1e-4;        // metres: u within the arc-length tolerance, times the slope, and rounding
+    constexpr double kEndBiasPerSlope = 0.4;  // of the slope x the sample spacing: this kernel's bias at a clamped end
+    double worstInside = -1e300, worstEnd = -1e300;
+    std::size_t samples = 0;
+    for (ElementId c = 0; c < rivers.curves.size(); ++c) {
+        const Curve& curve = rivers.curves[c];
+        const ZProfile& z = cache.zProfile(0, c);
+        const Vec2 a = curve.vertices.front().p, b = curve.vertices.back().p;  // straight curves
+        const double slope = (valley.height(a) - valley.height(b)) / z.length;
+        const double endAllowance = kEndBiasPerSlope * slope * z.spacing + kRounding;  // metres
+        for (std::size_t i = 0; i < z.z.size(); ++i) {
+            const double u = z.spacing * double(i);
+            const double above = z.z[i] - valley.height(a + (b - a) * (u / z.length));
+            if (z.length - u > params.kernelRadius) {
+                worstInside = std::max(worstInside, above);
+                EXPECT_LE(above, kRounding) << "river " << c << " above the floor at u " << u;
+            } else {
+                worstEnd = std::max(worstEnd, above);
+                EXPECT_LE(above, endAllowance) << "river " << c << " above the floor at u " << u;
+            }
+            if (i > 0) {
+                EXPECT_LE(z.z[i], z.z[i - 1]) << "river " << c << " rises at u " << u;
+            }
+            ++samples;
+        }
+        EXPECT_EQ(z.z.front(), cache.nodeHeight(0, curve.start));
+        EXPECT_EQ(z.z.back(), cache.nodeHeight(0, curve.end));
+    }
+    // The nodes are on the floor: exactly where it is lowest within kernelRadius upstream.
+    EXPECT_NEAR(cache.nodeHeight(0, source), valley.height({0.0, 1000.0}), kRounding);
+    EXPECT_NEAR(cache.nodeHeight(0, confluence), valley.height({0.0, 500.0}), kRounding);
+    EXPECT_NEAR(cache.nodeHeight(0, mouth), valley.height({0.0, 0.0}), kRounding);
+    std::cout << "[ figures  ] V valley: " << samples << " profile samples, at most " << worstInside
+              << " m above the floor (more than kernelRadius from a curve's end), " << worstEnd << " m within it\n";
 }
 
 }  // namespace

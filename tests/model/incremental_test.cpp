@@ -23,7 +23,7 @@ struct EditRun {
 // the viewer (subdividing and merging quads). Compares with a rebuild after every edit
 // (synth/incremental_check.h), stopping at the first mismatch.
 EditRun checkIncremental(Scene& s, std::uint64_t seed, int edits, int maxLevel, double reach, int viewEvery,
-                         const ProceduralStep* procedural = nullptr) {
+                         ProceduralStep* procedural = nullptr) {
     const IncrementalCheckReport r = checkIncremental(s, {.seed = seed, .edits = edits, .maxLevel = maxLevel, .viewEvery = viewEvery,
                                                           .reach = reach, .procedural = procedural,
                                                           .stopAtFirstMismatch = true});
@@ -45,7 +45,7 @@ TEST(Incremental, RandomEditsOfEveryKindOnASmallSceneEqualRebuild) {
 }
 
 TEST(Incremental, RandomEditsWithAProceduralStepEqualRebuild) {
-    const test::SplitRoadsInTwo step;
+    test::SplitRoadsInTwo step;
     std::size_t edits = 0;
     for (std::uint64_t seed = 20; seed <= 21; ++seed) {
         Scene s = test::smallScene();

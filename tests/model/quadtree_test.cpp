@@ -107,7 +107,7 @@ TEST(Quadtree, AnAreaCoveringDeepQuadsIsKnownToCoverThem) {
 
 TEST(Quadtree, ProceduralStepRunsAtTheRootAndItsCurvesAreAncestors) {
     Scene s = smallScene();
-    const SplitRoadsInTwo step;
+    SplitRoadsInTwo step;
     Quadtree qt(s, {}, &step);
     qt.refineForViewer({500.0, 150.0, 5.0}, ViewParams{.maxLevel = 7});
     std::set<AncestorId> ancestors;

@@ -7,7 +7,7 @@ namespace lacet::test {
 // The procedural hook under test: every road becomes two procedural curves, split at its middle.
 class SplitRoadsInTwo : public ProceduralStep {
 public:
-    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<Curve>& out) const override {
+    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<ProceduralCurve>& out) const override {
         if (s.layers[l].kind != LayerKind::Roads) return false;
         const Curve& c = s.layers[l].curves[id];
         BezierPiece first;
@@ -27,7 +27,7 @@ public:
         right.vertices.insert(right.vertices.end(), c.vertices.begin() + std::ptrdiff_t(firstEnd) + 1, c.vertices.end());
         left.end = kNoElement;
         right.start = kNoElement;
-        out = {left, right};
+        out = {{.curve = left}, {.curve = right}};
         return true;
     }
 };
@@ -38,7 +38,7 @@ public:
 class CutRoadsIntoSegments : public ProceduralStep {
 public:
     explicit CutRoadsIntoSegments(int perSegment) : perSegment_(perSegment) {}
-    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<Curve>& out) const override {
+    bool expand(const Scene& s, LayerId l, ElementId id, std::vector<ProceduralCurve>& out) const override {
         if (s.layers[l].kind != LayerKind::Roads) return false;
         const Curve& c = s.layers[l].curves[id];
         std::vector<Vec2> on;
@@ -52,9 +52,9 @@ public:
                                   {on[i] + (on[i + 1] - on[i]) * (double(j + 1) / perSegment_)}};
                 piece.start = out.empty() ? c.start : kNoElement;
                 piece.end = kNoElement;
-                out.push_back(std::move(piece));
+                out.push_back({.curve = std::move(piece)});
             }
-        if (!out.empty()) out.back().end = c.end;
+        if (!out.empty()) out.back().curve.end = c.end;
         return true;
     }
 
