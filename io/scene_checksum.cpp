@@ -62,7 +62,9 @@ std::string sceneChecksumText(const SceneDocument& doc) {
         for (const Node& n : layer.nodes) {
             c.real(n.p.x);
             c.real(n.p.y);
-            c.word(n.alive);
+            // The radius's bits above `alive`: a file without roundabouts sums as before they existed.
+            const std::uint32_t radius = n.roundabout == 0.0f ? 0u : std::bit_cast<std::uint32_t>(n.roundabout);
+            c.word(std::uint64_t(radius) << 1 | std::uint64_t(n.alive));
             c.ids(n.curves);
         }
         c.word(layer.curves.size());

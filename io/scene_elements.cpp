@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <span>
+#include <sstream>
 #include <vector>
 
 #include "io/le_bytes.h"
@@ -44,7 +45,8 @@ void writeLayers(SqliteDb& db, const Scene& scene) {
 }
 
 void writeNodes(SqliteDb& db, const Scene& scene) {
-    auto s = db.prepare("INSERT INTO lacet_nodes (layer, id, x, y, alive, curves, exact) VALUES (?, ?, ?, ?, ?, ?, ?)");
+    auto s = db.prepare(
+        "INSERT INTO lacet_nodes (layer, id, x, y, alive, curves, exact, roundabout) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
     ByteWriter list, exact;
     for (std::size_t l = 0; l < scene.layers.size(); ++l) {
         const auto& nodes = scene.layers[l].nodes;
@@ -62,6 +64,14 @@ void writeNodes(SqliteDb& db, const Scene& scene) {
                 exact.f64(n.p.y);
                 s.bindBlob(7, exact.bytes());
             }
+            // A radius is a finite float >= 0 (model/roundabouts.h); -0 is kept as 0.
+            if (!std::isfinite(n.roundabout) || n.roundabout < 0.0f) {
+                std::ostringstream what;
+                what << "layer " << l << " node " << id << ": roundabout radius " << n.roundabout
+                     << " is not a finite number >= 0";
+                throw FormatError(what.str());
+            }
+            s.bind(8, n.roundabout == 0.0f ? 0.0 : double(n.roundabout));
             s.step();
             s.reset();
         }
@@ -255,7 +265,11 @@ void readLayers(SqliteDb& db, Scene& scene) {
 }
 
 void readNodes(SqliteDb& db, Scene& scene) {
-    auto s = db.prepare("SELECT layer, id, x, y, alive, curves, exact FROM lacet_nodes ORDER BY layer, id");
+    // Files written before roundabouts have no roundabout column: their nodes have none.
+    const bool hasRoundabout =
+        db.queryInteger("SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'") != 0;
+    auto s = db.prepare(std::string("SELECT layer, id, x, y, alive, curves, exact, ") +
+                        (hasRoundabout ? "roundabout" : "0.0") + " FROM lacet_nodes ORDER BY layer, id");
     while (s.step()) {
         Row row{"lacet_nodes"};
         Layer& layer = rowLayer(s, scene.layers, &Layer::nodes, row);
@@ -269,6 +283,8 @@ void readNodes(SqliteDb& db, Scene& scene) {
         }
         n.alive = boolColumn(s, 4, "alive", row);
         n.curves = idListColumn(s, 5, "curves", row);
+        n.roundabout = floatColumn(s, 7, "roundabout", row);
+        if (!std::isfinite(n.roundabout) || n.roundabout < 0.0f) row.fail("roundabout is not a finite radius >= 0");
         layer.nodes.push_back(std::move(n));
     }
 }

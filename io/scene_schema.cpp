@@ -66,7 +66,8 @@ CREATE TABLE lacet_layers (
   kind TEXT NOT NULL);
 CREATE TABLE lacet_nodes (
   fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
-  x REAL, y REAL, alive BOOLEAN NOT NULL, curves BLOB NOT NULL, exact BLOB, UNIQUE (layer, id));
+  x REAL, y REAL, alive BOOLEAN NOT NULL, curves BLOB NOT NULL, exact BLOB,
+  roundabout REAL NOT NULL DEFAULT 0, UNIQUE (layer, id));
 CREATE TABLE lacet_curves (
   fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, id INTEGER NOT NULL,
   start INTEGER NOT NULL, "end" INTEGER NOT NULL, w FLOAT, wf FLOAT, cls INTEGER NOT NULL,
@@ -88,7 +89,7 @@ struct TableInfo {
 constexpr TableInfo kTables[] = {
     {"lacet_meta", "Lacet scene: format, extent, georeference, DEM grid (key/value)"},
     {"lacet_layers", "Lacet scene: layers"},
-    {"lacet_nodes", "Lacet scene: nodes of the spline networks (scene CRS metres)"},
+    {"lacet_nodes", "Lacet scene: nodes of the spline networks (scene CRS metres; roundabout: ring radius in m, 0 for none)"},
     {"lacet_curves", "Lacet scene: Bezier curves (vertices: little-endian f64 x, y then flag bytes)"},
     {"lacet_areas", "Lacet scene: areas (loops of curves)"},
     {"lacet_attributes", "Lacet scene: attributes kept from the source data (kind 0 node, 1 curve, 2 area)"},

@@ -234,7 +234,7 @@ bool sameBits(const Box& a, const Box& b) { return sameBits(a.min, b.min) && sam
             return differ(at + "element count");
         for (std::size_t i = 0; i < p.nodes.size(); ++i)
             if (!sameBits(p.nodes[i].p, q.nodes[i].p) || p.nodes[i].curves != q.nodes[i].curves ||
-                p.nodes[i].alive != q.nodes[i].alive)
+                p.nodes[i].alive != q.nodes[i].alive || !sameBits(p.nodes[i].roundabout, q.nodes[i].roundabout))
                 return differ(at + "node " + std::to_string(i));
         for (std::size_t i = 0; i < p.curves.size(); ++i) {
             const Curve& c = p.curves[i];
@@ -387,6 +387,36 @@ TEST_F(SceneFile, RoundTripWithoutDemOrGeoreferenceIsExact) {
     const std::string path = file("nodem.gpkg");
     saveScene(path, doc);
     EXPECT_TRUE(identical(loadScene(path), doc));
+}
+
+TEST_F(SceneFile, RoundTripOfRoundaboutRadiiIsExact) {
+    SceneDocument doc = handDocument(false);
+    doc.scene.layers[0].nodes[1].roundabout = 12.5f;
+    doc.scene.layers[0].nodes[2].roundabout = 0.1f;  // not a short decimal in binary
+    const std::string path = file("roundabouts.gpkg");
+    saveScene(path, doc);
+    EXPECT_EQ(dumpQuery(path, "SELECT layer, id FROM lacet_nodes WHERE roundabout != 0 ORDER BY layer, id"),
+              "1:0|1:1|\n1:0|1:2|\n");
+    const SceneDocument back = loadScene(path);
+    EXPECT_TRUE(identical(back, doc));
+    EXPECT_EQ(back.scene.layers[0].nodes[2].roundabout, 0.1f);
+    // A radius is a part of the checksum: changed behind the program's back, the file is refused.
+    execSql(path, "UPDATE lacet_nodes SET roundabout = 13.5 WHERE layer = 0 AND id = 1");
+    expectSceneFileError([&] { loadScene(path); }, path, "do not match their checksum");
+}
+
+TEST_F(SceneFile, FilesWrittenBeforeRoundaboutsLoadWithoutThem) {
+    // A file of the first format has no roundabout column: its nodes load with radius 0, and its
+    // checksum (which covered no radius) still matches.
+    const SceneDocument doc = handDocument(true);
+    const std::string path = file("before.gpkg");
+    saveScene(path, doc);
+    execSql(path, "ALTER TABLE lacet_nodes DROP COLUMN roundabout");
+    ASSERT_EQ(dumpQuery(path, "SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'"), "1:0|\n");
+    const SceneDocument back = loadScene(path);
+    EXPECT_TRUE(identical(back, doc));
+    for (const Layer& l : back.scene.layers)
+        for (const Node& n : l.nodes) EXPECT_EQ(n.roundabout, 0.0f);
 }
 
 TEST_F(SceneFile, RoundTripOfASyntheticSceneIsExact) {
@@ -627,6 +657,10 @@ TEST_F(SceneFile, DamagedContentsAreRefused) {
     damaged("node_text", "UPDATE lacet_nodes SET x = 'east' WHERE layer = 1 AND id = 1", "x is not a number");
     damaged("missing_id", "DELETE FROM lacet_curves WHERE layer = 0 AND id = 2", "ids are not 0, 1, 2");
     damaged("unknown_layer", "UPDATE lacet_nodes SET layer = 7 WHERE layer = 1 AND id = 4", "layer = 7 is out of range");
+    damaged("roundabout_negative", "UPDATE lacet_nodes SET roundabout = -2 WHERE layer = 0 AND id = 1",
+            "roundabout is not a finite radius >= 0");
+    damaged("roundabout_text", "UPDATE lacet_nodes SET roundabout = 'big' WHERE layer = 0 AND id = 1",
+            "roundabout is not a number");
     damaged("width_not_float", "UPDATE lacet_curves SET w = 0.1 WHERE layer = 0 AND id = 1", "w is not a 32-bit float");
     damaged("kind", "UPDATE lacet_layers SET kind = 'glaciers' WHERE id = 1", "unknown layer kind 'glaciers'");
     damaged("no_meta", "DROP TABLE lacet_meta", "not a Lacet scene");
