@@ -426,6 +426,8 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
         pc.curve = c;
         pc.curve.areas.clear();
         pc.curve.vertices = subSpline(c.vertices, a, b);
+        if (!out.empty() && out.back().followsRoot())  // one cut point for both pieces, bit for bit
+            pc.curve.vertices.front().p = out.back().curve.vertices.back().p;
         pc.curve.start = a <= 0.0 ? c.start : kNoElement;
         pc.curve.end = b >= sEnd ? c.end : kNoElement;
         pc.curve.flags = std::uint16_t(bridge ? (c.flags | kBridge) : (c.flags & ~kBridge));

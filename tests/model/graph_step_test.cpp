@@ -139,22 +139,28 @@ TEST(GraphStep, ACrossingExactlyAtARiverNodeIsOneBridge) {
     EXPECT_EQ(step.counters().bridgesMade, 1u);
 }
 
-TEST(GraphStep, AHairpinCrossingTwiceMakesOneBridgeWhenCloseAndTwoWhenFar) {
+TEST(GraphStep, AHairpinCrossingTwiceMakesABridgePerCrossingOrOneWhenItTurnsOverTheRiver) {
+    // Across, turn on the far bank, back across: two bridges, the turn on the ground between them.
     for (const double gap : {30.0, 300.0}) {
         Scene s = emptyScene();
         polyline(s, kRivers, {{1000, 0}, {1000, 2000}}, 10, 20);
-        // Across, turn, back across `gap` further north.
         const ElementId road = polyline(s, kRoads, {{900, 800}, {1100, 800}, {1100, 800 + gap}, {900, 800 + gap}}, 6, 12);
         const Expansion e = expandRoad(s, road);
         expectChain(s, road, e);
         const auto bridges = e.bridges();
-        if (gap < 100.0) {
-            ASSERT_EQ(bridges.size(), 1u) << gap;
-            EXPECT_EQ(bridges[0]->spans.size(), 2u);
-        } else {
-            ASSERT_EQ(bridges.size(), 2u) << gap;
-        }
+        ASSERT_EQ(bridges.size(), 2u) << gap;
+        EXPECT_EQ(bridges[0]->spans.size(), 1u);
+        EXPECT_EQ(bridges[1]->spans.size(), 1u);
+        EXPECT_EQ(e.curves.size(), 5u);
     }
+    // The turn itself over the river: the footprints never part, one bridge spans both crossings.
+    Scene s = emptyScene();
+    polyline(s, kRivers, {{1000, 0}, {1000, 2000}}, 10, 20);
+    const ElementId road = polyline(s, kRoads, {{900, 800}, {1006, 800}, {1006, 812}, {900, 812}}, 6, 12);
+    const Expansion e = expandRoad(s, road);
+    expectChain(s, road, e);
+    ASSERT_EQ(e.bridges().size(), 1u);
+    EXPECT_EQ(e.bridges()[0]->spans.size(), 2u);
 }
 
 TEST(GraphStep, TwoRiversCloserThanTheAbutmentsShareOneBridge) {
