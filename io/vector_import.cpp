@@ -147,6 +147,9 @@ private:
             };
             if (is("bridge", "yes") || is("bridge", "viaduct")) l.flags |= kBridge;
             if (is("tunnel", "yes")) l.flags |= kTunnel;
+            // A ring mapped as such (OSM junction=roundabout): kept as it is, never merged with
+            // the roads that meet it (chains merge only curves of the same flags).
+            if (is("junction", "roundabout")) l.flags |= kRoundabout;
             out_.lines.push_back(std::move(l));
         }
     }
