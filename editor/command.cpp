@@ -77,6 +77,11 @@ Applied apply(Scene& s, const Command& command) {
                 a.before = snapshot(s, c.layer, {}, {c.curve});
                 return setCurveClass(s, c.layer, c.curve, c.cls);
             },
+            [&](const SetRoundaboutCmd& c) {
+                // The node holds the radius; its curves' values do not change (only their expansion).
+                a.before = snapshot(s, c.layer, {c.node}, {});
+                return setNodeRoundabout(s, c.layer, c.node, c.radius);
+            },
         },
         command);
     return a;

@@ -107,6 +107,10 @@ bool EditingController::deleteSelection() {
     return done;
 }
 
+bool EditingController::setRoundabout(ElementId node, float radius) {
+    return execute(SetRoundaboutCmd{current_, node, radius});
+}
+
 void EditingController::cancel() {
     if (!drawn_.empty()) drawn_.clear(), drawnNodes_.clear();
     else selected_ = {};
@@ -247,6 +251,15 @@ bool EditingController::press(glm::dvec2 pixel) {
                 return true;
             }
             execute(DeleteVertexCmd{current_, p.id, p.index});
+            return true;
+        }
+        case Tool::Roundabout: {
+            const Pick p = pick(pixel, true);
+            if (p.kind != Pick::Kind::Node) {
+                message("Roundabout: click on a junction node of the current layer");
+                return true;
+            }
+            setRoundabout(p.id, roundaboutRadius);
             return true;
         }
         case Tool::Draw: {

@@ -31,7 +31,9 @@
 
 namespace lacet {
 
-enum class Tool { Select, Insert, DeletePoint, Draw };
+// Roundabout: a click on a node of the current layer sets its roundabout radius to
+// EditingController::roundaboutRadius (0 removes it; model/roundabouts.h says which radii fit).
+enum class Tool { Select, Insert, DeletePoint, Draw, Roundabout };
 
 // What the pointer is on: an inner vertex of a curve, a node, or a curve.
 struct Pick {
@@ -99,6 +101,7 @@ public:
     Tool tool() const { return tool_; }
     void setTool(Tool tool);
     NewCurveStyle newCurve;  // what the draw tool's curves get
+    float roundaboutRadius = 15.0f;  // m, what the roundabout tool sets (0 removes), 0..500
     const std::vector<Vec2>& drawing() const { return drawn_; }
     const Pick& selection() const { return selected_; }
 
@@ -113,6 +116,10 @@ public:
     // selection; Enter ends the curve being drawn (a curve of its points, joining the nodes it
     // was snapped to, made as one undo step; false when none was made).
     bool deleteSelection();
+    // Sets the roundabout radius (m, 0 removes it) of a node of the current layer, as the
+    // roundabout tool does: through the lock policy; a radius that does not fit is refused with
+    // the reason (false).
+    bool setRoundabout(ElementId node, float radius);
     void cancel();
     bool finishDrawing();
 

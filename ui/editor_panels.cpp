@@ -41,12 +41,17 @@ void EditorApp::drawPanels() {
     ImGui::RadioButton("Delete point", &tool, int(Tool::DeletePoint));
     ImGui::SameLine();
     ImGui::RadioButton("Draw curve", &tool, int(Tool::Draw));
+    ImGui::RadioButton("Roundabout", &tool, int(Tool::Roundabout));
     ctl.setTool(Tool(tool));
     if (ctl.tool() == Tool::Draw) {
         ImGui::TextWrapped("Click points (on a node: a junction); Enter ends, Escape cancels. %zu point(s).", ctl.drawing().size());
         ImGui::InputFloat("width (m)", &ctl.newCurve.width);
         ImGui::InputFloat("footprint (m)", &ctl.newCurve.footprint);
         ImGui::InputInt("class", &ctl.newCurve.cls);
+    }
+    if (ctl.tool() == Tool::Roundabout) {
+        ImGui::TextWrapped("Click a junction node of the current layer: it becomes a roundabout of this radius (0 removes it).");
+        ImGui::InputFloat("radius (m)", &ctl.roundaboutRadius);
     }
     ImGui::End();
 

@@ -13,6 +13,7 @@
 
 #include "editor/draw_curve.h"
 #include "model/bezier.h"
+#include "model/roundabouts.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -347,6 +348,52 @@ TEST(DrawCurve, PassesThroughEveryPointWithAContinuousTangent) {
     }
     const std::vector<Vec2> one = {Vec2(1.0, 2.0)};
     EXPECT_THROW(curveThrough(one, {}), std::invalid_argument);
+}
+
+TEST(EditingController, TheRoundaboutToolMakesRefusesAndUndoesARing) {
+    Fixture f;
+    const OverlayPoint n = f.isolated(Pick::Kind::Node);
+    const ElementId node = n.pick.id;
+    const std::size_t depth = f.session.undoDepth();
+    f.controller.setTool(Tool::Roundabout);
+    // On the ground: nothing to make a ring of.
+    f.controller.press(n.pixel + glm::dvec2(3.0 * kPickPixels, 3.0 * kPickPixels));
+    ASSERT_FALSE(f.messages.empty());
+    EXPECT_EQ(f.messages.back(), "Roundabout: click on a junction node of the current layer");
+    // An absurd radius is refused with the reason, as the controller reports refusals.
+    f.controller.roundaboutRadius = 1.0e4f;
+    EXPECT_TRUE(f.controller.press(n.pixel));
+    ASSERT_FALSE(f.messages.empty());
+    EXPECT_EQ(f.messages.back().rfind("Refused: ", 0), 0u) << f.messages.back();
+    EXPECT_NE(f.messages.back().find("larger than the largest allowed"), std::string::npos) << f.messages.back();
+    EXPECT_EQ(f.roads().nodes[node].roundabout, 0.0f);
+    EXPECT_EQ(f.session.undoDepth(), depth);
+    // The largest of a few radii that fits at this node.
+    float radius = 0.0f;
+    for (float r : {20.0f, 12.0f, 8.0f, 5.0f, 3.0f})
+        if (!roundaboutRefusal(f.session.document().scene, kRoadsLayer, node, r)) {
+            radius = r;
+            break;
+        }
+    ASSERT_GT(radius, 0.0f) << "no radius fits at node " << node;
+    f.controller.roundaboutRadius = radius;
+    ASSERT_TRUE(f.controller.press(n.pixel));
+    EXPECT_EQ(f.roads().nodes[node].roundabout, radius);
+    EXPECT_EQ(f.session.undoDepth(), depth + 1);
+    EXPECT_GT(f.controller.lastCommand().changedQuads, 0u);
+    // Exact undo and redo.
+    ASSERT_TRUE(f.controller.undo());
+    EXPECT_EQ(f.roads().nodes[node].roundabout, 0.0f);
+    ASSERT_TRUE(f.controller.redo());
+    EXPECT_EQ(f.roads().nodes[node].roundabout, radius);
+    // Locked: refused, whether by the tool or the action.
+    f.controller.setLayerLocked(kRoadsLayer, true);
+    EXPECT_FALSE(f.controller.setRoundabout(node, 0.0f));
+    EXPECT_EQ(f.messages.back(), "Refused: the layer is locked");
+    EXPECT_EQ(f.roads().nodes[node].roundabout, radius);
+    f.controller.setLayerLocked(kRoadsLayer, false);
+    EXPECT_TRUE(f.controller.setRoundabout(node, 0.0f));
+    EXPECT_EQ(f.roads().nodes[node].roundabout, 0.0f);
 }
 
 }  // namespace
