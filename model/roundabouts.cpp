@@ -280,6 +280,14 @@ std::optional<RoundaboutCut> roundaboutCut(const Scene& scene, LayerId layerId, 
     return cut;
 }
 
+float roundaboutRingWidth(const Layer& layer, ElementId node) {
+    if (!validNode(layer, node)) return 0.0f;
+    float w = 0.0f;
+    for (ElementId id : layer.nodes[node].curves)
+        if (id < layer.curves.size() && layer.curves[id].alive) w = std::max(w, layer.curves[id].w);
+    return w;
+}
+
 std::optional<std::string> roundaboutRefusal(const Scene& scene, LayerId layerId, ElementId node, float radius,
                                              const RoundaboutParams& params) {
     std::ostringstream s;

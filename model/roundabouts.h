@@ -35,6 +35,10 @@ struct RoundaboutCut {
 // nullopt when neither end node of road curve `curve` is a roundabout that fits.
 std::optional<RoundaboutCut> roundaboutCut(const Scene& scene, LayerId layer, ElementId curve,
                                            const RoundaboutParams& params = {});
+// Width w (m) of the ring at `node`: that of the widest road there (0 for a dead or out-of-range
+// node, or one without roads). The appearance stops a road's markings half of it from the ring's
+// centre line, where its yield line begins.
+float roundaboutRingWidth(const Layer& layer, ElementId node);
 // Why a roundabout of `radius` metres cannot be made at `node` (nullopt when it can; radius 0
 // always can: it removes the roundabout).
 std::optional<std::string> roundaboutRefusal(const Scene& scene, LayerId layer, ElementId node, float radius,

@@ -112,6 +112,7 @@ void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, con
 
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
     const MarkingGeometry g;
+    const YieldLineGeometry yield;
     const double hw = 0.5 * double(c.w);
     distanceField(canvas, segments, hw);
     Scratch& s = canvas.scratch();
@@ -138,6 +139,17 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
         };
         if (ends.startStop) m = std::max(m, stopLine(u, ends.startRadius, 1.0));
         if (ends.endStop) m = std::max(m, stopLine(ends.length - u, ends.endRadius, -1.0));
+        // Yield lines: the same place across the entering lane, in dashes counted from the centre line.
+        const auto yieldLine = [&](double fromNode, double radius, double laneSide) {
+            const double centre = radius + yield.gap + 0.5 * yield.width;
+            const double across = laneSide * v;
+            const double phaseAcross = across - yield.dashPeriod * std::floor(across / yield.dashPeriod);
+            return bandCoverage(float((fromNode - centre) / px), float(0.5 * yield.width / px)) *
+                   bandCoverage(float((across - laneHalf) / px), float(laneHalf / px)) *
+                   bandCoverage(float((phaseAcross - 0.5 * yield.dashPeriod) / px), float(0.5 * yield.dashLength / px));
+        };
+        if (ends.startYield) m = std::max(m, yieldLine(u, ends.startRadius, 1.0));
+        if (ends.endYield) m = std::max(m, yieldLine(ends.length - u, ends.endRadius, -1.0));
         canvas.over(k, markingColour(), 0.0f, m);
     }
     canvas.clearTouched();

@@ -30,6 +30,17 @@ struct RoadEnds {
     double length = 0.0;
     double startRadius = 0.0, endRadius = 0.0;  // junction radius, 0 if not a junction
     bool startStop = false, endStop = false;
+    // A yield line (dashed, across the entering lane) where the road enters a roundabout's ring
+    // (kYieldAtStart / kYieldAtEnd); the radius at that end is then the ring's half width.
+    bool startYield = false, endYield = false;
+};
+
+// The dashes of a yield line, in metres.
+struct YieldLineGeometry {
+    double width = 0.3;       // along the road
+    double gap = 0.5;         // between the ring's edge and the line
+    double dashLength = 0.5;  // across the lane: dashes of dashLength every dashPeriod
+    double dashPeriod = 1.0;
 };
 
 // A tunnel's portals: its road, darkened, within portalLength metres (u) of either end, framed by
@@ -37,7 +48,7 @@ struct RoadEnds {
 void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, double length,
                        double portalLength);
 
-// Side lines, the dashed centre line and stop lines, from the curvilinear coordinate u of the
+// Side lines, the dashed centre line, stop lines and yield lines, from the curvilinear coordinate u of the
 // segments (segmentsOf with curve data).
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);
 

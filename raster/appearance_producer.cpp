@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "model/junctions.h"
+#include "model/roundabouts.h"
 #include "model/segment.h"
 #include "raster/appearance_areas.h"
 #include "raster/appearance_canvas.h"
@@ -189,6 +190,14 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
             ends.endRadius = junctionRadius(layer, c.end);
             ends.startStop = hasStopLine(layer, c.start, rootCurveOf(id));
             ends.endStop = hasStopLine(layer, c.end, rootCurveOf(id));
+            // A road trimmed at a roundabout's ring yields there; its markings stop at the ring's edge.
+            ends.startYield = (c.flags & kYieldAtStart) != 0;
+            ends.endYield = (c.flags & kYieldAtEnd) != 0;
+            if (ends.startYield || ends.endYield)
+                if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) {
+                    if (ends.startYield) ends.startRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtStart));
+                    if (ends.endYield) ends.endRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtEnd));
+                }
             drawMarkings(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c, ends);
             if (counters) ++counters->curvesWithMarkings;
         }

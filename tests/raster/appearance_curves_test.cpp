@@ -2,7 +2,7 @@
 // against every segment measured at every pixel: for random polylines (short and long segments,
 // degenerate and repeated ones, capped ends, some far outside the tile) and reaches, each pixel's
 // distance, signed distance, u, cap flag and touched mark equal those of the exhaustive search,
-// which takes, like the field, the first segment among equally near ones.
+// which takes, like the field, the first segment among equally near ones. Yield lines (drawMarkings).
 #include "raster/appearance_curves.h"
 
 #include <cmath>
@@ -91,6 +91,57 @@ TEST(DistanceField, EqualsTheExhaustiveSearch) {
         canvas.clearTouched();
     }
     EXPECT_GT(touched, pixels / 50);  // the field covered a fair part of the tiles
+}
+
+// A road entering a roundabout's ring at its start (and one at its end): the yield line is drawn
+// only across the entering lane, just beyond the ring's edge (the end's radius), in dashes.
+TEST(Markings, YieldLinesAreDashedAcrossTheEnteringLaneOutsideTheRing) {
+    const AppearanceTile t = test::bareTile({0.0, 40.0}, 20.0, 200, 2, 1);  // 0.1 m pixels
+    Curve road;
+    road.w = 8.0f;  // lanes of 0.5 (4 - 0.3) = 1.85 m on either side of the centre line
+    road.wf = 10.0f;
+    road.cls = 1;
+    const std::vector<Segment> segments = {{{0.0, 50.0}, {20.0, 50.0}, 0.0, 20.0}};
+    const YieldLineGeometry y;
+    for (const bool atStart : {true, false}) {
+        SCOPED_TRACE(atStart);
+        RoadEnds ends;
+        ends.length = 20.0;
+        (atStart ? ends.startRadius : ends.endRadius) = 4.0;  // the ring's half width
+        Scratch plain, yielding;
+        Canvas a(t, plain), b(t, yielding);
+        drawMarkings(a, segments, road, ends);
+        (atStart ? ends.startYield : ends.endYield) = true;
+        drawMarkings(b, segments, road, ends);
+        const double px = a.pixelSize();
+        const double first = 4.0 + y.gap, last = first + y.width;  // from the node, along the road
+        std::size_t changed = 0;
+        for (int py = 0; py < a.side(); ++py)
+            for (int x = 0; x < a.side(); ++x) {
+                const std::size_t k = std::size_t(py) * std::size_t(a.side()) + std::size_t(x);
+                if (plain.colour[k] == yielding.colour[k]) continue;
+                ++changed;
+                const Vec2 q = a.world(x, py);
+                const double fromNode = atStart ? q.x : 20.0 - q.x;
+                const double across = atStart ? q.y - 50.0 : 50.0 - q.y;  // into the entering lane
+                EXPECT_GE(fromNode, first - px);
+                EXPECT_LE(fromNode, last + px);
+                EXPECT_GE(across, -px);
+                EXPECT_LE(across, 3.7 + px);
+            }
+        EXPECT_GT(changed, 20u);
+        // Dashes: marked at the middle of each period across the lane, bare between them.
+        const double along = 0.5 * (first + last);
+        auto at = [&](double across) {
+            const glm::dvec2 p = a.pixel({atStart ? along : 20.0 - along, atStart ? 50.0 + across : 50.0 - across});
+            const std::size_t k = std::size_t(p.y) * std::size_t(a.side()) + std::size_t(p.x);
+            return plain.colour[k] != yielding.colour[k];
+        };
+        for (double k : {0.0, 1.0, 2.0}) {
+            EXPECT_TRUE(at(k + 0.5 * y.dashPeriod + 0.01)) << k;
+            EXPECT_FALSE(at(k + y.dashPeriod + 0.01)) << k;
+        }
+    }
 }
 
 }  // namespace
