@@ -48,11 +48,19 @@ int run(const CheckOptions& o) {
                                 {"mismatches", r.mismatches},
                                 {"mismatch_details", r.details},
                                 {"scene_valid", valid},
+                                {"graph_step", {{"edits_adding_bridges", r.editsAddingBridges},
+                                                {"edits_removing_bridges", r.editsRemovingBridges},
+                                                {"edits_adding_roundabout_arcs", r.editsAddingRings},
+                                                {"edits_removing_roundabout_arcs", r.editsRemovingRings},
+                                                {"bridges_at_end", r.bridgesAtEnd},
+                                                {"roundabout_arcs_at_end", r.ringArcsAtEnd}}},
                                 {"update_median_ms", bench::median(r.updateMs)},
                                 {"rebuild_median_ms", bench::median(r.rebuildMs)}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
-        std::cout << r.edits << " edits, " << r.quadsCompared << " quad comparisons, " << r.mismatches << " mismatches\n";
+        std::cout << r.edits << " edits (" << r.editsAddingBridges << " adding bridges, " << r.editsRemovingBridges
+                  << " removing some, " << r.editsAddingRings << " adding roundabout arcs, " << r.editsRemovingRings
+                  << " removing some), " << r.quadsCompared << " quad comparisons, " << r.mismatches << " mismatches\n";
     return r.mismatches == 0 && valid ? 0 : 2;
 }
 

@@ -263,6 +263,14 @@ Changeset setCurveClass(Scene& s, LayerId layer, ElementId curve, std::uint16_t 
     return done(cs);
 }
 
+Changeset setCurveFlags(Scene& s, LayerId layer, ElementId curve, std::uint16_t flags) {
+    Curve& c = liveCurve(s, layer, curve);
+    c.flags = flags;
+    Changeset cs;
+    cs.modify({layer, ElementKind::Curve, curve});
+    return done(cs);
+}
+
 Changeset setAreaClass(Scene& s, LayerId layer, ElementId area, std::uint16_t cls) {
     liveArea(s, layer, area).cls = cls;
     Changeset cs;

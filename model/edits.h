@@ -42,6 +42,8 @@ Changeset deleteArea(Scene& s, LayerId layer, ElementId area);
 
 Changeset setCurveWidth(Scene& s, LayerId layer, ElementId curve, float w, float wf);
 Changeset setCurveClass(Scene& s, LayerId layer, ElementId curve, std::uint16_t cls);
+// CurveFlag bits (a bridge, a tunnel, a ford: no procedural bridge): the curve is modified.
+Changeset setCurveFlags(Scene& s, LayerId layer, ElementId curve, std::uint16_t flags);
 Changeset setAreaClass(Scene& s, LayerId layer, ElementId area, std::uint16_t cls);
 Changeset setAreaFootprint(Scene& s, LayerId layer, ElementId area, float wf);
 // Sets the radius (m) of the roundabout at a node of a Roads layer (§4.3, Fig. 5 right; 0 removes

@@ -98,12 +98,16 @@ void GraphStepParams::validate() const {
     need(abutmentLength >= 0.0 && std::isfinite(abutmentLength), "abutmentLength must be >= 0 m");
     need(clearance >= 0.0 && std::isfinite(clearance), "clearance must be >= 0 m");
     need(deckThickness >= 0.0 && std::isfinite(deckThickness), "deckThickness must be >= 0 m");
+    need(minBridgedRiverWidth >= 0.0 && std::isfinite(minBridgedRiverWidth), "minBridgedRiverWidth must be >= 0 m");
 }
 
 void GraphStepCounters::reset() {
     curvesExpanded = 0;
     crossingsTested = 0;
     crossingsFound = 0;
+    flaggedCrossings = 0;
+    bridgedCrossings = 0;
+    culverts = 0;
     bridgesMade = 0;
     importedBridges = 0;
     roundaboutRoads = 0;
@@ -368,10 +372,16 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     if (imported) {
         bridges.push_back({s0, s1, crossings});
         ++counters_.importedBridges;
+        counters_.flaggedCrossings += crossings.size();
     } else {
         const double roadHalf = 0.5 * double(c.wf);
         for (const Crossing& x : crossings) {
             if (x.s < s0 || x.s > s1) continue;  // inside a roundabout's ring
+            if (double(scene.layers[x.layer].curves[x.over].w) < params_.minBridgedRiverWidth) {
+                ++counters_.culverts;
+                continue;
+            }
+            ++counters_.bridgedCrossings;
             const Polyline& other = index_->layers[x.layer].polylines.at(x.over);
             const double reach = x.overHalfWidth + roadHalf;
             const double ux = uAtS(road, x.s);

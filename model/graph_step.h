@@ -35,6 +35,9 @@ struct GraphStepParams {
     double clearance = 5.0;           // m, the deck's underside above the crossed water (used by the z-profile)
     double deckThickness = 1.2;       // m, the deck's height under its road surface (used by the z-profile)
     bool bridges = true;              // make procedural bridges at unflagged crossings
+    // m: an unflagged road crosses a river narrower than this (w) on a culvert, as roads cross
+    // streams and ditches: no bridge, the road's footprint stays (an imported bridge spans any).
+    double minBridgedRiverWidth = 3.0;
     void validate() const;            // throws std::invalid_argument naming the knob
 };
 
@@ -42,6 +45,9 @@ struct GraphStepCounters {
     std::atomic<std::size_t> curvesExpanded{0};   // root curves expand() was asked about
     std::atomic<std::size_t> crossingsTested{0};  // segment pairs given to the exact predicate
     std::atomic<std::size_t> crossingsFound{0};   // road-river crossings (and imported bridges' road crossings)
+    std::atomic<std::size_t> flaggedCrossings{0};   // of those, on imported bridges (kBridge)
+    std::atomic<std::size_t> bridgedCrossings{0};   // on unflagged roads, bridged by the step
+    std::atomic<std::size_t> culverts{0};           // on unflagged roads, rivers below minBridgedRiverWidth
     std::atomic<std::size_t> bridgesMade{0};      // procedural bridges (not counting imported ones)
     std::atomic<std::size_t> importedBridges{0};  // kBridge curves expanded with their spans
     std::atomic<std::size_t> roundaboutRoads{0};  // road curves trimmed at a ring

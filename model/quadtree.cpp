@@ -101,6 +101,13 @@ const ProceduralCurve* Quadtree::proceduralCurve(LayerId layer, AncestorId id) c
     return it == proceduralCurves_[layer].end() ? nullptr : &it->second;
 }
 
+std::size_t Quadtree::proceduralCount(std::uint16_t flags) const {
+    std::size_t n = 0;
+    for (const auto& layer : proceduralCurves_)
+        for (const auto& [id, pc] : layer) n += (pc.curve.flags & flags) != 0;
+    return n;
+}
+
 std::span<const AncestorId> Quadtree::expansionOf(LayerId layer, ElementId id) const {
     const auto it = expandedFrom_[layer].find(id);
     if (it == expandedFrom_[layer].end()) return {};

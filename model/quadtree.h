@@ -128,6 +128,8 @@ public:
     // The procedural curves root curve `id` expands to now (empty when it is kept as it is).
     std::span<const AncestorId> expansionOf(LayerId layer, ElementId id) const;
     const ProceduralStep* procedural() const { return procedural_; }
+    // Procedural curves of the tree with any of `flags` (e.g. kBridge), over all layers.
+    std::size_t proceduralCount(std::uint16_t flags) const;
     // Clipping margins (metres) of an ancestor element in a quad of the given size.
     double curveMargin(LayerId layer, AncestorId id, double quadSize) const {
         const Curve& c = ancestorCurve(layer, id);

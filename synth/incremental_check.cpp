@@ -34,6 +34,7 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
     Quadtree qt(s, {}, p.procedural ? p.procedural : &*step);
     qt.refineForViewer(viewer(), view);
     IncrementalCheckReport r;
+    std::size_t bridgesBefore = qt.proceduralCount(kBridge), ringsBefore = qt.proceduralCount(kRoundabout);
     for (int i = 0; i < p.edits; ++i) {
         if (i % p.viewEvery == p.viewEvery - 1) qt.refineForViewer(viewer(), view);
         const RandomEdit e = applyRandomEdit(s, rng, p.reach);
@@ -43,6 +44,13 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
         auto t0 = std::chrono::steady_clock::now();
         qt.update(e.changeset);
         r.updateMs.push_back(msSince(t0));
+        const std::size_t bridges = qt.proceduralCount(kBridge), rings = qt.proceduralCount(kRoundabout);
+        r.editsAddingBridges += bridges > bridgesBefore;
+        r.editsRemovingBridges += bridges < bridgesBefore;
+        r.editsAddingRings += rings > ringsBefore;
+        r.editsRemovingRings += rings < ringsBefore;
+        bridgesBefore = bridges;
+        ringsBefore = rings;
         t0 = std::chrono::steady_clock::now();
         std::optional<GraphStep> freshStep;
         if (!p.procedural) freshStep.emplace(s);
@@ -57,6 +65,8 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
                 r.details.push_back("edit " + std::to_string(i) + " (" + std::string(toString(e.kind)) + "): " + d);
         if (diff.mismatches && p.stopAtFirstMismatch) break;
     }
+    r.bridgesAtEnd = bridgesBefore;
+    r.ringArcsAtEnd = ringsBefore;
     return r;
 }
 

@@ -41,6 +41,11 @@ struct IncrementalCheckReport {
     std::map<EditKind, std::size_t> byKind;
     std::vector<std::string> details;       // "edit I (kind): what differs"
     std::vector<double> updateMs, rebuildMs;  // milliseconds per applied edit: update, rebuild
+    // Edits after which the graph step's bridges (kBridge procedural curves) or roundabout arcs
+    // (kRoundabout) were more or fewer than before, and the totals at the end.
+    std::size_t editsAddingBridges = 0, editsRemovingBridges = 0;
+    std::size_t editsAddingRings = 0, editsRemovingRings = 0;
+    std::size_t bridgesAtEnd = 0, ringArcsAtEnd = 0;
 };
 
 IncrementalCheckReport checkIncremental(Scene& scene, const IncrementalCheckParams& params);

@@ -132,6 +132,22 @@ Changeset tryEdit(Scene& s, EditKind kind, LayerId l, std::mt19937_64& rng, doub
             if (const ElementId a = pickAlive(rng, layer.areas); a != kNoElement)
                 return setAreaFootprint(s, l, a, float(uniform01(rng) * 30.0));
             return {};
+        case EditKind::SetRoundabout: {
+            if (layer.kind != LayerKind::Roads) return {};
+            const ElementId n = pickAlive(rng, layer.nodes);
+            if (n == kNoElement || layer.nodes[n].curves.empty()) return {};
+            const float radius = layer.nodes[n].roundabout > 0.0f ? 0.0f : float(5.0 + uniform01(rng) * 25.0);
+            try {
+                return setNodeRoundabout(s, l, n, radius);
+            } catch (const EditError&) {
+                return {};  // does not fit: refused, nothing changed
+            }
+        }
+        case EditKind::SetCurveFlags: {
+            if (c == kNoElement || layer.kind != LayerKind::Roads) return {};
+            static constexpr std::uint16_t choices[] = {0, kBridge, kTunnel, kNoBridge};
+            return setCurveFlags(s, l, c, choices[pick(rng, 4)]);
+        }
         case EditKind::Count: break;
     }
     return {};
@@ -143,7 +159,7 @@ std::string_view toString(EditKind kind) {
     static constexpr std::string_view names[] = {
         "move_vertex", "insert_vertex", "delete_vertex", "move_node", "add_node", "delete_node", "add_curve",
         "delete_curve", "add_area", "delete_area", "set_curve_width", "set_curve_class", "set_area_class",
-        "set_area_footprint"};
+        "set_area_footprint", "set_roundabout", "set_curve_flags"};
     return names[std::size_t(kind)];
 }
 

@@ -13,7 +13,10 @@ namespace lacet {
 
 enum class EditKind : std::uint8_t {
     MoveVertex, InsertVertex, DeleteVertex, MoveNode, AddNode, DeleteNode, AddCurve, DeleteCurve,
-    AddArea, DeleteArea, SetCurveWidth, SetCurveClass, SetAreaClass, SetAreaFootprint, Count
+    AddArea, DeleteArea, SetCurveWidth, SetCurveClass, SetAreaClass, SetAreaFootprint,
+    SetRoundabout,  // a roundabout made at a road node, or removed (a refused radius edits nothing)
+    SetCurveFlags,  // a road made a bridge, a tunnel or a ford, or back
+    Count
 };
 std::string_view toString(EditKind kind);
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "model/roundabouts.h"
 #include "synth/synthetic_internal.h"
 
 namespace lacet {
@@ -404,6 +405,14 @@ Scene makeSyntheticScene(const SyntheticParams& params) {
     std::size_t used = 0;
     for (const Layer& layer : scene.layers) used += layer.curves.size();
     buildFields(scene.layers[kFieldsLayer], ctx, fields, n > used ? n - used : 0);
+    // Roundabouts last, from their own stream, so that the other layers do not depend on them.
+    Rng rings = stream(5);
+    Layer& roadLayer = scene.layers[kRoadsLayer];
+    for (ElementId id = 0; id < roadLayer.nodes.size(); ++id) {
+        if (roadLayer.nodes[id].curves.size() < 3 || !rings.chance(params.roundaboutFraction)) continue;
+        const auto radius = float(rings.uniform(10.0, 18.0));
+        if (!roundaboutRefusal(scene, kRoadsLayer, id, radius)) roadLayer.nodes[id].roundabout = radius;
+    }
     return scene;
 }
 

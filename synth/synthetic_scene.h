@@ -28,6 +28,10 @@ namespace lacet {
 struct SyntheticParams {
     std::uint64_t seed = 1;
     std::size_t curves = 600000;  // target number of curves; the extent scales so that density stays that of the paper's dataset
+    // Fraction of the road junctions of degree 3 or more made roundabouts (of radius 10 to 18 m,
+    // where roundaboutRefusal() lets them fit), as in Fig. 14 middle. Rivers grow across roads,
+    // so the graph step finds crossings (about 1,500 bridges at 600k curves).
+    double roundaboutFraction = 0.03;
 };
 
 // Side (metres) of the square extent for a given curve count: 100 km at 600k curves, scaled by
