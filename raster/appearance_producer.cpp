@@ -97,6 +97,25 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
     return std::nullopt;
 }
 
+// Where a ring arc or a road trimmed at a ring ends on the ring, the pieces meet at one point with
+// no node there: its markings stop at that end as at a node's cap, instead of drawing their side
+// lines around it (the segments of `runs`, as segmentsOf made them).
+void capRingEnds(std::vector<Segment>& segments, const std::vector<ClippedCurve>& runs, const Curve& c,
+                 const ProceduralCurve& pc) {
+    const bool atStart = pc.ringAtStart != kNoElement, atEnd = pc.ringAtEnd != kNoElement;
+    if (!atStart && !atEnd) return;
+    double sEnd = -1.0;
+    for (const Vertex& v : c.vertices) sEnd += v.onCurve ? 1.0 : 0.0;
+    std::size_t next = 0;
+    for (const ClippedCurve& run : runs) {
+        const std::size_t n = run.s.size() > 1 ? run.s.size() - 1 : 0;
+        if (n == 0 || next + n > segments.size()) continue;
+        if (atStart && run.s.front() == 0.0) segments[next].startCap = true;
+        if (atEnd && run.s.back() == sEnd) segments[next + n - 1].endCap = true;
+        next += n;
+    }
+}
+
 }  // namespace
 
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
@@ -198,7 +217,9 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
                     if (ends.startYield) ends.startRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtStart));
                     if (ends.endYield) ends.endRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtEnd));
                 }
-            drawMarkings(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c, ends);
+            std::vector<Segment> segments = segmentsOf(curves.at(id), &curveData, it.layer, id);
+            if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) capRingEnds(segments, curves.at(id), c, *pc);
+            drawMarkings(canvas, segments, c, ends);
             if (counters) ++counters->curvesWithMarkings;
         }
         i = lastArea;
