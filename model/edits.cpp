@@ -290,7 +290,7 @@ Changeset setAreaFootprint(Scene& s, LayerId layer, ElementId area, float wf) {
 Changeset setNodeRoundabout(Scene& s, LayerId layer, ElementId node, float radius) {
     Node& n = liveNode(s, layer, node);
     if (auto reason = roundaboutRefusal(s, layer, node, radius)) throw EditError(name(s, layer, "node", node) + ": " + *reason);
-    n.roundabout = radius;
+    n.roundabout = radius == 0.0f ? 0.0f : radius;  // -0 as 0, as the scene file keeps it
     Changeset cs;
     cs.modify({layer, ElementKind::Node, node});
     for (ElementId id : n.curves) cs.modify({layer, ElementKind::Curve, id});

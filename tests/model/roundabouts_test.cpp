@@ -316,8 +316,9 @@ TEST(Roundabouts, TheEditReportsTheNodeAndEveryCurveAtIt) {
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(cs.added, expected);
     EXPECT_EQ(cs.removed, expected);
-    setNodeRoundabout(s.scene, 0, s.centre, 0.0f);
+    setNodeRoundabout(s.scene, 0, s.centre, -0.0f);
     EXPECT_EQ(roundaboutCut(s.scene, 0, s.roads[0]), std::nullopt);
+    EXPECT_FALSE(std::signbit(s.scene.layers[0].nodes[s.centre].roundabout));
     EXPECT_THROW(setNodeRoundabout(s.scene, 0, 999, 5.0f), EditError);
 }
 
