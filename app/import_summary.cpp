@@ -14,7 +14,9 @@ void printImportSummary(std::ostream& out, const ImportReport& r, const std::str
             << "\n";
     out << "  fit: " << j["fit"].dump() << "\n  duplicates: " << j["duplicates"].dump() << "\n  dem: " << j["dem"].dump()
         << "\n  crs: " << j["crs"].dump() << "\n  river nodes below their surroundings: " << r.riverNodesBelowSurroundings * 100.0
-        << " % of " << r.riverNodesChecked << "\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
+        << " % of " << r.riverNodesChecked << "\n  river areas: " << r.network.riverAreas << ", " << r.network.riverAreasWithAxial
+        << " with an axial curve (following its profile), " << r.network.riverAreas - r.network.riverAreasWithAxial
+        << " without (flat at their lowest border height, as lakes)\n  problems by reason: " << j["problems_by_reason"].dump() << "\n";
 }
 
 }  // namespace lacet::app

@@ -33,6 +33,10 @@ constexpr const char* kDefaultMapping = R"json({
     {"geometry": "line", "match": {"waterway": ["river"]}, "layer": "rivers", "class": 0, "w": 10, "wf": 20},
     {"geometry": "line", "match": {"waterway": ["canal"]}, "layer": "rivers", "class": 2, "w": 6, "wf": 12},
     {"geometry": "line", "match": {"waterway": ["stream"]}, "layer": "rivers", "class": 1, "w": 2, "wf": 6},
+    {"geometry": "area", "match": {"natural": ["water"], "water": ["river"]}, "layer": "rivers", "class": 0, "wf": 8},
+    {"geometry": "area", "match": {"natural": ["water"], "water": ["stream"]}, "layer": "rivers", "class": 1, "wf": 4},
+    {"geometry": "area", "match": {"natural": ["water"], "water": ["canal"]}, "layer": "rivers", "class": 2, "wf": 6},
+    {"geometry": "area", "match": {"waterway": ["riverbank"]}, "layer": "rivers", "class": 0, "wf": 8},
     {"geometry": "area", "match": {"natural": ["water"]}, "layer": "lakes", "class": 0, "wf": 8},
     {"geometry": "area", "match": {"landuse": ["reservoir"]}, "layer": "lakes", "class": 1, "wf": 8},
     {"geometry": "area", "match": {"landuse": ["farmland"]}, "layer": "fields", "class": 0, "wf": 2},
@@ -216,11 +220,13 @@ MappingRule parseRule(const json& v, const std::string& path, const std::vector<
         check.fail(layerPath, "unknown layer " + json(layer).dump() + " (layers: " + joined(names) + ")");
     }
     rule.layer = std::size_t(it - layers.begin());
-    const bool curveLayer = it->kind == LayerKind::Roads || it->kind == LayerKind::Rivers;
-    if (curveLayer != (rule.geometry == GeometryKind::Line))
+    // Rivers take both: lines (rivers, streams) and areas (a large river's water, §4.1).
+    const bool takesLines = it->kind == LayerKind::Roads || it->kind == LayerKind::Rivers;
+    const bool takesAreas = it->kind != LayerKind::Roads;
+    if (rule.geometry == GeometryKind::Line ? !takesLines : !takesAreas)
         check.fail(layerPath, geometry + " features cannot go to layer " + json(layer).dump() + " of kind " + std::string(toString(it->kind)) +
-                                  (curveLayer ? " (area rules need a lakes, fields, forests or other layer)"
-                                              : " (line rules need a roads or rivers layer)"));
+                                  (rule.geometry == GeometryKind::Area ? " (area rules need a rivers, lakes, fields, forests or other layer)"
+                                                                       : " (line rules need a roads or rivers layer)"));
 
     if (v.contains("class")) rule.cls = std::uint16_t(check.integer(v["class"], member(path, "class"), 0, 0xffff));
     double w = 0.0;

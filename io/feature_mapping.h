@@ -19,8 +19,8 @@
 //           (one of the kinds above), both required.
 //   rules   required, a non-empty array; each rule: "geometry", "match" and "layer" required;
 //           "match" a non-empty object whose values are non-empty arrays of non-empty strings;
-//           "layer" the name of a layer, of kind roads or rivers for line rules and of another
-//           kind for area rules; "class" an integer in 0..65535 (default 0); "w", line rules only,
+//           "layer" the name of a layer, of kind roads or rivers for line rules and of any kind
+//           but roads for area rules (areas of a rivers layer are large rivers' water, §4.1); "class" an integer in 0..65535 (default 0); "w", line rules only,
 //           the width in metres, 0..10000 (default 0); "wf" the footprint width (of a line) or
 //           border width (of an area) in metres, w..10000 (default w).
 //   keep    optional, an array of distinct non-empty strings.
@@ -66,8 +66,9 @@ struct FeatureMapping {
     std::optional<std::size_t> match(const std::map<std::string, std::string>& attributes, GeometryKind geometry) const;
 };
 
-// The default: OSM highway=* (widths by class), waterway=river|stream|canal, natural=water,
-// landuse=farmland|meadow|forest, natural=wood.
+// The default: OSM highway=* (widths by class), waterway=river|stream|canal; river areas
+// (natural=water with water=river|stream|canal, and waterway=riverbank) in the rivers layer;
+// other natural=water and landuse=reservoir as lakes; landuse=farmland|meadow|forest, natural=wood.
 FeatureMapping defaultMapping();
 // Reads a mapping file; MappingError names the file and what is wrong (it cannot be read, with the
 // system's reason; bad JSON; a value breaking the rules above, with its JSON path).

@@ -7,6 +7,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
 namespace lacet {
@@ -190,6 +192,8 @@ public:
     }
 
     void buildAreas(Progress* progress) {
+        // A river layer's curves so far are its rivers: the axial curves its areas choose from.
+        const AxialChooser axials(layer_.kind == LayerKind::Rivers ? layer_.curves.size() : 0, layer_);
         std::vector<const std::vector<Vec2>*> rings;
         for (const QueuedArea& a : areas_)
             for (const std::vector<Vec2>& ring : a.rings) rings.push_back(&ring);
@@ -200,6 +204,11 @@ public:
             Area area;
             area.wf = r.wf;
             area.cls = r.cls;
+            if (layer_.kind == LayerKind::Rivers) {
+                area.axial = axials.choose(a.rings);
+                ++report_.riverAreas;
+                report_.riverAreasWithAxial += area.axial != kNoElement;
+            }
             for (const std::vector<Vec2>& ring : a.rings) {
                 SplineFitResult& fit = fits[next++];
                 countFit(fit);
@@ -220,6 +229,69 @@ public:
     }
 
 private:
+    // The axial curve of a river area (§4.1, §5.2): of the layer's first `count` curves (its
+    // rivers, built before its areas), the one with the greatest length inside the area's rings
+    // (even-odd, so holes are outside); none when no river runs through it. Each curve is measured
+    // as a polyline of kSegmentsPerPiece chords per Bezier piece, a chord inside when its midpoint
+    // is. Ties go to the lower curve id.
+    class AxialChooser {
+    public:
+        AxialChooser(std::size_t count, const Layer& layer) {
+            for (std::size_t c = 0; c < count; ++c) {
+                Polyline p;
+                p.points.push_back(layer.curves[c].vertices.front().p);
+                forEachPiece(layer.curves[c].vertices, [&](const BezierPiece& b, std::size_t) {
+                    for (int i = 1; i <= kSegmentsPerPiece; ++i) p.points.push_back(evaluate(b, double(i) / kSegmentsPerPiece));
+                });
+                p.box = boxOf(p.points);
+                polylines_.push_back(std::move(p));
+            }
+        }
+
+        ElementId choose(const std::vector<std::vector<Vec2>>& rings) const {
+            const Box box = boxOf(rings.front());
+            ElementId best = kNoElement;
+            double bestInside = kMinInside;
+            for (std::size_t c = 0; c < polylines_.size(); ++c) {
+                const Polyline& p = polylines_[c];
+                if (!p.box.intersects(box)) continue;
+                double inside = 0.0;
+                for (std::size_t i = 0; i + 1 < p.points.size(); ++i) {
+                    const Vec2 mid = 0.5 * (p.points[i] + p.points[i + 1]);
+                    if (box.contains(mid) && insideRings(rings, mid)) inside += glm::length(p.points[i + 1] - p.points[i]);
+                }
+                if (inside > bestInside) {
+                    bestInside = inside;
+                    best = ElementId(c);
+                }
+            }
+            return best;
+        }
+
+    private:
+        static constexpr int kSegmentsPerPiece = 8;
+        static constexpr double kMinInside = 0.0;  // metres of a river inside the area to make it the axial curve (more than)
+        struct Polyline {
+            std::vector<Vec2> points;
+            Box box;
+        };
+        static Box boxOf(const std::vector<Vec2>& pts) {
+            Box b{pts.front(), pts.front()};
+            for (const Vec2& p : pts) b = {glm::min(b.min, p), glm::max(b.max, p)};
+            return b;
+        }
+        static bool insideRings(const std::vector<std::vector<Vec2>>& rings, Vec2 q) {
+            bool inside = false;
+            for (const std::vector<Vec2>& ring : rings)
+                for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++)
+                    if ((ring[i].y > q.y) != (ring[j].y > q.y) &&
+                        q.x < (ring[j].x - ring[i].x) * (q.y - ring[i].y) / (ring[j].y - ring[i].y) + ring[i].x)
+                        inside = !inside;
+            return inside;
+        }
+        std::vector<Polyline> polylines_;
+    };
+
     struct QueuedArea {
         std::vector<std::vector<Vec2>> rings;
         std::size_t rule;

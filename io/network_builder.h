@@ -7,8 +7,11 @@
 // chains through nodes where exactly two pieces of the same rule and flags meet end to end are
 // merged into one curve (for rivers only in the flow direction). Each curve is a spline fitted
 // to its points within the tolerance (io/spline_fit.h) whose ends are its nodes, exactly.
-// Polygons (lakes, fields, forests): each ring becomes one closed curve from a node to itself,
-// fitted the same way; the outer ring and the holes make the area's loops. Borders shared between
+// Polygons (lakes, fields, forests, river areas): each ring becomes one closed curve from a node to
+// itself, fitted the same way; the outer ring and the holes make the area's loops. An area of a
+// rivers layer gets as its axial curve (its elevation profile, §5.2) the river of the layer with
+// the most length inside it, or none when no river runs through it (then it is flat at its lowest
+// border height, as a lake); its ring curves are its border, not rivers (their `areas` say so). Borders shared between
 // neighbouring polygons are not merged into shared curves (each polygon keeps its own).
 // One feature, one curve: a way segment (two consecutive points) already imported in the layer is
 // not imported again: a feature all of whose segments were seen (the same way in two files, an
@@ -50,6 +53,8 @@ struct NetworkReport {
     std::size_t duplicateLines = 0;          // skipped: every segment imported before
     std::size_t duplicateLineSegments = 0;   // removed from lines that partly overlap earlier ones
     std::size_t duplicateAreas = 0;          // skipped: the same rings as an earlier area
+    std::size_t riverAreas = 0;              // areas of rivers layers (a large river's water)
+    std::size_t riverAreasWithAxial = 0;     // of which with an axial curve (the others are flat, as lakes)
     std::vector<FeatureProblem> problems;
 };
 

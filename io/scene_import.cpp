@@ -99,6 +99,8 @@ void checkRivers(const Scene& s, const Dem& dem, ImportReport& r) {
         if (l.kind != LayerKind::Rivers) continue;
         for (const Node& n : l.nodes) {
             if (!n.alive || n.curves.empty()) continue;
+            // A river area's ring node is on its border, not on a river.
+            if (std::all_of(n.curves.begin(), n.curves.end(), [&](ElementId c) { return !l.curves[c].areas.empty(); })) continue;
             std::vector<double> ring;
             for (int k = 0; k < 16; ++k) {
                 const double a = k * 3.14159265358979 / 8.0;
@@ -224,7 +226,7 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     report.areasKept = data.areas.size();
     std::size_t kept = 0;
     for (const Layer& l : doc.scene.layers) {
-        for (const Curve& c : l.curves) kept += c.alive && l.kind != LayerKind::Fields && l.kind != LayerKind::Forests &&
+        for (const Curve& c : l.curves) kept += c.alive && c.areas.empty() && l.kind != LayerKind::Fields && l.kind != LayerKind::Forests &&
                                                l.kind != LayerKind::Lakes && l.kind != LayerKind::Other;
         for (const Area& a : l.areas) kept += a.alive;
     }
@@ -303,6 +305,9 @@ nlohmann::json ImportReport::json() const {
             {"crs", {{"projection", "transverse Mercator (WGS84), scale 1 on the central meridian"}, {"lon0", lon0}, {"lat0", lat0},
                      {"largest_scale_error", largestScaleError}}},
             {"extent_m", {extent.min.x, extent.min.y, extent.max.x, extent.max.y}},
+            {"river_areas", {{"count", network.riverAreas},
+                             {"with_axial_curve", network.riverAreasWithAxial},
+                             {"flat_without_axial_curve", network.riverAreas - network.riverAreasWithAxial}}},
             {"river_nodes_below_surroundings", riverNodesBelowSurroundings},
             {"river_nodes_checked", riverNodesChecked},
             {"problems_by_reason", countByReason(problems)},

@@ -4,7 +4,8 @@
 // (io/scene_frame.h), the DEM resampled onto the scene's grid (io/dem_import.h), topology and
 // splines (io/network_builder.h), the scene validated. The report says what came in, what was
 // skipped and why, the fit error (a measured Hausdorff distance) per layer and the vertex
-// reduction, duplicates dropped, voids, what lies outside the DEM, the scale error and the time.
+// reduction, duplicates dropped, voids, what lies outside the DEM, the scale error, the river
+// areas and how many got an axial curve (network.riverAreas, riverAreasWithAxial) and the time.
 //
 // What a user can give:
 //   - a DEM (one raster, several tiles, a directory or a VRT) and vectors: the scene's square

@@ -81,7 +81,17 @@ public:
             ++out_.unmapped;
             return;
         }
-        const auto rule = mapping_.match(attributes, line ? GeometryKind::Line : GeometryKind::Area);
+        auto rule = mapping_.match(attributes, line ? GeometryKind::Line : GeometryKind::Area);
+        // A closed way that only an area rule takes is that area's ring: OGR's OSM reader makes
+        // closed ways of keys it does not list as polygons (waterway=riverbank) lines.
+        OGRPolygon closedWay;
+        if (!rule && type == wkbLineString && g->toLineString()->get_IsClosed() && g->toLineString()->getNumPoints() >= 4)
+            if ((rule = mapping_.match(attributes, GeometryKind::Area))) {
+                auto ring = std::make_unique<OGRLinearRing>();
+                ring->addSubLineString(g->toLineString());
+                closedWay.addRingDirectly(ring.release());
+                g = &closedWay;
+            }
         if (!rule) {
             ++out_.unmapped;
             return;
@@ -91,7 +101,8 @@ public:
             if (attributes.count(k)) kept[k] = attributes[k];
         const std::size_t before = out_.lines.size() + out_.areas.size();
         outOfRange_ = false;
-        if (line) lines(*g, type, *rule, attributes, kept, src, ct);
+        if (g == &closedWay) areas(*g, wkbPolygon, *rule, kept, src, ct);
+        else if (line) lines(*g, type, *rule, attributes, kept, src, ct);
         else areas(*g, type, *rule, kept, src, ct);
         // A feature counts as out of range when nothing of it was kept for that reason.
         auto& counts = rangeCounts[layer.GetName()];

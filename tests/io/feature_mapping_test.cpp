@@ -124,8 +124,17 @@ INSTANTIATE_TEST_SUITE_P(FeatureMapping, FeatureMappingFault, testing::ValuesIn(
 TEST(FeatureMapping, DefaultMappingParses) {
     const FeatureMapping m = defaultMapping();
     EXPECT_EQ(m.layers.size(), 5u);
-    EXPECT_EQ(m.rules.size(), 14u);
+    EXPECT_EQ(m.rules.size(), 18u);
     EXPECT_EQ(m.keep, (std::vector<std::string>{"bridge", "tunnel", "layer", "name"}));
+    // River polygons are areas of the rivers layer; other water polygons are lakes.
+    auto areaLayer = [&](const std::map<std::string, std::string>& tags) {
+        const auto rule = m.match(tags, GeometryKind::Area);
+        return rule ? m.layers[m.rules[*rule].layer].kind : LayerKind::Other;
+    };
+    EXPECT_EQ(areaLayer({{"natural", "water"}, {"water", "river"}}), LayerKind::Rivers);
+    EXPECT_EQ(areaLayer({{"waterway", "riverbank"}}), LayerKind::Rivers);
+    EXPECT_EQ(areaLayer({{"natural", "water"}, {"water", "lake"}}), LayerKind::Lakes);
+    EXPECT_EQ(areaLayer({{"natural", "water"}}), LayerKind::Lakes);
 }
 
 TEST(FeatureMapping, ValidCustomMappingParses) {

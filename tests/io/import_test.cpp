@@ -4,6 +4,7 @@
 #include <fstream>
 #include <limits>
 
+#include <glm/common.hpp>
 #include <gtest/gtest.h>
 #include <ogrsf_frmts.h>
 
@@ -445,6 +446,74 @@ TEST(VectorImport, OutOfRangePartsBesideAValidFeatureAreProblemsNotAFileError) {
     readVectors(metres.string(), defaultMapping(), e);
     ASSERT_EQ(e.fileErrors.size(), 1u);
     EXPECT_NE(e.fileErrors[0].find("outside longitude/latitude ranges"), std::string::npos) << e.fileErrors[0];
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// River polygons (natural=water with water=river, waterway=riverbank, also as a closed way, which
+// OGR's OSM reader makes a line) are areas of the rivers layer; each gets as its axial curve the
+// river that runs through it, and one that no river crosses gets none (flat, as a lake) and is
+// counted apart. Other natural=water polygons stay lakes.
+TEST(SceneImport, RiverPolygonsAreRiverAreasWithTheRiverThroughThemAsAxialCurve) {
+    const auto dir = test::scratchDir("river_areas");
+    const auto vectors = dir / "river_areas.geojson";
+    std::ofstream(vectors) << R"({"type": "FeatureCollection", "features": [
+ {"type": "Feature", "properties": {"waterway": "river", "name": "Riu"},
+  "geometry": {"type": "LineString", "coordinates": [[1.530, 42.545], [1.5302, 42.530], [1.5299, 42.515], [1.530, 42.505]]}},
+ {"type": "Feature", "properties": {"waterway": "riverbank"},
+  "geometry": {"type": "Polygon", "coordinates": [[[1.5294, 42.512], [1.5306, 42.512], [1.5306, 42.528], [1.5294, 42.528], [1.5294, 42.512]]]}},
+ {"type": "Feature", "properties": {"natural": "water", "water": "river"},
+  "geometry": {"type": "Polygon", "coordinates": [[[1.5294, 42.531], [1.5308, 42.531], [1.5308, 42.540], [1.5294, 42.540], [1.5294, 42.531]]]}},
+ {"type": "Feature", "properties": {"waterway": "riverbank"},
+  "geometry": {"type": "LineString", "coordinates": [[1.5293, 42.5065], [1.5307, 42.5065], [1.5307, 42.5105], [1.5293, 42.5105], [1.5293, 42.5065]]}},
+ {"type": "Feature", "properties": {"natural": "water", "water": "river"},
+  "geometry": {"type": "Polygon", "coordinates": [[[1.510, 42.510], [1.512, 42.510], [1.512, 42.520], [1.510, 42.520], [1.510, 42.510]]]}},
+ {"type": "Feature", "properties": {"natural": "water"},
+  "geometry": {"type": "Polygon", "coordinates": [[[1.540, 42.540], [1.545, 42.540], [1.545, 42.545], [1.540, 42.545], [1.540, 42.540]]]}}]})";
+    ImportOptions o;
+    o.dem = {test::writeFixtureDem(dir, false)};
+    o.vectors = {vectors.string()};
+    ImportReport r;
+    const SceneDocument doc = importScene(o, r);
+    EXPECT_TRUE(validate(doc.scene).empty());
+    const Layer& rivers = doc.scene.layers[1];
+    const Layer& lakes = doc.scene.layers[2];
+    ASSERT_EQ(rivers.kind, LayerKind::Rivers);
+    std::vector<ElementId> riverCurves;  // the rivers proper, not the areas' borders
+    for (ElementId c = 0; c < rivers.curves.size(); ++c)
+        if (rivers.curves[c].areas.empty()) riverCurves.push_back(c);
+    ASSERT_EQ(riverCurves.size(), 1u) << "the areas' borders do not cut the river";
+    EXPECT_EQ(rivers.curves[riverCurves[0]].w, 10.0f);
+    ASSERT_EQ(rivers.areas.size(), 4u);
+    std::size_t withAxial = 0;
+    for (const Area& a : rivers.areas) {
+        if (a.axial == kNoElement) continue;
+        ++withAxial;
+        EXPECT_EQ(a.axial, riverCurves[0]);
+    }
+    EXPECT_EQ(withAxial, 3u);
+    // The polygon away from the river (the fourth feature read as an area) has none.
+    SceneFrame frame(doc.georeference);
+    const Vec2 away = frame.forward({1.511, 42.515});
+    bool awayFlat = false;
+    for (const Area& a : rivers.areas) {
+        Box box{rivers.curves[a.loops[0][0].curve].vertices.front().p, rivers.curves[a.loops[0][0].curve].vertices.front().p};
+        for (const Vertex& v : rivers.curves[a.loops[0][0].curve].vertices) box = {glm::min(box.min, v.p), glm::max(box.max, v.p)};
+        if (box.contains(away)) awayFlat = a.axial == kNoElement;
+    }
+    EXPECT_TRUE(awayFlat);
+    ASSERT_EQ(lakes.areas.size(), 1u) << "a plain natural=water polygon is still a lake";
+    EXPECT_EQ(r.network.riverAreas, 4u);
+    EXPECT_EQ(r.network.riverAreasWithAxial, 3u);
+    const nlohmann::json j = r.json();
+    EXPECT_EQ(j["river_areas"]["count"], 4);
+    EXPECT_EQ(j["river_areas"]["with_axial_curve"], 3);
+    EXPECT_EQ(j["river_areas"]["flat_without_axial_curve"], 1);
     std::filesystem::remove_all(dir);
 }
 

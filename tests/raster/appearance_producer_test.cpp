@@ -402,6 +402,60 @@ TEST(AppearanceProducer, AnAreaWithoutAStripBlendsOnlyItsSurfaceOverTheGround) {
     EXPECT_LT(worst, 1.6) << "levels of 255";
 }
 
+// A river area (§4.1: a large river's water) is drawn as water, mask set, over the banks of the
+// river running through it (a bank strip inside the area would be land in the river) and under
+// the river's own water; beyond the area the river keeps its banks.
+TEST(AppearanceProducer, RiverAreasAreWaterOverTheirRiversBanks) {
+    constexpr double kRiverX = 32.0, kHalfW = 3.0, kHalfWf = 6.0;  // metres
+    const Box area{{20.0, 12.0}, {44.0, 52.0}};                     // metres
+    test::SceneBuilder b(64.0);
+    const ElementId up = b.node(kRiversLayer, {kRiverX, 64.0}), down = b.node(kRiversLayer, {kRiverX, 0.0});
+    const ElementId river = b.curve(kRiversLayer, up, down, {}, float(2.0 * kHalfW), float(2.0 * kHalfWf));
+    const Vec2 corners[4] = {area.min, {area.max.x, area.min.y}, area.max, {area.min.x, area.max.y}};
+    ElementId n[4];
+    for (int i = 0; i < 4; ++i) n[i] = b.node(kRiversLayer, corners[i]);
+    std::vector<AreaEdge> ring;
+    for (int i = 0; i < 4; ++i) ring.push_back({b.curve(kRiversLayer, n[i], n[(i + 1) % 4], {}, 0.0f, 3.0f), false});
+    const ElementId a = b.area(kRiversLayer, {ring}, 3.0f);
+    b.scene().layers[kRiversLayer].areas[a].axial = river;
+    const Scene& scene = b.scene();
+    const Dem dem = test::gentleSlope(scene.extent);
+    DemHeightField heights(dem);
+    Quadtree qt(scene, RefineParams{{.resolution = 128}});
+    qt.subdivide(qt.root());
+    CurveDataCache data(qt, heights);
+    const Rgbm water = surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0);
+    auto isWater = [&](const std::uint8_t* texel) {
+        bool same = texel[3] == 255;
+        for (int c = 0; c < 3; ++c) same = same && std::abs(texel[c] - 255.0 * water[c]) < 1.6;
+        return same;
+    };
+    std::size_t inside = 0, insideBanks = 0, outsideBanks = 0;
+    for (const auto& child : qt.root().children) {
+        const AppearanceTile t = produceAppearance(*child, qt, data, dem, {});
+        const std::vector<std::uint8_t> texels = tileTexels(t);
+        for (int j = 0; j < t.resolution; ++j)
+            for (int i = 0; i < t.resolution; ++i) {
+                const Vec2 p = t.texelCentre(i, j);
+                const std::uint8_t* texel = &texels[t.index(i, j)];
+                const double fromAxis = std::abs(p.x - kRiverX);
+                if (area.dilated(-1.0).contains(p)) {
+                    EXPECT_TRUE(isWater(texel)) << "inside the river area at " << p.x << ", " << p.y;
+                    ++inside;
+                    insideBanks += fromAxis > kHalfW + 0.5 && fromAxis < kHalfWf - 0.5;
+                } else if ((p.y > area.max.y + 5.0 || p.y < area.min.y - 5.0) && fromAxis > kHalfW + 0.5 && fromAxis < kHalfWf - 0.5) {
+                    EXPECT_EQ(texel[3], 0) << "the river's banks beyond the area at " << p.x << ", " << p.y;
+                    ++outsideBanks;
+                } else if (fromAxis < kHalfW - 0.5) {
+                    EXPECT_TRUE(isWater(texel)) << "the river's water at " << p.x << ", " << p.y;
+                }
+            }
+    }
+    EXPECT_GT(inside, 10000u);   // 0.25 m texels over 20 x 38 m
+    EXPECT_GT(insideBanks, 2000u);
+    EXPECT_GT(outsideBanks, 600u);
+}
+
 TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
     World w(5, 2000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 64}});

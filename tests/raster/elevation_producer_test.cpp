@@ -15,6 +15,7 @@
 #include "synth/random_edits.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
+#include "tests/raster/hand_scenes.h"
 
 namespace lacet {
 namespace {
@@ -134,6 +135,89 @@ TEST(ElevationProducer, RoadsAreLevelAcrossTheirWidth) {
     EXPECT_GT(checked, 200u);
     EXPECT_LT(worst, 0.01) << "metres per metre of width";
     std::cout << "[ figures  ] roads across: " << checked << " cross-sections, at most " << worst * 100.0 << " cm per metre\n";
+}
+
+// A river area (§4.1: a large river's water) on a valley sloping down to the south (a V across
+// x = 256 whose floor descends with y), a 40 x 300 m rectangle around a river flowing south along
+// the floor, its border made of curves of the rivers layer as the import makes them.
+struct RiverAreaValley {
+    static constexpr double kSide = 512.0;      // metres
+    static constexpr double kAxisX = 256.0;     // metres: the valley floor and the river
+    static constexpr double kSideSlope = 0.3;   // m/m across the valley
+    static constexpr double kDownSlope = 0.05;  // m/m along it
+    static constexpr double kUpY = 500.0;       // metres: the river's source; its mouth is at y = 12
+    static inline const Box kArea{{236.0, 100.0}, {276.0, 400.0}};  // metres: the river area
+    Scene scene;
+    Dem dem;
+    ElementId river = kNoElement, area = kNoElement;
+
+    static double height(Vec2 p) { return 1000.0 + kSideSlope * std::abs(p.x - kAxisX) + kDownSlope * p.y; }
+    static Dem makeDem() {
+        constexpr int kCells = 64;  // 8 m
+        std::vector<float> h(std::size_t(kCells) * kCells);
+        for (int j = 0; j < kCells; ++j)
+            for (int i = 0; i < kCells; ++i)
+                h[std::size_t(j) * kCells + std::size_t(i)] = float(height(Vec2(i + 0.5, j + 0.5) * (kSide / kCells)));
+        return Dem({{0.0, 0.0}, {kSide, kSide}}, kCells, kCells, std::move(h));
+    }
+    explicit RiverAreaValley(bool withAxial) : dem(makeDem()) {
+        test::SceneBuilder b(kSide);
+        const ElementId up = b.node(kRiversLayer, {kAxisX, kUpY}), down = b.node(kRiversLayer, {kAxisX, 12.0});
+        river = b.curve(kRiversLayer, up, down, {}, 10.0f, 20.0f);
+        const Vec2 corners[4] = {kArea.min, {kArea.max.x, kArea.min.y}, kArea.max, {kArea.min.x, kArea.max.y}};
+        ElementId n[4];
+        for (int i = 0; i < 4; ++i) n[i] = b.node(kRiversLayer, corners[i]);
+        std::vector<AreaEdge> ring;
+        for (int i = 0; i < 4; ++i) ring.push_back({b.curve(kRiversLayer, n[i], n[(i + 1) % 4], {}, 0.0f, 8.0f), false});
+        area = b.area(kRiversLayer, {ring}, 8.0f);
+        if (withAxial) b.scene().layers[kRiversLayer].areas[area].axial = river;
+        scene = std::move(b.scene());
+    }
+};
+
+// §5.2, areas in three steps: inside a river area, z_m is its axial curve's z-profile at the
+// nearest point of the axial curve (here straight down the valley: u = 500 - y), so the water
+// descends with the river, and is not the flat level of its lowest border, which it keeps only
+// without an axial curve (as a lake).
+TEST(ElevationProducer, RiverAreasFollowTheirAxialCurvesProfileDownstream) {
+    constexpr int kLevel = 3;              // 64 m quads, samples 2.7 m apart
+    constexpr double kTolerance = 0.01;    // metres
+    constexpr double kAwayFromBorder = 10.0;  // metres: beyond the border's blend and the 3 x 3 filter
+    for (const bool withAxial : {true, false}) {
+        const RiverAreaValley v(withAxial);
+        DemHeightField heights(v.dem);
+        Quadtree qt(v.scene);
+        CurveDataCache data(qt, heights);
+        const auto tiles = tilesAround(qt, data, v.dem, RiverAreaValley::kArea, kLevel);
+        const ZProfile& profile = data.zProfile(kRiversLayer, v.river);
+        const double level = data.lakeLevel(kRiversLayer, v.area);
+        double worst = 0.0, highest = -1e300;
+        std::size_t checked = 0;
+        for (const double x : {RiverAreaValley::kArea.min.x + kAwayFromBorder, RiverAreaValley::kAxisX, RiverAreaValley::kArea.max.x - kAwayFromBorder}) {
+            double previous = 1e300;
+            for (double y = RiverAreaValley::kArea.max.y - kAwayFromBorder; y >= RiverAreaValley::kArea.min.y + kAwayFromBorder; y -= 10.0) {
+                const ElevationTile* t = tileAt(tiles, kLevel, {x, y});
+                ASSERT_NE(t, nullptr);
+                const double zm = zmAt(*t, {x, y});
+                const double expected = withAxial ? profile.at(RiverAreaValley::kUpY - y) : level;
+                worst = std::max(worst, std::abs(zm - expected));
+                highest = std::max(highest, zm);
+                if (withAxial) {
+                    EXPECT_LT(zm, previous - 0.5 * RiverAreaValley::kDownSlope * 10.0) << "descends downstream at x " << x << ", y " << y;
+                }
+                previous = zm;
+                ++checked;
+            }
+        }
+        EXPECT_EQ(checked, 3u * 29u);
+        EXPECT_LT(worst, kTolerance) << (withAxial ? "the axial profile" : "the lowest border level") << ", metres";
+        if (withAxial) {
+            EXPECT_GT(highest - level, 0.8 * RiverAreaValley::kDownSlope * 280.0) << "not flat at the lowest border's level";
+        }
+        std::cout << "[ figures  ] river area " << (withAxial ? "with" : "without") << " an axial curve: " << checked
+                  << " samples within " << worst * 1000.0 << " mm of " << (withAxial ? "its profile" : "its lowest border")
+                  << ", highest " << highest - level << " m above the lowest border\n";
+    }
 }
 
 // A lake's surface is flat within 1 mm, away from its border by the filter's reach.
