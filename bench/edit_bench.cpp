@@ -94,18 +94,20 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
         if (glm::length(s.layers[kFieldsLayer].nodes[id].p - at) < best) best = glm::length(s.layers[kFieldsLayer].nodes[id].p - at), field = id;
     const Vec2 fieldAt = s.layers[kFieldsLayer].nodes[field].p;
 
-    // The camera: south-west of the control point, `altitude` above the ground, looking at it.
-    Camera camera;
-    camera.fly = true;
-    const Vec2 from = at + Vec2(-56.0, -56.0);
-    const double ground = doc.dem->sample(from);
-    camera.flyPosition = glm::dvec3(from.x, from.y, ground + o.altitude);
-    const glm::dvec3 look = glm::dvec3(at.x, at.y, doc.dem->sample(at)) - camera.flyPosition;
-    camera.yaw = std::atan2(look.x, look.y);
-    camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
+    // The camera: south-west of the point, `altitude` above the ground, looking at it.
     const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
-    const QuadVisibility visible = frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(o.altitude), zRange);
-    const glm::dvec3 viewer(from.x, from.y, o.altitude);
+    auto viewOf = [&](Vec2 target) {
+        Camera camera;
+        camera.fly = true;
+        const Vec2 from = target + Vec2(-56.0, -56.0);
+        camera.flyPosition = glm::dvec3(from.x, from.y, doc.dem->sample(from) + o.altitude);
+        const glm::dvec3 look = glm::dvec3(target.x, target.y, doc.dem->sample(target)) - camera.flyPosition;
+        camera.yaw = std::atan2(look.x, look.y);
+        camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
+        return std::pair{frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(o.altitude), zRange),
+                         glm::dvec3(from.x, from.y, o.altitude)};
+    };
+    const auto [visible, viewer] = viewOf(at);
 
     nlohmann::json runs;
     std::size_t viewQuads = 0, visibleQuads = 0;
@@ -127,6 +129,44 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
             return MoveNodeCmd{kFieldsLayer, field, fieldAt + Vec2(8.0, -6.0) * f};
         });
         runs[cull ? "frustum_culled" : "every_leaf"] = {{"road_control_point", roadDrag.json()}, {"field_border", fieldDrag.json()}};
+        if (!cull) continue;
+        // A road over a river (issue 14): the bridge nearest the centre; the road's vertex nearest
+        // the bridge's middle dragged 60 m across the road's direction, so that the crossing moves
+        // and the graph step re-makes the road's bridge at every step.
+        const Quadtree& qt = session.quadtree();
+        Vec2 bridgeAt(0.0);
+        ElementId bridged = kNoElement;
+        best = 1e300;
+        for (ElementId id = 0; id < s.layers[kRoadsLayer].curves.size(); ++id)
+            for (AncestorId a : qt.expansionOf(kRoadsLayer, id)) {
+                const Curve& b = qt.ancestorCurve(kRoadsLayer, a);
+                if (!(b.flags & kBridge)) continue;
+                const Vec2 mid = 0.5 * (b.vertices.front().p + b.vertices.back().p);
+                if (glm::length(mid - centre) < best) best = glm::length(mid - centre), bridged = id, bridgeAt = mid;
+            }
+        if (bridged == kNoElement) continue;
+        const Curve& r = s.layers[kRoadsLayer].curves[bridged];
+        std::size_t vi = 0;
+        best = 1e300;
+        for (std::size_t i = 0; i < r.vertices.size(); ++i)
+            if (glm::length(r.vertices[i].p - bridgeAt) < best) best = glm::length(r.vertices[i].p - bridgeAt), vi = i;
+        const Vec2 along = glm::normalize(r.vertices.back().p - r.vertices.front().p);
+        const Vec2 across(-along.y, along.x);
+        const Vec2 from = r.vertices[vi].p;
+        const bool isNode = vi == 0 || vi + 1 == r.vertices.size();
+        const ElementId node = vi == 0 ? r.start : r.end;
+        const auto [riverVisible, riverViewer] = viewOf(bridgeAt);
+        session.frame(riverViewer, 0.0, riverVisible);
+        const std::size_t bridgesBefore = qt.proceduralCount(kBridge);
+        const Drag riverDrag = drag(session, riverViewer, riverVisible, o.steps, o.repeats, [&](int i) -> Command {
+            const Vec2 p = from + across * (60.0 * double(i + 1) / o.steps);
+            if (isNode) return MoveNodeCmd{kRoadsLayer, node, p};
+            return MoveVertexCmd{kRoadsLayer, bridged, vi, p};
+        });
+        runs["road_over_river"] = riverDrag.json();
+        runs["road_over_river"]["bridge_distance_from_centre_m"] = glm::length(bridgeAt - centre);
+        runs["road_over_river"]["dragged"] = isNode ? "end node" : "vertex";
+        runs["road_over_river"]["bridges_in_scene"] = bridgesBefore;
     }
     return {{"curves", count(doc.scene).curves},
             {"threads", tbb::info::default_concurrency()},

@@ -1,4 +1,5 @@
 #include <map>
+#include <optional>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -53,13 +54,66 @@ std::map<int, std::vector<double>> timeClipAndRefineByLevel(const Scene& s, cons
     return byLevel;
 }
 
+// What the graph step costs (issue 14): on `s` (with its crossings and roundabouts) and on the
+// same scene without rivers and roundabouts (nothing for the step to do), the root's subdivision
+// (the quadtree's construction, which expands every root curve, plus the root's four children)
+// with the step and without one, and the median UPDATE of `moves` random moves of a road control
+// point near the centre, in a tree refined for a viewer above it, with and without the step.
+nlohmann::json graphStepCost(const Scene& scene, Target target, int moves, double altitude, std::uint64_t seed) {
+    Scene plain = scene;
+    Layer& rivers = plain.layers[kRiversLayer];
+    rivers = Layer{rivers.name, rivers.kind, {}, {}, {}};
+    for (Layer& l : plain.layers)
+        for (Node& n : l.nodes) n.roundabout = 0.0f;
+    nlohmann::json out;
+    for (const bool crossings : {true, false}) {
+        const Scene& base = crossings ? scene : plain;
+        nlohmann::json row;
+        for (const bool withStep : {true, false}) {
+            std::vector<double> subdivideMs, updateMs;
+            double indexMs = 0.0;
+            for (int rep = 0; rep < 3; ++rep) {
+                Scene s = base;
+                auto t0 = Clock::now();
+                std::optional<GraphStep> step;
+                if (withStep) step.emplace(s);
+                indexMs = msSince(t0);
+                Quadtree qt(s, {}, withStep ? &*step : nullptr);
+                qt.subdivide(qt.root());
+                subdivideMs.push_back(msSince(t0));
+                const Vec2 at = s.layers[kRoadsLayer].curves[target.curve].vertices[target.vertex].p;
+                if (rep > 0) continue;
+                qt.refineForViewer({at.x, at.y, altitude}, ViewParams{});
+                std::mt19937_64 rng(seed);
+                for (int i = 0; i < moves; ++i) {
+                    const Vec2 p = at + Vec2(uniform01(rng) * 40.0 - 20.0, uniform01(rng) * 40.0 - 20.0);
+                    const Changeset cs = moveVertex(s, kRoadsLayer, target.curve, target.vertex, p);
+                    t0 = Clock::now();
+                    qt.update(cs);
+                    updateMs.push_back(msSince(t0));
+                }
+                if (withStep)
+                    row["step_counters"] = {{"curves_expanded", step->counters().curvesExpanded.load()},
+                                            {"crossings_tested", step->counters().crossingsTested.load()},
+                                            {"bridges_made", step->counters().bridgesMade.load()},
+                                            {"roads_at_roundabouts", step->counters().roundaboutRoads.load()}};
+            }
+            row[withStep ? "with_step" : "without_step"] = {{"root_subdivision_median_ms", median(subdivideMs)},
+                                                            {"index_ms", indexMs},
+                                                            {"update_median_ms", median(updateMs)}};
+        }
+        out[crossings ? "scene" : "scene_without_rivers_and_roundabouts"] = row;
+    }
+    return out;
+}
+
 }  // namespace
 
 nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t seed, int moves, double altitude) {
     const ViewParams view;
     nlohmann::json runs = nlohmann::json::array();
     double firstMedian = 0.0, lastMedian = 0.0, lastRebuild = 0.0;
-    nlohmann::json byDepth;
+    nlohmann::json byDepth, graphStep;
     for (std::size_t run = 0; run < curves.size(); ++run) {
         const std::size_t n = curves[run];
         auto t0 = Clock::now();
@@ -110,6 +164,7 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
                         {"rebuild_ms", rebuildMs},
                         {"peak_rss_mib", peakRssMiB()}});
         if (run + 1 == curves.size()) {
+            graphStep = graphStepCost(s, target, moves, altitude, seed);
             for (const auto& [level, ms] : timeClipAndRefineByLevel(s, qt))
                 byDepth.push_back({{"depth", level}, {"subdivisions", ms.size()}, {"median_ms_per_child_quad", median(ms)},
                                 {"max_ms_per_child_quad", quantile(ms, 1.0)}});
@@ -122,6 +177,7 @@ nlohmann::json benchUpdate(const std::vector<std::size_t>& curves, std::uint64_t
             {"ratio", firstMedian > 0.0 ? lastMedian / firstMedian : 0.0},
             {"rebuild_speedup", lastMedian > 0.0 ? lastRebuild / lastMedian : 0.0},
             {"clip_and_refine_per_quad_by_depth", byDepth},
+            {"graph_step_cost", graphStep},
             {"peak_rss_mib", peakRssMiB()}};
 }
 

@@ -195,7 +195,8 @@ struct GraphStep::Index {
         CellIndex cells{64.0};
     };
     std::vector<LayerIndex> layers;
-    bool anyRivers = false;
+    bool anyRivers = false;        // the scene has a Rivers layer: road curves are indexed too
+    std::size_t riverCurves = 0;   // river curves indexed now: none, no road looks for crossings
     // Roads whose expansion read a river (by river layer and id): UPDATE expands them again when
     // the river changes.
     std::unordered_map<std::uint64_t, std::unordered_set<std::uint64_t>> readers;
@@ -211,6 +212,7 @@ struct GraphStep::Index {
                 li.cells.insert(segmentBox(pl.p[i], pl.p[i + 1]), {id, std::uint32_t(i)});
             li.boxes[id] = pl.box;
             li.polylines[id] = std::move(pl);
+            ++riverCurves;
         } else if (li.kind == LayerKind::Roads) {
             Box b{c.vertices.front().p, c.vertices.front().p};
             for (const Vertex& v : c.vertices) b = {glm::min(b.min, v.p), glm::max(b.max, v.p)};  // control hull
@@ -227,6 +229,7 @@ struct GraphStep::Index {
             for (std::size_t i = 0; i + 1 < pl.p.size(); ++i) li.cells.erase(segmentBox(pl.p[i], pl.p[i + 1]), id);
             li.polylines.erase(it);
             li.boxes.erase(id);
+            --riverCurves;
         } else {
             const auto it = li.boxes.find(id);
             if (it == li.boxes.end()) return;
@@ -306,7 +309,7 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     const bool ringStart = c.start != kNoElement && L.nodes[c.start].roundabout > 0.0f;
     const bool ringEnd = c.end != kNoElement && L.nodes[c.end].roundabout > 0.0f;
     const bool imported = (c.flags & kBridge) != 0;
-    const bool lookForBridges = imported || (index_->anyRivers && params_.bridges && !(c.flags & (kNoBridge | kTunnel)));
+    const bool lookForBridges = imported || (index_->riverCurves > 0 && params_.bridges && !(c.flags & (kNoBridge | kTunnel)));
     if (!ringStart && !ringEnd && !lookForBridges) return false;
     ++counters_.curvesExpanded;
 

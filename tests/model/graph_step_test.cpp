@@ -243,7 +243,7 @@ TEST(GraphStep, HugeCoordinatesGiveTheSameBridgesAsAtTheOrigin) {
 
 TEST(GraphStep, ASceneWithoutRiversBridgesOrRoundaboutsDoesNoWork) {
     Scene s = emptyScene();
-    s.layers.pop_back();  // no rivers layer at all
+    // A rivers layer with no river in it: nothing to cross.
     std::mt19937_64 rng(3);
     std::uniform_real_distribution<double> x(0.0, 2048.0);
     for (int i = 0; i < 200; ++i) polyline(s, kRoads, {{x(rng), x(rng)}, {x(rng), x(rng)}}, 6, 12);
