@@ -97,12 +97,14 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
     return std::nullopt;
 }
 
-// Where a ring arc or a road trimmed at a ring ends on the ring, the pieces meet at one point with
-// no node there: its markings stop at that end as at a node's cap, instead of drawing their side
+// Where a ring arc or a road trimmed at a ring ends on the ring, or a road piece at its bridge, the
+// pieces meet at one point with no node there: its markings stop at that end as at a node's cap, instead of drawing their side
 // lines around it (the segments of `runs`, as segmentsOf made them).
 void capRingEnds(std::vector<Segment>& segments, const std::vector<ClippedCurve>& runs, const Curve& c,
                  const ProceduralCurve& pc) {
-    const bool atStart = pc.ringAtStart != kNoElement, atEnd = pc.ringAtEnd != kNoElement;
+    // A ring's end, or a cut where a road meets its bridge (the deck's mesh takes over there).
+    const bool atStart = pc.ringAtStart != kNoElement || (pc.followsRoot() && c.start == kNoElement);
+    const bool atEnd = pc.ringAtEnd != kNoElement || (pc.followsRoot() && c.end == kNoElement);
     if (!atStart && !atEnd) return;
     double sEnd = -1.0;
     for (const Vertex& v : c.vertices) sEnd += v.onCurve ? 1.0 : 0.0;

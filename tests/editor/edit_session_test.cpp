@@ -118,10 +118,11 @@ SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
 
 // Every leaf of the session's view has a clean tile equal to one made from scratch.
 void expectTilesEqualFromScratch(const EditSession& session, const SessionParams& params, const char* when) {
-    Quadtree fresh(session.document().scene, params.refine);
+    GraphStep step(session.document().scene, params.graph);
+    Quadtree fresh(session.document().scene, params.refine, &step);
     fresh.copyStructureOf(session.quadtree());
     DemHeightField heights(*session.document().dem);
-    CurveDataCache data(fresh, heights);
+    CurveDataCache data(fresh, heights, params.profiles);
     std::size_t compared = 0;
     fresh.forEachQuad([&](const Quad& q) {
         if (!q.isLeaf()) return;
