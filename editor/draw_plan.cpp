@@ -1,6 +1,7 @@
 #include "editor/draw_plan.h"
 
 #include <algorithm>
+#include <set>
 #include <stdexcept>
 
 #include "model/view_params.h"
@@ -57,8 +58,11 @@ DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile
     plan.gridCells = tree.params().elevationResolution;
     plan.rootBounds = tree.root().bounds;
     PlanWalk{plan, tileOf, visible}.visit(tree.root(), nullptr, nullptr);
-    for (DrawItem& item : plan.items)
+    std::set<QuadKey> withObjects;  // tiles whose objects an earlier item draws
+    for (DrawItem& item : plan.items) {
         item.skirt = item.bounds.size().x * skirt.sizeFraction + skirt.slope * plan.coarsestAncestorDelta;
+        if (item.drawn() && !item.tile->objects.empty() && withObjects.insert(item.tileKey).second) item.objects = &item.tile->objects;
+    }
     if (plan.deepest > ViewParams::kMaxLevel)
         throw std::invalid_argument("makeDrawPlan(): the tree is deeper than ViewParams::kMaxLevel");
     plan.zStart.reserve(plan.items.size());

@@ -27,6 +27,7 @@
 #include "model/types.h"
 #include "raster/appearance_producer.h"
 #include "raster/elevation_producer.h"
+#include "raster/object_meshes.h"
 
 namespace lacet {
 
@@ -36,6 +37,7 @@ QuadKey keyOf(const Quad& q);
 struct CachedTile {
     AppearanceTile appearance;
     ElevationTile elevation;
+    ObjectMesh objects;  // the quad's bridges and trees (§5.3), made with its elevation tile
     bool dirty = false;
     std::uint64_t lastUsed = 0;
     std::uint64_t version = 0;  // changes each time the tile is made (for GPU copies)
@@ -57,6 +59,10 @@ struct DrawItem {
     const CachedTile* tile = nullptr;  // that tile; nullptr: none yet (not drawn)
     bool visible = false;              // passed the frame's visibility test
     double skirt = 0.0;                // metres below the edges
+    // The objects (bridges, trees: §5.3) of the tile standing for it, on the first drawn item of
+    // each tile only (a tile standing for several leaves has its objects drawn once); nullptr on
+    // the others and where the tile has none.
+    const ObjectMesh* objects = nullptr;
     bool ownTile() const { return tile && tileKey == leaf; }
     bool drawn() const { return visible && tile; }
 };
@@ -64,8 +70,8 @@ struct DrawItem {
 struct DrawPlan {
     std::vector<DrawItem> items;  // every leaf, in the tree's order (depth first, children in order: Z-order)
     // The mesh each leaf is drawn with: a grid of gridCells x gridCells cells over its square (the
-    // tile grid's elevation resolution, one vertex per sample) and its skirt. The procedural
-    // objects' meshes (bridges, trees: §5.3) will join the items.
+    // tile grid's elevation resolution, one vertex per sample) and its skirt; then the object
+    // meshes (bridges, trees: §5.3) the items carry.
     int gridCells = 0;
     double coarsestAncestorDelta = 0.0;  // the largest sample spacing of an ancestor's tile drawn (m)
     std::size_t drawn = 0, fallback = 0, missing = 0, culled = 0;  // leaves drawn, drawn with an ancestor's tile, visible without a tile, not visible

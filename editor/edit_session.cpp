@@ -48,9 +48,12 @@ std::size_t elementsOf(const Quad& q) {
 EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(std::move(document)), params_(params) {
     if (!doc_.dem) throw std::invalid_argument("EditSession: the document has no DEM");
     params_.view.validate();
+    params_.objects.deckThickness = params_.graph.deckThickness;
+    params_.objects.validate();
     heights_ = std::make_unique<DemHeightField>(*doc_.dem);
-    quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
-    data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
+    graphStep_ = std::make_unique<GraphStep>(doc_.scene, params_.graph);
+    quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine, graphStep_.get());
+    data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
 }
 
 CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
@@ -68,8 +71,15 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
         const Quad* q = findQuad(quadtree_->root(), key);
         // A tile whose quad is not in the tree now cannot be checked: it is redone if needed.
         bool stale = !q || changed.count(key) > 0;
-        for (std::size_t i = 0; !stale && i < dropped.size(); ++i)
-            stale = q->layers.size() > dropped[i].layer && q->layers[dropped[i].layer].curves.count(dropped[i].id) > 0;
+        for (std::size_t i = 0; !stale && i < dropped.size(); ++i) {
+            // The root curve, or the procedural curves it expands to now (their profiles were
+            // dropped with it; one it expanded to before the edit left the quad with the edit).
+            const LayerId l = dropped[i].layer;
+            if (q->layers.size() <= l) continue;
+            const auto& curves = q->layers[l].curves;
+            stale = curves.count(dropped[i].id) > 0;
+            for (AncestorId a : quadtree_->expansionOf(l, dropped[i].id)) stale = stale || curves.count(a) > 0;
+        }
         if (stale) {
             tile.dirty = true;
             ++r.dirtyTiles;
@@ -163,8 +173,10 @@ void EditSession::setK(double K) {
 void EditSession::setRefineParams(const RefineParams& refine) {
     params_.refine = refine;
     data_.reset();
-    quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine);
-    data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_);
+    quadtree_.reset();
+    graphStep_ = std::make_unique<GraphStep>(doc_.scene, params_.graph);
+    quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine, graphStep_.get());
+    data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
     cache_.clear();
     plan_.clear();
     planPending_ = false;
@@ -173,7 +185,7 @@ void EditSession::setRefineParams(const RefineParams& refine) {
 void EditSession::setLayerVisible(LayerId layer, bool visible) {
     if (layer >= doc_.scene.layers.size()) throw std::out_of_range("EditSession::setLayerVisible: no layer " + std::to_string(layer));
     if (layerVisible(layer) == visible) return;
-    for (std::vector<bool>* hidden : {&params_.appearance.hiddenLayers, &params_.elevation.hiddenLayers}) {
+    for (std::vector<bool>* hidden : {&params_.appearance.hiddenLayers, &params_.elevation.hiddenLayers, &params_.objects.hiddenLayers}) {
         hidden->resize(doc_.scene.layers.size(), false);
         (*hidden)[layer] = !visible;
     }
@@ -212,7 +224,12 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
             }
             const auto j0 = Clock::now();
             if (appearance) made[j / 2].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
-            else made[j / 2].elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
+            else {
+                // The quad's objects stand on its displayed ground: made right after its z_m.
+                CachedTile& t = made[j / 2];
+                t.elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
+                t.objects = produceObjects(q, *quadtree_, *data_, *doc_.dem, &t.elevation, params_.objects, &objectCounters_);
+            }
             estimate.add(elements, msSince(j0));
             done[j] = 1;
         }

@@ -6,7 +6,8 @@
 // the missing and dirty tiles of the view, nearest first, on TBB worker threads, until its time
 // budget is spent.
 //
-// Tiles: one appearance and one elevation tile per quad, cached by (level, x, y) with an LRU
+// Tiles: one appearance and one elevation tile per quad (the latter with the quad's object meshes,
+// §5.3: made in the same job, dirty and remade with it), cached by (level, x, y) with an LRU
 // bound (`cacheTiles`); tiles of the current view, of their ancestors (shown while a leaf is
 // made) and those made ahead for a predicted viewer that still wants them are not evicted. When
 // the view's leaves and their ancestors are more than the cache holds, the farthest quads are
@@ -38,6 +39,7 @@
 
 #include "editor/cache_fit.h"
 #include "editor/command.h"
+#include "model/graph_step.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
 #include "io/document.h"
@@ -46,6 +48,7 @@
 #include "raster/appearance_producer.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
+#include "raster/object_meshes.h"
 
 namespace lacet {
 
@@ -64,6 +67,11 @@ struct SessionParams {
     AppearanceParams appearance;
     ElevationParams elevation;
     SkirtParams skirt;  // how far the draw plan's skirts hang (editor/draw_plan.h)
+    GraphStepParams graph;     // bridges and roundabouts (model/graph_step.h)
+    // Bridges' and trees' meshes (raster/object_meshes.h), made with each elevation tile; its
+    // deckThickness is taken from `graph` (the deck the z-profiles make room for).
+    ObjectParams objects;
+    ZProfileParams profiles;   // z-profiles (model/curve_data.h)
 };
 
 struct CommandReport {
@@ -140,6 +148,9 @@ public:
     const SceneDocument& document() const { return doc_; }
     const Quadtree& quadtree() const { return *quadtree_; }
     const CurveDataCache& curveData() const { return *data_; }
+    const GraphStep& graphStep() const { return *graphStep_; }
+    // What the object meshes cost so far (raster/object_meshes.h): meshes, bridges, pillars, trees.
+    const ObjectCounters& objectCounters() const { return objectCounters_; }
     const CachedTile* tile(const QuadKey& key) const;
     // What the last frame draws (editor/draw_plan.h): every leaf with the tile standing for it,
     // made from the tree and the cache as frame() left them (and the visibility test it was
@@ -189,6 +200,7 @@ private:
     SceneDocument doc_;
     SessionParams params_;
     std::unique_ptr<DemHeightField> heights_;
+    std::unique_ptr<GraphStep> graphStep_;  // before the quadtree that calls it
     std::unique_ptr<Quadtree> quadtree_;
     std::unique_ptr<CurveDataCache> data_;
     std::vector<Done> done_;
@@ -199,7 +211,8 @@ private:
     QuadVisibility planVisible_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
-    ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time
+    ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time (with its objects)
+    ObjectCounters objectCounters_;
 };
 
 }  // namespace lacet

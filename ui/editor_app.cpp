@@ -15,6 +15,7 @@
 
 #include "io/image_file.h"
 #include "io/scene_file.h"
+#include "ui/object_renderer.h"
 #include "ui/overlay_renderer.h"
 #include "ui/script_player.h"
 #include "ui/terrain_renderer.h"
@@ -99,6 +100,7 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
     ImGui_ImplGlfw_InitForOpenGL(window_, true);
     ImGui_ImplOpenGL3_Init("#version 410 core");
     terrain_ = std::make_unique<TerrainRenderer>();
+    objects_ = std::make_unique<ObjectRenderer>();
     overlay_ = std::make_unique<OverlayRenderer>();
     scenePath_ = document.path;
     log_["scene"] = document.label;
@@ -116,6 +118,7 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
 EditorApp::~EditorApp() {
     script_.reset();
     overlay_.reset();
+    objects_.reset();
     terrain_.reset();
     ImGui_ImplOpenGL3_Shutdown();
     ImGui_ImplGlfw_Shutdown();
@@ -127,6 +130,7 @@ EditorApp::~EditorApp() {
 void EditorApp::resetSession(SceneDocument doc) {
     if (doc.scene.layers.empty()) throw std::runtime_error("lacet edit: the scene has no layer to edit");
     terrain_->reset();
+    objects_->reset();
     std::optional<LayerId> current;
     Tool tool = Tool::Select;
     NewCurveStyle style;
@@ -134,6 +138,7 @@ void EditorApp::resetSession(SceneDocument doc) {
     if (session_) sessionParams_ = session_->params();  // the knobs the user set stay
     sessionParams_.appearance.hiddenLayers.clear();
     sessionParams_.elevation.hiddenLayers.clear();
+    sessionParams_.objects.hiddenLayers.clear();
     controller_.reset();
     session_.reset();
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
@@ -369,6 +374,8 @@ int EditorApp::run() {
         glReadPixels(0, 0, width_, height_, GL_DEPTH_COMPONENT, GL_FLOAT, depth_.data());
         renderedCamera_ = camera_;
         renderedClip_ = clip_;
+        // The objects after the depth buffer was read: picks stand on the terrain, not on a tree.
+        objects_->draw(*session_, camera_, aspect, clip_, terrain_->sun);
         std::vector<Screenshot> shots;
         shots.swap(screenshots_);
         for (const Screenshot& s : shots)
@@ -393,7 +400,8 @@ int EditorApp::run() {
                                       {"view_quads", lastFrame_.viewQuads}, {"culled", lastFrame_.culled}, {"replaced", lastFrame_.replaced},
                                       {"drawn", ts.drawn}, {"fallback", ts.fallback}, {"missing", ts.missing},
                                       {"uploads", ts.uploads}, {"cached", lastFrame_.cached}, {"gpu_tiles", ts.gpuTiles},
-                                      {"render_ms", lastRenderMs_}, {"viewer_height_m", h}});
+                                      {"render_ms", lastRenderMs_}, {"viewer_height_m", h},
+                                      {"object_meshes", objects_->stats().meshes}, {"object_triangles", objects_->stats().triangles}});
         }
         glfwSwapBuffers(window_);
         ++frames_;

@@ -12,7 +12,7 @@
 // depth buffer of the frame the user saw; edits through the controller), then
 // EditSession::frame() refines the quadtree for the camera and makes the tiles of the visible
 // leaves within the per-frame budget, prefetching for the camera's predicted position, then the
-// terrain, the overlay and the panels are drawn.
+// terrain, its objects (bridges, trees), the overlay and the panels are drawn.
 //
 // Mouse: left picks and drags control points and nodes (or, with the draw tool, adds points);
 // right drag orbits, middle drag (or Shift + left on the ground) pans, the wheel zooms. Keys:
@@ -38,6 +38,7 @@ struct GLFWwindow;
 namespace lacet::ui {
 
 class TerrainRenderer;
+class ObjectRenderer;
 class OverlayRenderer;
 class ScriptPlayer;
 
@@ -115,6 +116,7 @@ private:
     SessionParams sessionParams_;
     Camera camera_;
     std::unique_ptr<TerrainRenderer> terrain_;
+    std::unique_ptr<ObjectRenderer> objects_;  // bridges and trees (§5.3), after the terrain
     std::unique_ptr<OverlayRenderer> overlay_;
     std::unique_ptr<ScriptPlayer> script_;
     std::vector<InputEvent> events_;
