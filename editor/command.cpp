@@ -77,6 +77,10 @@ Applied apply(Scene& s, const Command& command) {
                 a.before = snapshot(s, c.layer, {}, {c.curve});
                 return setCurveClass(s, c.layer, c.curve, c.cls);
             },
+            [&](const SetCurveFlagsCmd& c) {
+                a.before = snapshot(s, c.layer, {}, {c.curve});
+                return setCurveFlags(s, c.layer, c.curve, c.flags);
+            },
             [&](const SetRoundaboutCmd& c) {
                 // The node holds the radius; its curves' values do not change (only their expansion).
                 a.before = snapshot(s, c.layer, {c.node}, {});

@@ -23,10 +23,11 @@ struct AddCurveCmd { LayerId layer; Curve curve; };  // start/end: existing node
 struct DeleteCurveCmd { LayerId layer; ElementId curve; };
 struct SetCurveWidthCmd { LayerId layer; ElementId curve; float w, wf; };
 struct SetCurveClassCmd { LayerId layer; ElementId curve; std::uint16_t cls; };
+struct SetCurveFlagsCmd { LayerId layer; ElementId curve; std::uint16_t flags; };  // CurveFlag bits
 struct SetRoundaboutCmd { LayerId layer; ElementId node; float radius; };  // m, 0 removes (model/roundabouts.h)
 
 using Command = std::variant<MoveVertexCmd, InsertVertexCmd, DeleteVertexCmd, MoveNodeCmd, AddNodeCmd, AddCurveCmd,
-                             DeleteCurveCmd, SetCurveWidthCmd, SetCurveClassCmd, SetRoundaboutCmd>;
+                             DeleteCurveCmd, SetCurveWidthCmd, SetCurveClassCmd, SetCurveFlagsCmd, SetRoundaboutCmd>;
 
 // What undo needs: the touched elements' values before the command, and the slot counts.
 struct Snapshot {

@@ -27,7 +27,8 @@ std::string_view toString(LayerKind kind);
 // Curve flags. From the source data or the user: kBridge (the curve is a bridge: no footprint,
 // not drawn on the terrain, a deck mesh), kTunnel (no footprint, not drawn between its portals),
 // kNoBridge (the graph step makes no bridge on this curve where it crosses a river: a ford),
-// kRoundabout (a roundabout's ring, imported as such). Set by the graph step on the curves it makes
+// kRoundabout (a roundabout's ring, imported as such), kAlwaysBridge (no culvert: the graph step
+// bridges even the narrowest river this road crosses). Set by the graph step on the curves it makes
 // (model/procedural.h): kYieldAtStart / kYieldAtEnd (a yield line where the curve enters a ring).
 enum CurveFlag : std::uint16_t {
     kBridge = 1u << 0,
@@ -36,6 +37,7 @@ enum CurveFlag : std::uint16_t {
     kRoundabout = 1u << 3,
     kYieldAtStart = 1u << 4,
     kYieldAtEnd = 1u << 5,
+    kAlwaysBridge = 1u << 6,  // bridge every river this road crosses, however narrow (no culvert)
 };
 
 struct Node {

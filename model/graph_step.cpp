@@ -362,6 +362,13 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
         std::sort(crossings.begin(), crossings.end(), [](const Crossing& a, const Crossing& b) {
             return std::tie(a.s, a.layer, a.over, a.overS) < std::tie(b.s, b.layer, b.over, b.overS);
         });
+        // A crossing exactly at a vertex of either polyline is found by both segments there: once.
+        crossings.erase(std::unique(crossings.begin(), crossings.end(),
+                                    [](const Crossing& a, const Crossing& b) {
+                                        return a.layer == b.layer && a.over == b.over && std::abs(a.s - b.s) <= 1e-9 &&
+                                               std::abs(a.overS - b.overS) <= 1e-9;
+                                    }),
+                        crossings.end());
         counters_.crossingsFound += crossings.size();
         for (const Crossing& x : crossings) index_->readers[Index::ref(x.layer, x.over)].insert(Index::ref(layer, id));
     }
@@ -380,7 +387,7 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
         const double roadHalf = 0.5 * double(c.wf);
         for (const Crossing& x : crossings) {
             if (x.s < s0 || x.s > s1) continue;  // inside a roundabout's ring
-            if (double(scene.layers[x.layer].curves[x.over].w) < params_.minBridgedRiverWidth) {
+            if (!(c.flags & kAlwaysBridge) && double(scene.layers[x.layer].curves[x.over].w) < params_.minBridgedRiverWidth) {
                 ++counters_.culverts;
                 continue;
             }

@@ -69,6 +69,22 @@ void EditorApp::drawPanels() {
         if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveWidthCmd{sel.layer, sel.id, curve.w, wf});
         ImGui::InputInt("class", &cls);
         if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveClassCmd{sel.layer, sel.id, std::uint16_t(std::clamp(cls, 0, 65535))});
+        if (scene.layers[sel.layer].kind == LayerKind::Roads) {
+            // The graph step's inputs (model/graph_step.h): each box is one undoable command.
+            auto flag = [&](const char* label, std::uint16_t bit) {
+                bool on = (curve.flags & bit) != 0;
+                if (ImGui::Checkbox(label, &on))
+                    ctl.execute(SetCurveFlagsCmd{sel.layer, sel.id, std::uint16_t(on ? (curve.flags | bit) : (curve.flags & ~bit))});
+            };
+            flag("bridge (the whole curve)", kBridge);
+            flag("tunnel", kTunnel);
+            flag("no bridge over rivers (ford)", kNoBridge);
+            flag("bridge even narrow rivers", kAlwaysBridge);
+            std::size_t bridges = 0;
+            for (AncestorId a : session_->quadtree().expansionOf(sel.layer, sel.id))
+                bridges += (session_->quadtree().ancestorCurve(sel.layer, a).flags & kBridge) != 0;
+            ImGui::Text("%zu bridge(s) made by the graph step", bridges);
+        }
         if (ImGui::Button("Delete curve")) ctl.deleteSelection();
     } else {
         ImGui::TextUnformatted("Nothing selected");
@@ -85,6 +101,10 @@ void EditorApp::drawPanels() {
     ImGui::Text("Cache: %zu / %zu tiles, GPU %zu, %zu uploads", lastFrame_.cached, session_->params().cacheTiles, ts.gpuTiles, ts.uploads);
     const CommandReport& last = ctl.lastCommand();
     ImGui::Text("Work: %zu tiles, %zu commands", tilesProduced_, ctl.commands());
+    const GraphStepCounters& gs = session_->graphStep().counters();
+    ImGui::Text("Graph step: %zu bridges, %zu ring arcs; %zu crossings found, %zu segment pairs tested",
+                session_->quadtree().proceduralCount(kBridge), session_->quadtree().proceduralCount(kRoundabout),
+                gs.crossingsFound.load(), gs.crossingsTested.load());
     ImGui::Text("Last edit: apply %.2f ms, UPDATE %.2f ms", last.applyMs, last.updateMs);
     ImGui::Text("  %zu quads changed, %zu tiles dirty", last.changedQuads, last.dirtyTiles);
     ImGui::Text("Undo %zu, redo %zu%s", session_->undoDepth(), session_->redoDepth(), session_->modified() ? ", unsaved" : "");

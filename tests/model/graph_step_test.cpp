@@ -135,8 +135,17 @@ TEST(GraphStep, ACrossingExactlyAtARiverNodeIsOneBridge) {
     int bridges = 0;
     for (const auto& pc : out) bridges += (pc.curve.flags & kBridge) != 0;
     EXPECT_EQ(bridges, 1);
-    EXPECT_EQ(step.counters().crossingsFound, 2u);  // the same point on both river curves
+    EXPECT_EQ(step.counters().crossingsFound, 2u);  // the same point on both river curves, once on each
     EXPECT_EQ(step.counters().bridgesMade, 1u);
+}
+
+TEST(GraphStep, ACrossingAtAVertexOfTheRiverIsOneSpan) {
+    Scene s = emptyScene();
+    polyline(s, kRivers, {{1000, 0}, {1000, 900}, {1010, 2000}}, 10, 20);  // a vertex where the road crosses
+    const ElementId road = polyline(s, kRoads, {{500, 900}, {1500, 900}}, 6, 12);
+    const Expansion e = expandRoad(s, road);
+    ASSERT_EQ(e.bridges().size(), 1u);
+    EXPECT_EQ(e.bridges()[0]->spans.size(), 1u);
 }
 
 TEST(GraphStep, AHairpinCrossingTwiceMakesABridgePerCrossingOrOneWhenItTurnsOverTheRiver) {
