@@ -156,57 +156,100 @@ void drawAreaFootprint(FootprintCanvas& canvas, ElevationTile& tile, const std::
     }
 }
 
+// The river curves a river area's water follows: its axial curve, and the curves of the axial
+// curve's class joined to them at nodes inside the area (the area's root loops, their on-curve
+// vertices), in id order. The river through a long river area is split into several curves at
+// its confluences (and Area holds one axial curve): beyond its axial curve's ends, the area
+// follows the river on, rather than stay level at an end's height.
+std::vector<ElementId> axialRiver(const Layer& layer, const Area& area) {
+    constexpr std::size_t kMaxCurves = 256;  // a bound on the walk, far above a river area's confluences
+    std::vector<ClippedLoop> loops;
+    for (const auto& loop : area.loops) loops.push_back({loopVertices(layer, loop), false});
+    const Curve& axial = layer.curves[area.axial];
+    std::vector<ElementId> curves{area.axial}, pending{axial.start, axial.end}, seen;
+    while (!pending.empty() && curves.size() < kMaxCurves) {
+        const ElementId n = pending.back();
+        pending.pop_back();
+        if (n == kNoElement || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+        seen.push_back(n);
+        if (!insideLoops(loops, layer.nodes[n].p)) continue;
+        for (ElementId c : layer.nodes[n].curves) {
+            const Curve& cv = layer.curves[c];
+            if (!cv.alive || !cv.areas.empty() || cv.cls != axial.cls || (cv.flags & (kBridge | kTunnel)) ||
+                std::find(curves.begin(), curves.end(), c) != curves.end())
+                continue;
+            curves.push_back(c);
+            pending.push_back(cv.start == n ? cv.end : cv.start);
+        }
+    }
+    std::sort(curves.begin(), curves.end());
+    return curves;
+}
+
 // A river area's z_e (§5.2: "z_e <- z(u) ... by drawing a strip based on the axial curve"): at
-// every sample of the tile, the axial curve's z-profile at the point of the axial curve nearest to
-// the sample. The axial curve is the area's root curve, whole (its nearest point may lie outside
-// the quad). Only its Bezier pieces that can hold the nearest point of some sample are flattened
-// (a piece whose control box is farther from the tile than some piece's start is from every
-// corner of the tile is nearest nowhere in it); then, per block of samples, the candidate
-// segments (appearance::candidatesNear) are measured (model/segment.h).
+// every sample of the tile, the z-profile of the area's river (axialRiver: its axial curve and
+// the river on through the area) at its point nearest to the sample. The curves are the root
+// curves, whole (the nearest point may lie outside the quad). Only the Bezier pieces that can hold
+// the nearest point of some sample are flattened (a piece whose control box is farther from the
+// tile than some piece's start is from every corner of the tile is nearest nowhere in it); then,
+// per block of samples, the candidate segments (appearance::candidatesNear) are measured
+// (model/segment.h).
 class AxialHeights {
 public:
-    AxialHeights(const ElevationTile& tile, LayerId l, ElementId axial, const Curve& curve, const CurveDataCache& data)
+    AxialHeights(const ElevationTile& tile, LayerId l, const Layer& layer, const std::vector<ElementId>& river,
+                 const CurveDataCache& data)
         : z_(tile.b.size(), 0.0f) {
         const Box box{tile.position(-tile.border, -tile.border),
                       tile.position(tile.resolution + tile.border, tile.resolution + tile.border)};
         const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
-        std::vector<BezierPiece> pieces;
-        forEachPiece(curve.vertices, [&](const BezierPiece& b, std::size_t) { pieces.push_back(b); });
+        struct Piece {
+            BezierPiece b;
+            ElementId curve;
+            std::size_t k;  // index of the piece in its curve
+        };
+        std::vector<Piece> pieces;
+        for (ElementId c : river)
+            forEachPiece(layer.curves[c].vertices, [&](const BezierPiece& b, std::size_t) {
+                const std::size_t k = pieces.empty() || pieces.back().curve != c ? 0 : pieces.back().k + 1;
+                pieces.push_back({b, c, k});
+            });
         if (pieces.empty()) return;
         std::vector<double> lower(pieces.size());
         double upper = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < pieces.size(); ++k) {
-            lower[k] = boxDistance(box, controlBounds(pieces[k]));
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            lower[i] = boxDistance(box, controlBounds(pieces[i].b));
             double farthest = 0.0;
-            for (const Vec2& c : corners) farthest = std::max(farthest, glm::length(c - pieces[k].start()));
+            for (const Vec2& c : corners) farthest = std::max(farthest, glm::length(c - pieces[i].b.start()));
             upper = std::min(upper, farthest);
         }
         const double step = std::max(tile.delta, kMinAxialStep);
-        for (std::size_t k = 0; k < pieces.size(); ++k) {
-            if (lower[k] > upper) continue;
-            const BezierPiece& b = pieces[k];
+        for (std::size_t i = 0; i < pieces.size(); ++i) {
+            if (lower[i] > upper) continue;
+            const BezierPiece& b = pieces[i].b;
             double polygon = 0.0;
-            for (int i = 0; i < b.degree; ++i) polygon += glm::length(b.p[std::size_t(i) + 1] - b.p[std::size_t(i)]);
+            for (int d = 0; d < b.degree; ++d) polygon += glm::length(b.p[std::size_t(d) + 1] - b.p[std::size_t(d)]);
             const int n = b.degree == 1 ? 1 : std::clamp(int(std::ceil(polygon / step)), kMinAxialSegments, kMaxAxialSegments);
             // u at the piece's ends is exact; inside, it follows the chords' length.
-            const double u0 = data.u(l, axial, double(k)), u1 = data.u(l, axial, double(k + 1));
+            const ElementId c = pieces[i].curve;
+            const double u0 = data.u(l, c, double(pieces[i].k)), u1 = data.u(l, c, double(pieces[i].k + 1));
             std::vector<Vec2> pts(std::size_t(n) + 1);
             std::vector<double> cum(pts.size(), 0.0);
-            for (int i = 0; i <= n; ++i) {
-                pts[std::size_t(i)] = i == 0 ? b.start() : i == n ? b.end() : evaluate(b, double(i) / n);
-                if (i > 0) cum[std::size_t(i)] = cum[std::size_t(i) - 1] + glm::length(pts[std::size_t(i)] - pts[std::size_t(i) - 1]);
+            for (int j = 0; j <= n; ++j) {
+                pts[std::size_t(j)] = j == 0 ? b.start() : j == n ? b.end() : evaluate(b, double(j) / n);
+                if (j > 0) cum[std::size_t(j)] = cum[std::size_t(j) - 1] + glm::length(pts[std::size_t(j)] - pts[std::size_t(j) - 1]);
             }
             const double total = cum.back();
-            for (int i = 0; i < n; ++i) {
+            const ZProfile* profile = &data.zProfile(l, c);
+            for (int j = 0; j < n; ++j) {
                 appearance::Segment sg;
-                sg.p0 = pts[std::size_t(i)];
-                sg.p1 = pts[std::size_t(i) + 1];
-                sg.u0 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(i)] / total : u0;
-                sg.u1 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(i) + 1] / total : u1;
+                sg.p0 = pts[std::size_t(j)];
+                sg.p1 = pts[std::size_t(j) + 1];
+                sg.u0 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(j)] / total : u0;
+                sg.u1 = total > 0.0 ? u0 + (u1 - u0) * cum[std::size_t(j) + 1] / total : u1;
                 segments_.push_back(sg);
+                profiles_.push_back(profile);
             }
         }
-        const ZProfile& profile = data.zProfile(l, axial);
         std::vector<const appearance::Segment*> candidates;
         const int first = -tile.border, last = tile.resolution + tile.border;
         for (int j0 = first; j0 <= last; j0 += kSampleBlock)
@@ -217,15 +260,15 @@ public:
                 for (int j = j0; j <= j1; ++j)
                     for (int i = i0; i <= i1; ++i) {
                         const Vec2 q = tile.position(i, j);
-                        double best = std::numeric_limits<double>::infinity(), u = 0.0;
+                        double best = std::numeric_limits<double>::infinity(), z = 0.0;
                         for (const appearance::Segment* sg : candidates) {
                             const SegmentNearest n = nearestOnSegment(q, sg->p0, sg->p1);
                             if (n.distance2 < best) {
                                 best = n.distance2;
-                                u = sg->u0 + (sg->u1 - sg->u0) * n.t;
+                                z = profiles_[std::size_t(sg - segments_.data())]->at(sg->u0 + (sg->u1 - sg->u0) * n.t);
                             }
                         }
-                        z_[tile.index(i, j)] = float(profile.at(u));
+                        z_[tile.index(i, j)] = float(z);
                     }
             }
     }
@@ -245,6 +288,7 @@ private:
     }
 
     std::vector<appearance::Segment> segments_;
+    std::vector<const ZProfile*> profiles_;  // of each segment's curve
     std::vector<float> z_;  // z_e at each sample (ElevationTile::index)
 };
 
@@ -319,7 +363,7 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
                 const Area& area = scene.layers[l].areas[a];
                 const double wf = double(area.wf);
                 if (kind == LayerKind::Rivers && area.axial != kNoElement) {
-                    const AxialHeights axial(t, l, area.axial, scene.layers[l].curves[area.axial], curveData);
+                    const AxialHeights axial(t, l, scene.layers[l], axialRiver(scene.layers[l], area), curveData);
                     drawAreaFootprint(canvas, t, pieces, wf, axial);
                 } else {
                     const float level = float(curveData.lakeLevel(l, a));
