@@ -29,7 +29,8 @@ bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y);
         if (p.nodes.size() != q.nodes.size() || p.curves.size() != q.curves.size() || p.areas.size() != q.areas.size())
             return ::testing::AssertionFailure() << "layer " << l << " slot counts";
         for (std::size_t i = 0; i < p.nodes.size(); ++i)
-            if (!sameBits(p.nodes[i].p, q.nodes[i].p) || p.nodes[i].curves != q.nodes[i].curves || p.nodes[i].alive != q.nodes[i].alive)
+            if (!sameBits(p.nodes[i].p, q.nodes[i].p) || p.nodes[i].curves != q.nodes[i].curves || p.nodes[i].alive != q.nodes[i].alive ||
+                !sameBits(p.nodes[i].roundabout, q.nodes[i].roundabout))
                 return ::testing::AssertionFailure() << "layer " << l << " node " << i;
         for (std::size_t i = 0; i < p.curves.size(); ++i) {
             const Curve& c = p.curves[i];
@@ -64,7 +65,7 @@ std::optional<Command> randomCommand(const Scene& s, std::mt19937_64& rng) {
     const LayerId layer = uniform01(rng) < 0.7 ? kRoadsLayer : kRiversLayer;
     const Layer& l = s.layers[layer];
     const auto offset = [&] { return Vec2(uniform01(rng) * 40.0 - 20.0, uniform01(rng) * 40.0 - 20.0); };
-    const int kind = int(uniform01(rng) * 9.0);
+    const int kind = int(uniform01(rng) * 11.0);
     const ElementId c = randomAlive(l.curves, rng);
     const ElementId n = randomAlive(l.nodes, rng);
     if (c == kNoElement || n == kNoElement) return std::nullopt;
@@ -95,7 +96,13 @@ std::optional<Command> randomCommand(const Scene& s, std::mt19937_64& rng) {
             const float w = float(2.0 + uniform01(rng) * 8.0);
             return SetCurveWidthCmd{layer, c, w, w + 5.0f};
         }
-        default: return SetCurveClassCmd{layer, c, std::uint16_t(uniform01(rng) * 3.0)};
+        case 8: return SetCurveClassCmd{layer, c, std::uint16_t(uniform01(rng) * 3.0)};
+        case 9:  // the graph step's roundabouts (refused where they do not fit)
+            return SetRoundaboutCmd{layer, n, l.nodes[n].roundabout > 0.0f ? 0.0f : float(8.0 + uniform01(rng) * 17.0)};
+        default: {  // and its bridges: a bridge, a tunnel, a ford, or none of them
+            static constexpr std::uint16_t flags[] = {0, kBridge, kTunnel, kNoBridge};
+            return SetCurveFlagsCmd{layer, c, flags[std::size_t(uniform01(rng) * 4.0) % 4]};
+        }
     }
     return std::nullopt;
 }
@@ -179,6 +186,69 @@ TEST(EditSession, RandomCommandsUndoneRestoreTheSceneAndEveryTileExactly) {
     expectTilesEqualFromScratch(session, params, "after redo");
     std::cout << "[ figures  ] " << applied << " commands applied (" << refused << " refused), " << dirtied
               << " tiles made dirty, all undone and redone exactly\n";
+}
+
+// Issue 14: dragging a road's end across a river makes its bridge in the frame of the command
+// that crosses (the deck is in the frame's tiles' objects, no footprint flattens the river there),
+// dragging it back removes it, and undo restores the graph, bridges included, exactly.
+TEST(EditSession, DraggingARoadAcrossARiverMakesTheBridgeInThatFrameAndUndoRemovesIt) {
+    SceneDocument doc;
+    doc.scene.extent = {{0.0, 0.0}, {1024.0, 1024.0}};
+    doc.scene.layers.resize(2);
+    doc.scene.layers[kRoadsLayer].kind = LayerKind::Roads;
+    doc.scene.layers[kRiversLayer].kind = LayerKind::Rivers;
+    Layer& rivers = doc.scene.layers[kRiversLayer];
+    Curve river;
+    river.vertices = {{{512.0, 1000.0}}, {{512.0, 20.0}}};
+    river.start = rivers.addNode({512.0, 1000.0});
+    river.end = rivers.addNode({512.0, 20.0});
+    river.w = 12.0f;
+    river.wf = 24.0f;
+    rivers.addCurve(river);
+    Layer& roads = doc.scene.layers[kRoadsLayer];
+    Curve road;
+    road.vertices = {{{100.0, 500.0}}, {{400.0, 500.0}}};
+    road.start = roads.addNode({100.0, 500.0});
+    const ElementId end = road.end = roads.addNode({400.0, 500.0});
+    road.w = 6.0f;
+    road.wf = 12.0f;
+    roads.addCurve(road);
+    std::vector<float> h(64 * 64);
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) h[std::size_t(j * 64 + i)] = float(500.0 + 0.2 * std::abs((i + 0.5) * 16.0 - 512.0));
+    doc.dem = Dem(doc.scene.extent, 64, 64, std::move(h));
+    SessionParams params = smallTiles(6, 1u << 20);
+    EditSession session(std::move(doc), params);
+    const glm::dvec3 viewer(512.0, 500.0, 30.0);
+    session.frame(viewer, 0.0);
+    const Quadtree& qt = session.quadtree();
+    EXPECT_EQ(qt.proceduralCount(kBridge), 0u);
+    bool bridgeSeen = false;
+    for (int step = 1; step <= 10; ++step) {  // from x = 400 to x = 700, one drag
+        session.execute(MoveNodeCmd{kRoadsLayer, end, {400.0 + 30.0 * step, 500.0}}, true);
+        const bool across = 400.0 + 30.0 * step > 512.0;  // the road reaches over the river's axis
+        EXPECT_EQ(qt.proceduralCount(kBridge), across ? 1u : 0u) << step;
+        session.frame(viewer, 0.0);
+        if (!across) continue;
+        std::size_t decks = 0;
+        for (const auto& [key, tile] : session.tiles())
+            if (!tile.dirty)
+                for (const ObjectPart& part : tile.objects.parts) decks += part.kind == ObjectKind::Deck;
+        EXPECT_GE(decks, 1u) << step;
+        bridgeSeen = true;
+    }
+    EXPECT_TRUE(bridgeSeen);
+    expectTilesEqualFromScratch(session, params, "after the drag");
+    session.execute(MoveNodeCmd{kRoadsLayer, end, {450.0, 500.0}}, true);  // back to this bank
+    EXPECT_EQ(qt.proceduralCount(kBridge), 0u);
+    session.undo();  // the whole drag, one step
+    session.frame(viewer, 0.0);
+    EXPECT_EQ(qt.proceduralCount(kBridge), 0u);
+    EXPECT_EQ(session.document().scene.layers[kRoadsLayer].nodes[end].p, Vec2(400.0, 500.0));
+    session.redo();
+    session.frame(viewer, 0.0);
+    EXPECT_EQ(qt.proceduralCount(kBridge), 0u);
+    expectTilesEqualFromScratch(session, params, "after undo and redo");
 }
 
 TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
