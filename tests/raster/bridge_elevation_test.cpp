@@ -121,5 +121,32 @@ TEST(BridgeElevation, ATunnelLeavesTheTerrainAsItIsButTheRoadOutsideItDoes) {
     EXPECT_GT(roadDiffers, 0u);  // a ford does flatten its footprint: the comparison can see a road
 }
 
+// A bridge over a lake's shore (an imported bridge, half over the water): the lake keeps its level
+// and the shore its shape under the deck, and the deck never dips under the lake's level.
+TEST(BridgeElevation, ABridgeOverALakesShoreLeavesTheLakeAndTheShoreAsTheyAre) {
+    const Dem dem = valleyDem();
+    auto scene = [](bool withBridge) {
+        test::SceneBuilder b(kSide);
+        const Vec2 corners[4] = {{200.0, 150.0}, {320.0, 150.0}, {320.0, 350.0}, {200.0, 350.0}};
+        ElementId n[4];
+        for (int i = 0; i < 4; ++i) n[i] = b.node(kLakesLayer, corners[i]);
+        std::vector<AreaEdge> ring;
+        for (int i = 0; i < 4; ++i) ring.push_back({b.curve(kLakesLayer, n[i], n[(i + 1) % 4], {}, 0.0f, 6.0f), false});
+        b.area(kLakesLayer, {ring}, 6.0f);
+        if (withBridge) {
+            const ElementId w = b.node(kRoadsLayer, {150.0, kRoadY}), e = b.node(kRoadsLayer, {260.0, kRoadY});
+            const ElementId r = b.curve(kRoadsLayer, w, e, {}, 6.0f, 12.0f, 1);
+            b.scene().layers[kRoadsLayer].curves[r].flags = kBridge;
+        }
+        return std::move(b.scene());
+    };
+    const Produced with(scene(true), dem, 3), without(scene(false), dem, 3);
+    for (std::size_t t = 0; t < with.elevation.size(); ++t) EXPECT_EQ(with.elevation[t].zm, without.elevation[t].zm) << t;
+    const double level = with.data.lakeLevel(kLakesLayer, 0);
+    const auto ids = with.qt.expansionOf(kRoadsLayer, 0);
+    ASSERT_EQ(ids.size(), 1u);
+    for (double z : with.data.zProfile(kRoadsLayer, ids[0]).z) EXPECT_GE(z, level);
+}
+
 }  // namespace
 }  // namespace lacet
