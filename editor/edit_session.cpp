@@ -79,6 +79,9 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
             const auto& curves = q->layers[l].curves;
             stale = curves.count(dropped[i].id) > 0;
             for (AncestorId a : quadtree_->expansionOf(l, dropped[i].id)) stale = stale || curves.count(a) > 0;
+            // A river area's heights follow its river's profiles (the axial curve and the river
+            // on through the area), which need not be in the quad: any river area there is redone.
+            stale = stale || (doc_.scene.layers[l].kind == LayerKind::Rivers && !q->layers[l].areas.empty());
         }
         if (stale) {
             tile.dirty = true;

@@ -83,37 +83,26 @@ double CurveDataCache::localNodeHeight(LayerId layer, ElementId node) const {
     const Layer& l = quadtree_.scene().layers[layer];
     const Vec2 c = l.nodes[node].p;
     if (l.kind == LayerKind::Rivers) {
-        // A river lies on the valley floor: its node is as low as the lowest terrain at it and
-        // along the river reaches that flow into it, within kernelRadius (arc length) upstream,
-        // sampled every sampleSpacing / 4 at most. A mean over a disc counted the valley's sides
-        // and lifted the river above its bed (and the downstream clamp carried that height down
-        // the river); the reaches downstream are left out, being lower only because the river
-        // descends (their minimum would sink the node by the slope times kernelRadius). So the
-        // height depends on the node and the curves ending there, which is what invalidate()
-        // drops for a river edit (the node and everything downstream of it).
+        // A river lies on the valley floor and never rises: its node is as low as the lowest
+        // terrain at it and along the river curves that flow into it (sampled every
+        // sampleSpacing / 4 at most), so the profiles between their nodes, clamped to their end
+        // nodes' heights, are never lifted above the terrain (a dip of the terrain upstream
+        // holds the river down to its level further on). A mean over a disc counted the valley's
+        // sides and lifted the river above its bed (and the downstream clamp carried that height
+        // down the river); the curves flowing out are left out, being lower only because the
+        // river descends (they would sink the node). So the height depends on the node and the
+        // curves ending there, which is what invalidate() drops for a river edit (the node and
+        // everything downstream of it).
         constexpr double kSamplesPerSpacing = 4.0;
         const double step = params_.sampleSpacing / kSamplesPerSpacing;
         double lowest = heights_.height(c);
         for (ElementId id : l.nodes[node].curves) {
             const Curve& cv = l.curves[id];
             if (!cv.alive || cv.end != node || !cv.areas.empty()) continue;  // an area's border is not a river
-            std::vector<BezierPiece> pieces;
-            forEachPiece(cv.vertices, [&](const BezierPiece& b, std::size_t) { pieces.push_back(b); });
-            // Walk up the curve from its end, kernelRadius at most.
-            double walked = 0.0;
-            Vec2 prev = c;
-            bool within = true;
-            for (std::size_t k = pieces.size(); k-- > 0 && within;) {
-                const BezierPiece b = pieces[k].reversed();
+            forEachPiece(cv.vertices, [&](const BezierPiece& b, std::size_t) {
                 const int n = std::max(1, int(std::ceil(arcLength(b, step) / step)));
-                for (int i = 1; i <= n && within; ++i) {
-                    const Vec2 p = evaluate(b, double(i) / n);
-                    walked += glm::length(p - prev);
-                    prev = p;
-                    within = walked <= params_.kernelRadius;
-                    if (within) lowest = std::min(lowest, heights_.height(p));
-                }
-            }
+                for (int i = 0; i < n; ++i) lowest = std::min(lowest, heights_.height(evaluate(b, double(i) / n)));
+            });
         }
         return lowest;
     }
@@ -271,6 +260,9 @@ std::unique_ptr<ZProfile> CurveDataCache::terrainProfile(LayerId layer, Ancestor
     const double h0 = hasStart ? nodeHeight(layer, c.start) : z.front();
     const double h1 = hasEnd ? nodeHeight(layer, c.end) : z.back();
     if (river) {
+        // Never above the terrain under it (smoothing lifts a river where its floor flattens
+        // below a steep stretch, and near its ends where the kernel is clamped), then never rising.
+        for (std::size_t i = 0; i < n; ++i) z[i] = std::min(z[i], raw[i]);
         for (std::size_t i = 1; i < n; ++i) z[i] = std::min(z[i], z[i - 1]);
         const double hi = std::max(h0, h1), lo = std::min(h0, h1);
         for (double& v : z) v = std::clamp(v, lo, hi);

@@ -10,11 +10,12 @@
 // z-profile: the height field sampled every `sampleSpacing` metres along the ancestor, smoothed by
 // a kernel of half-width `kernelRadius`; then
 // - every curve meeting at a node has the node's one height there: the node height is the mean
-//   height over a disc of radius `kernelRadius` around it, and the profile is pulled to it near the
-//   ends (linearly over `kernelRadius`);
+//   height over a disc of radius `kernelRadius` around it (for a river node: the lowest terrain at
+//   it and along the river curves flowing into it, the valley floor), and the profile is pulled to
+//   it near the ends (linearly over `kernelRadius`);
 // - rivers (LayerKind::Rivers) flow from start to end and never rise: a river node is no higher
-//   than any river node upstream of it, and the profile is the running minimum clamped between its
-//   end nodes' heights;
+//   than any river node upstream of it, and the profile is no higher than the terrain under it,
+//   then the running minimum, clamped between its end nodes' heights;
 // - lakes (areas of LayerKind::Lakes) are flat at the lowest height of their border;
 // - a procedural curve (model/procedural.h) follows the part of its root curve's profile it was
 //   cut from, so a road's pieces meet at one height; a road trimmed at a roundabout meets the ring

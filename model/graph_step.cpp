@@ -387,7 +387,10 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
         const double roadHalf = 0.5 * double(c.wf);
         for (const Crossing& x : crossings) {
             if (x.s < s0 || x.s > s1) continue;  // inside a roundabout's ring
-            if (!(c.flags & kAlwaysBridge) && double(scene.layers[x.layer].curves[x.over].w) < params_.minBridgedRiverWidth) {
+            // A river area's border (w = 0) is water's edge however thin the curve: it is bridged,
+            // and with the river inside the area, makes one bridge from bank to bank.
+            const Curve& over = scene.layers[x.layer].curves[x.over];
+            if (!(c.flags & kAlwaysBridge) && over.areas.empty() && double(over.w) < params_.minBridgedRiverWidth) {
                 ++counters_.culverts;
                 continue;
             }

@@ -36,7 +36,8 @@ struct GraphStepParams {
     double deckThickness = 1.2;       // m, the deck's height under its road surface (used by the z-profile)
     bool bridges = true;              // make procedural bridges at unflagged crossings
     // m: an unflagged road crosses a river narrower than this (w) on a culvert, as roads cross
-    // streams and ditches: no bridge, the road's footprint stays (an imported bridge spans any).
+    // streams and ditches: no bridge, the road's footprint stays (an imported bridge spans any; a
+    // river area's border, the water's edge, is always bridged).
     double minBridgedRiverWidth = 3.0;
     void validate() const;            // throws std::invalid_argument naming the knob
 };

@@ -133,6 +133,8 @@ std::vector<Problem> validate(const Scene& scene) {
             const Node& n = layer.nodes[id];
             if (!n.alive) continue;
             if (!isFinite(n.p)) out.push_back({where(layer, "node", id), "position is not finite or out of range"});
+            if (!(n.roundabout >= 0.0f) || !std::isfinite(n.roundabout))
+                out.push_back({where(layer, "node", id), "roundabout radius is not a finite number of metres >= 0"});
         }
         for (std::size_t id = 0; id < layer.curves.size(); ++id)
             if (layer.curves[id].alive) checkCurve(layer, id, out);

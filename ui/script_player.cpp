@@ -174,7 +174,12 @@ bool ScriptPlayer::begin(ScriptHost& app, const nlohmann::json& s) {
     }
     if (kind == "tool") {
         const std::string n = s["name"].get<std::string>();
-        app.controller().setTool(n == "insert" ? Tool::Insert : n == "delete_point" ? Tool::DeletePoint : n == "draw" ? Tool::Draw : Tool::Select);
+        app.controller().setTool(n == "insert"         ? Tool::Insert
+                                 : n == "delete_point" ? Tool::DeletePoint
+                                 : n == "draw"         ? Tool::Draw
+                                 : n == "roundabout"   ? Tool::Roundabout
+                                                       : Tool::Select);
+        if (s.contains("radius")) app.controller().roundaboutRadius = s["radius"].get<float>();
         return true;
     }
     if (kind == "save") {

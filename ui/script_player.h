@@ -27,7 +27,8 @@
 //   click_world at [x, y], "focus" or "focus_node" (the focus curve's start node), plus offset
 //               [dx, dy]: a left click where that ground point is on screen
 //   inspect     logs the focus layer's counts, the selected curve and its end nodes' degrees
-//   tool        name: select, insert, delete_point, draw
+//   tool        name: select, insert, delete_point, draw, roundabout (radius: m, what a click on a
+//               node makes)
 //   save        file (default: the scene's own); open: file
 //   background  rgb [r, g, b] in [0, 1]
 //   budget      ms: the per-frame production budget

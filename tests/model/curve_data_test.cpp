@@ -295,7 +295,7 @@ TEST(CurveData, RiversInAVValleyNeverStandAboveItsFloorNorRise) {
         EXPECT_EQ(z.z.front(), cache.nodeHeight(0, curve.start));
         EXPECT_EQ(z.z.back(), cache.nodeHeight(0, curve.end));
     }
-    // The nodes are on the floor: exactly where it is lowest within kernelRadius upstream.
+    // The nodes are on the floor: where it is lowest at them and along the curves flowing into them.
     EXPECT_NEAR(cache.nodeHeight(0, source), valley.height({0.0, 1000.0}), kRounding);
     EXPECT_NEAR(cache.nodeHeight(0, confluence), valley.height({0.0, 500.0}), kRounding);
     EXPECT_NEAR(cache.nodeHeight(0, mouth), valley.height({0.0, 0.0}), kRounding);

@@ -183,6 +183,33 @@ TEST(GraphStep, TwoRiversCloserThanTheAbutmentsShareOneBridge) {
     EXPECT_EQ(e.curves.size(), 3u);
 }
 
+// A river area (a riverbank polygon) with no river curve inside: its border is the water's edge,
+// bridged however thin the curve (w = 0), bank to bank, while a stream of 1 m is a culvert.
+TEST(GraphStep, ARiverAreasBorderIsBridgedBankToBankAndAStreamIsACulvert) {
+    Scene s = emptyScene();
+    Layer& rivers = s.layers[kRivers];
+    const Vec2 corners[4] = {{980, 0}, {1020, 0}, {1020, 2000}, {980, 2000}};
+    ElementId n[4];
+    for (int i = 0; i < 4; ++i) n[i] = rivers.addNode(corners[i]);
+    Area area;
+    area.loops.emplace_back();
+    for (int i = 0; i < 4; ++i) area.loops[0].push_back({polyline(s, kRivers, {corners[i], corners[(i + 1) % 4]}, 0, 4, 0, n[i], n[(i + 1) % 4]), false});
+    rivers.addArea(area);
+    polyline(s, kRivers, {{1500, 0}, {1500, 2000}}, 1, 3);  // a stream
+    const ElementId road = polyline(s, kRoads, {{500, 900}, {1800, 900}}, 6, 12);
+    GraphStep step(s);
+    std::vector<ProceduralCurve> out;
+    ASSERT_TRUE(step.expand(s, kRoads, road, out));
+    std::vector<const ProceduralCurve*> bridges;
+    for (const auto& pc : out)
+        if (pc.curve.flags & kBridge) bridges.push_back(&pc);
+    ASSERT_EQ(bridges.size(), 1u);
+    EXPECT_EQ(bridges[0]->spans.size(), 2u);
+    EXPECT_LT(bridges[0]->curve.vertices.front().p.x, 980.0);
+    EXPECT_GT(bridges[0]->curve.vertices.back().p.x, 1020.0);
+    EXPECT_EQ(step.counters().culverts, 1u);
+}
+
 TEST(GraphStep, TunnelsFordsAndRoadsAwayFromRiversAreKept) {
     Scene s = emptyScene();
     polyline(s, kRivers, {{1000, 0}, {1000, 2000}}, 10, 20);
