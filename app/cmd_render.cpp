@@ -243,10 +243,11 @@ void run(const RenderOptions& o) {
               << ", area pieces " << appearanceCounters.areaPieces << ", triangles " << appearanceCounters.triangles
               << ", water texels " << appearanceCounters.waterTexels << ", u tables computed "
               << data.counters().arcLengthTables << "; graph step: crossings tested " << graphStep.counters().crossingsTested
-              << ", found " << graphStep.counters().crossingsFound << " (on imported bridges "
-              << graphStep.counters().flaggedCrossings << ", bridged " << graphStep.counters().bridgedCrossings
-              << ", culverts " << graphStep.counters().culverts << "), bridges made " << graphStep.counters().bridgesMade
-              << ", imported bridges " << graphStep.counters().importedBridges << ", roads at roundabouts "
+              << ", found " << graphStep.counters().crossingsFound << " (imported bridges over rivers "
+              << graphStep.counters().flaggedCrossings << " and over roads " << graphStep.counters().flaggedRoadCrossings
+              << ", unflagged bridged " << graphStep.counters().bridgedCrossings << ", culverts " << graphStep.counters().culverts
+              << "), bridges made " << graphStep.counters().bridgesMade << ", imported bridges " << graphStep.counters().importedBridges
+              << " (" << graphStep.counters().importedBridgesOverRivers << " over a river), roads at roundabouts "
               << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
               << counters.curvesOnStructures << "\n";
 }

@@ -106,6 +106,8 @@ void GraphStepCounters::reset() {
     crossingsTested = 0;
     crossingsFound = 0;
     flaggedCrossings = 0;
+    flaggedRoadCrossings = 0;
+    importedBridgesOverRivers = 0;
     bridgedCrossings = 0;
     culverts = 0;
     bridgesMade = 0;
@@ -382,7 +384,11 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     if (imported) {
         bridges.push_back({s0, s1, crossings});
         ++counters_.importedBridges;
-        counters_.flaggedCrossings += crossings.size();
+        std::size_t overRivers = 0;
+        for (const Crossing& x : crossings) overRivers += scene.layers[x.layer].kind == LayerKind::Rivers;
+        counters_.flaggedCrossings += overRivers;
+        counters_.flaggedRoadCrossings += crossings.size() - overRivers;
+        counters_.importedBridgesOverRivers += overRivers > 0;
     } else {
         const double roadHalf = 0.5 * double(c.wf);
         for (const Crossing& x : crossings) {

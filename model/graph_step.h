@@ -46,7 +46,9 @@ struct GraphStepCounters {
     std::atomic<std::size_t> curvesExpanded{0};   // root curves expand() was asked about
     std::atomic<std::size_t> crossingsTested{0};  // segment pairs given to the exact predicate
     std::atomic<std::size_t> crossingsFound{0};   // road-river crossings (and imported bridges' road crossings)
-    std::atomic<std::size_t> flaggedCrossings{0};   // of those, on imported bridges (kBridge)
+    std::atomic<std::size_t> flaggedCrossings{0};   // of those, on imported bridges (kBridge), over rivers
+    std::atomic<std::size_t> flaggedRoadCrossings{0};  // imported bridges over roads
+    std::atomic<std::size_t> importedBridgesOverRivers{0};  // imported bridges spanning a river
     std::atomic<std::size_t> bridgedCrossings{0};   // on unflagged roads, bridged by the step
     std::atomic<std::size_t> culverts{0};           // on unflagged roads, rivers below minBridgedRiverWidth
     std::atomic<std::size_t> bridgesMade{0};      // procedural bridges (not counting imported ones)
