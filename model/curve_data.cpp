@@ -189,16 +189,30 @@ void CurveDataCache::liftDeck(LayerId layer, AncestorId ancestor, std::span<cons
     const std::vector<double> ground = z;
     for (std::size_t i = 0; i < n; ++i) z[i] = ground.front() + (ground.back() - ground.front()) * double(i) / double(n - 1);
     std::vector<double> lift(n, 0.0);
+    const Scene& scene = quadtree_.scene();
+    auto border = [&](const BridgeSpan& sp) {  // a river area's border: the water's edge, not a river
+        return !(sp.over & kProceduralBit) && !scene.layers[sp.layer].curves[ElementId(sp.over)].areas.empty();
+    };
+    const bool overARiver = std::any_of(spans.begin(), spans.end(), [&](const BridgeSpan& sp) {
+        return scene.layers[sp.layer].kind == LayerKind::Rivers && !border(sp);
+    });
     for (const BridgeSpan& sp : spans) {
-        const ZProfile& over = zProfile(sp.layer, sp.over);
-        {
-            std::lock_guard lock(mutex_);
-            readers_[Key{sp.layer, sp.over}].insert(Key{layer, ancestor});
-        }
         const double ou = u(sp.layer, sp.over, sp.overS);
         const double overHalf = sp.halfLength;
         double water = -INFINITY;  // the crossed profile's highest point across its footprint
-        for (double d : {-params_.sampleSpacing, 0.0, params_.sampleSpacing}) water = std::max(water, over.at(ou + d));
+        if (border(sp)) {
+            // The profile of a border curve is the bank's, not the water's: the river inside the
+            // area gives the water when the bridge spans it too, else the area's level.
+            if (overARiver) continue;
+            water = lakeLevel(sp.layer, scene.layers[sp.layer].curves[ElementId(sp.over)].areas.front());
+        } else {
+            const ZProfile& over = zProfile(sp.layer, sp.over);
+            {
+                std::lock_guard lock(mutex_);
+                readers_[Key{sp.layer, sp.over}].insert(Key{layer, ancestor});
+            }
+            for (double d : {-params_.sampleSpacing, 0.0, params_.sampleSpacing}) water = std::max(water, over.at(ou + d));
+        }
         const double need = water + deckClearance_ + deckThickness_;
         const double a = std::max(0.0, sp.u - overHalf), b = std::min(len, sp.u + overHalf);
         for (std::size_t i = 0; i < n; ++i) {
