@@ -63,6 +63,7 @@ void addBenchCommand(CLI::App& app) {
     edit->add_option("--altitude", e->altitude, "Viewer height above the dragged point (m)");
     edit->add_option("--steps", e->steps, "Steps of each drag");
     edit->add_option("--repeats", e->repeats, "Drags of each kind (undone after each), their steps pooled");
+    edit->add_flag("!--no-objects", e->objects, "Make no object meshes (bridges' decks, trees), to see what they cost");
     edit->add_flag("--json", *eJson, "Print JSON (the only format)");
     edit->callback([e, eJson] { std::cout << bench::benchEdit(*e).dump(2) << "\n"; });
 

@@ -54,6 +54,7 @@ struct EditBenchOptions {
     double altitude = 10.0;
     int steps = 60;
     int repeats = 3;  // drags of each kind, their steps pooled
+    bool objects = true;  // false: no object meshes (bridges' decks, trees), to see what they cost
 };
 nlohmann::json benchEdit(const EditBenchOptions& options);
 
