@@ -197,7 +197,9 @@ struct GraphStep::Index {
         CellIndex cells{64.0};
     };
     std::vector<LayerIndex> layers;
-    bool anyRivers = false;        // the scene has a Rivers layer: road curves are indexed too
+    // Road curves are indexed once a river curve exists (or an imported bridge looks for roads
+    // under it): a scene with neither pays nothing for them.
+    bool roadsIndexed = false;
     std::size_t riverCurves = 0;   // river curves indexed now: none, no road looks for crossings
     // Roads whose expansion read a river (by river layer and id): UPDATE expands them again when
     // the river changes.
@@ -291,15 +293,19 @@ void crossingsOf(const Polyline& road, Candidates&& candidates, std::vector<Cros
 GraphStep::GraphStep(const Scene& scene, GraphStepParams params) : params_(params), index_(std::make_unique<Index>()) {
     params_.validate();
     index_->layers.resize(scene.layers.size());
-    for (LayerId l = 0; l < scene.layers.size(); ++l) {
-        index_->layers[l].kind = scene.layers[l].kind;
-        index_->anyRivers = index_->anyRivers || scene.layers[l].kind == LayerKind::Rivers;
-    }
-    for (LayerId l = 0; l < scene.layers.size(); ++l) {
-        const LayerKind kind = scene.layers[l].kind;
-        if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && index_->anyRivers)) continue;
-        for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id) index_->add(scene, l, id, params_.crossingTolerance);
-    }
+    for (LayerId l = 0; l < scene.layers.size(); ++l) index_->layers[l].kind = scene.layers[l].kind;
+    for (LayerId l = 0; l < scene.layers.size(); ++l)
+        if (scene.layers[l].kind == LayerKind::Rivers)
+            for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id) index_->add(scene, l, id, params_.crossingTolerance);
+    if (index_->riverCurves > 0) indexRoads(scene);
+}
+
+void GraphStep::indexRoads(const Scene& scene) const {
+    if (index_->roadsIndexed) return;
+    index_->roadsIndexed = true;
+    for (LayerId l = 0; l < scene.layers.size(); ++l)
+        if (scene.layers[l].kind == LayerKind::Roads)
+            for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id) index_->add(scene, l, id, params_.crossingTolerance);
 }
 
 GraphStep::~GraphStep() = default;
@@ -311,7 +317,7 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     const bool ringStart = c.start != kNoElement && L.nodes[c.start].roundabout > 0.0f;
     const bool ringEnd = c.end != kNoElement && L.nodes[c.end].roundabout > 0.0f;
     const bool imported = (c.flags & kBridge) != 0;
-    const bool lookForBridges = imported || (index_->riverCurves > 0 && params_.bridges && !(c.flags & (kNoBridge | kTunnel)));
+    bool lookForBridges = imported || (index_->riverCurves > 0 && params_.bridges && !(c.flags & (kNoBridge | kTunnel)));
     if (!ringStart && !ringEnd && !lookForBridges) return false;
     ++counters_.curvesExpanded;
 
@@ -330,6 +336,17 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     // Crossings with river curves (and, for an imported bridge, with other roads).
     std::vector<Crossing> crossings;
     Polyline road;
+    if (lookForBridges && !imported) {
+        // Most roads are nowhere near a river: their control hull (which holds the curve) meets
+        // no river segment's cell, and they are not flattened.
+        Box hull{c.vertices.front().p, c.vertices.front().p};
+        for (const Vertex& v : c.vertices) hull = {glm::min(hull.min, v.p), glm::max(hull.max, v.p)};
+        bool near = false;
+        for (const Index::LayerIndex& li : index_->layers)
+            if (li.kind == LayerKind::Rivers) li.cells.query(hull, [&](CellIndex::Item) { near = true; });
+        if (!near) lookForBridges = false;
+    }
+    if (imported) indexRoads(scene);
     if (lookForBridges) {
         road = flatten(c, params_.crossingTolerance);
         std::size_t tested = 0;
@@ -518,10 +535,14 @@ void GraphStep::update(const Scene& scene, const Changeset& changeset, std::vect
     std::sort(curves.begin(), curves.end());
     curves.erase(std::unique(curves.begin(), curves.end()), curves.end());
     for (const auto& [l, id] : curves) {
-        Index::LayerIndex& li = index_->layers[l];
-        if (li.kind != LayerKind::Rivers && !(li.kind == LayerKind::Roads && index_->anyRivers)) continue;
+        const LayerKind kind = index_->layers[l].kind;
+        if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && index_->roadsIndexed)) continue;
         index_->remove(l, id);
         if (id < scene.layers[l].curves.size()) index_->add(scene, l, id, params_.crossingTolerance);
+    }
+    if (index_->riverCurves > 0) indexRoads(scene);  // the first river: roads may cross it now
+    for (const auto& [l, id] : curves) {
+        Index::LayerIndex& li = index_->layers[l];
         if (li.kind != LayerKind::Rivers) continue;
         // Roads that crossed the river before...
         const auto it = index_->readers.find(Index::ref(l, id));

@@ -16,9 +16,10 @@
 // Roundabouts. Delegated to model/roundabouts.h: a road ending at a roundabout node is trimmed at
 // the ring and carries the ring's arc to the next road.
 //
-// Cost. The step indexes the river curves (and, for bridges imported over roads, the road curves)
-// in a grid of boxes, updated with each changeset; a scene with no Rivers layer, no kBridge curve
-// and no roundabout node does no per-curve work (the counters prove it).
+// Cost. The step indexes the river curves' segments in cells, and the road curves' boxes once a
+// river exists (or an imported bridge looks for roads under it), updated with each changeset; a
+// road whose control hull meets no river segment's cell is not flattened. A scene with no river
+// curve, no kBridge curve and no roundabout node does no per-curve work (the counters prove it).
 
 #include <atomic>
 #include <memory>
@@ -71,6 +72,7 @@ public:
 
 private:
     struct Index;
+    void indexRoads(const Scene& scene) const;  // once: the first river, or an imported bridge
     GraphStepParams params_;
     std::unique_ptr<Index> index_;
     mutable GraphStepCounters counters_;
