@@ -11,7 +11,8 @@
 //     "keep": ["bridge", "tunnel", "layer", "name"] }
 // The first rule that matches a feature wins; a feature no rule matches is skipped (and counted).
 // Attribute values are read from the feature's fields, and for OSM data from its "other_tags"
-// field ("key"=>"value" pairs) too. bridge=yes and tunnel=yes set the curve flags.
+// field ("key"=>"value" pairs) too. bridge=yes and tunnel=yes set the curve flags, and
+// junction=roundabout sets kRoundabout (the ring is kept as it is).
 //
 // The file is checked strictly, since a typo that was silently ignored would import a scene that
 // looks right and is not: every object takes only the keys above, and no key twice.

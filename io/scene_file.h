@@ -12,7 +12,8 @@
 //                 the whole document's values (checksum, 16 hex digits). Doubles are C hex floats
 //                 ("0x1.f4p+9", exact; a NaN as "nan:" and its 16 hex digits of bits).
 //   lacet_layers  id, name, kind (toString(LayerKind)).
-//   lacet_nodes   layer, id, x, y, alive, curves (BLOB, u32 ids).
+//   lacet_nodes   layer, id, x, y, alive, curves (BLOB, u32 ids), roundabout (REAL, the ring's
+//                 radius in metres, 0 for none; files written before it load with 0).
 //   lacet_curves  layer, id, start, end, w, wf, cls, flags, alive, vertices (BLOB: every x, y as
 //                 f64, then one flag byte per vertex: bit 0 on-curve, bit 1 closing), areas (BLOB, u32).
 //   lacet_areas   layer, id, wf, cls, axial, alive, loops (BLOB: u32 loop count, then per loop a u32

@@ -17,9 +17,14 @@
 //   texel its (u, v), so the result is the band of the distance to the polyline: joins at sharp
 //   turns and hairpins wider than their radius have no spike and no gap, ends get round caps
 //   and junctions are the union of the roads' discs.
-//   Rivers: water (mask 1) within w/2, banks to wf/2. Roads: asphalt within w/2; then, once all
-//   the roads of the layer are down, markings: side lines, a dashed centre line from u, and stop
-//   lines from the ancestor node's degree (model/junctions.h); markings stop at junctions.
+//   Rivers: water (mask 1) within w/2, banks to wf/2; a Rivers layer's areas are water, drawn
+//   after its banks and before its water. Roads: asphalt within w/2; then, once all the roads of
+//   the layer are down, markings: side lines, a dashed centre line from u, and stop lines from
+//   the ancestor node's degree (model/junctions.h), yield lines where a road enters a roundabout's
+//   ring (kYieldAtStart / kYieldAtEnd); markings stop at junctions, rings and bridge ends.
+//   Bridges (kBridge) are not drawn: their decks are object meshes (raster/object_meshes.h) and
+//   the river shows under them; a tunnel (kTunnel) is drawn only as its portals
+//   (`tunnelPortalLength` at each end).
 // - Uniform quads: when the last thing drawn covers the whole tile (an area surrounding the
 //   quad, or a river whose one segment holds the tile within w/2), nothing is rasterized and the
 //   tile stores only its SurfaceShade.

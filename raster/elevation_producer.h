@@ -14,7 +14,11 @@
 // ends), whose footprint is evaluated exactly from the distance to the segment: the union over
 // a polyline is the footprint of the distance to the polyline, so sharp turns and hairpins wider
 // than their radius have no spike and no gap. Lakes: b = 1 and z_e = the lake level inside,
-// falling to 0 at wf outside the real border (not the closing curves of clipped areas).
+// falling to 0 at wf outside the real border (not the closing curves of clipped areas). River
+// areas (areas of a Rivers layer) likewise, but z_e is the z-profile of their river (the axial
+// curve and the river on through the area) at its nearest point, so the water descends with
+// the river; without an axial curve, flat as a lake. Bridges and tunnels (kBridge, kTunnel) have
+// no footprint: the terrain under a deck and over a tunnel stays as it is.
 //
 // Thread safety: produce() may run for many quads at once; it only reads the quadtree and the
 // DEM, and asks the CurveDataCache (which is thread-safe) for u and z-profiles.
