@@ -1,5 +1,7 @@
 // `lacet check incremental`: random edits on a synthetic scene; after each, the incrementally
 // updated quadtree is compared with a rebuild from scratch. Exits non-zero on any mismatch.
+// `lacet check bridges`: a scene's decks clear the water and leave the river bed as it is
+// (raster/bridge_check.h); exits non-zero when they do not, or when no bridge spans a river.
 // `lacet check fit`: the Hausdorff distance between a scene's curves and the GIS sources they
 // were imported from, per layer (io/fit_check.h). Exits non-zero when anything is farther than
 // the tolerance.
@@ -14,6 +16,7 @@
 #include "io/scene_file.h"
 #include "io/scene_import.h"
 #include "model/validate.h"
+#include "raster/bridge_check.h"
 #include "synth/incremental_check.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_scene.h"
@@ -99,6 +102,46 @@ int runFit(const FitOptions& o) {
     return r.passed() ? 0 : 2;
 }
 
+struct BridgesOptions {
+    std::string scene;
+    BridgeCheckParams params;
+    bool json = false;
+};
+
+int runBridges(const BridgesOptions& o) {
+    const SceneDocument doc = loadScene(o.scene);
+    if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: bridges cannot be checked against the terrain");
+    const BridgeCheckReport r = checkBridges(doc.scene, *doc.dem, o.params);
+    const nlohmann::json out = {
+        {"scene", o.scene},
+        {"level", o.params.level},
+        {"bridges", r.bridges},
+        {"imported_bridges", r.importedBridges},
+        {"procedural_bridges", r.proceduralBridges},
+        {"crossings", {{"found", r.crossingsFound}, {"imported_bridges_over_rivers", r.flaggedRiverCrossings},
+                       {"unflagged_bridged", r.bridgedCrossings}, {"culverts", r.culverts}}},
+        {"river_spans", r.riverSpans},
+        {"clearance", {{"knob_m", o.params.graph.clearance}, {"deck_samples", r.deckSamples},
+                       {"samples_below", r.deckSamplesBelowClearance},
+                       {"least_m", r.deckSamples ? nlohmann::json(r.leastClearance) : nlohmann::json(nullptr)}}},
+        {"river_bed", {{"points_under_decks", r.bedPoints}, {"points_differing", r.bedPointsDiffering},
+                       {"largest_difference_m", r.largestBedDifference}, {"tiles", r.tilesCompared}}},
+        {"ms", r.ms},
+        {"passed", r.passed()}};
+    if (o.json) std::cout << out.dump(2) << "\n";
+    else
+        std::cout << r.bridges << " bridges (" << r.importedBridges << " imported, " << r.proceduralBridges << " made), " << r.riverSpans
+                  << " river spans: deck clearance >= " << r.leastClearance << " m at " << r.deckSamples << " samples ("
+                  << r.deckSamplesBelowClearance << " below " << o.params.graph.clearance << " m); river bed under the decks: "
+                  << r.bedPoints << " points, " << r.bedPointsDiffering << " differ from the scene without the bridged roads (largest "
+                  << r.largestBedDifference << " m)\n";
+    if (r.riverSpans == 0) {
+        std::cerr << o.scene << ": no bridge spans a river: nothing was checked\n";
+        return 3;
+    }
+    return r.passed() ? 0 : 2;
+}
+
 }  // namespace
 
 void addCheckCommand(CLI::App& app) {
@@ -114,6 +157,17 @@ void addCheckCommand(CLI::App& app) {
     inc->add_flag("--json", o->json, "Print JSON");
     inc->callback([o] {
         if (const int rc = run(*o); rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto b = std::make_shared<BridgesOptions>();
+    CLI::App* bridges = check->add_subcommand(
+        "bridges", "Under every bridge the river bed is as without the bridged road, and every deck clears the water");
+    bridges->add_option("scene", b->scene, "Scene file (from lacet import or the editor)")->required();
+    bridges->add_option("--level", b->params.level, "Quadtree level of the elevation tiles compared")->check(CLI::Range(0, 20));
+    bridges->add_option("--step", b->params.step, "Metres between the points sampled along a deck")->check(CLI::Range(0.05, 100.0));
+    bridges->add_flag("--json", b->json, "Print JSON");
+    bridges->callback([b] {
+        if (const int rc = runBridges(*b); rc != 0) throw CLI::RuntimeError(rc);
     });
 
     auto f = std::make_shared<FitOptions>();

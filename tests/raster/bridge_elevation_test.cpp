@@ -7,6 +7,7 @@
 
 #include "model/graph_step.h"
 #include "raster/appearance_producer.h"
+#include "raster/bridge_check.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
 #include "synth/synthetic_scene.h"
@@ -119,6 +120,20 @@ TEST(BridgeElevation, ATunnelLeavesTheTerrainAsItIsButTheRoadOutsideItDoes) {
     }
     EXPECT_EQ(differ, 0u);
     EXPECT_GT(roadDiffers, 0u);  // a ford does flatten its footprint: the comparison can see a road
+}
+
+// The whole-scene check behind `lacet check bridges` finds the same on the valley.
+TEST(BridgeElevation, TheSceneCheckFindsTheBedUntouchedAndTheDeckClear) {
+    const Dem dem = valleyDem();
+    const Scene scene = valleyScene(std::uint16_t(0));
+    const BridgeCheckReport r = checkBridges(scene, dem, {.level = 3, .step = 1.0, .graph = {}});
+    EXPECT_EQ(r.bridges, 1u);
+    EXPECT_EQ(r.riverSpans, 1u);
+    EXPECT_GT(r.bedPoints, 10u);
+    EXPECT_EQ(r.bedPointsDiffering, 0u);
+    EXPECT_GT(r.deckSamples, 1u);
+    EXPECT_GE(r.leastClearance, GraphStepParams{}.clearance - 1e-9);
+    EXPECT_TRUE(r.passed());
 }
 
 // A bridge over a lake's shore (an imported bridge, half over the water): the lake keeps its level
