@@ -2,6 +2,8 @@
 // updated quadtree is compared with a rebuild from scratch. Exits non-zero on any mismatch.
 // `lacet check bridges`: a scene's decks clear the water and leave the river bed as it is
 // (raster/bridge_check.h); exits non-zero when they do not, or when no bridge spans a river.
+// `lacet check rivers`: river profiles and nodes against the DEM (raster/river_check.h); exits
+// non-zero when a river rises downstream, or when the scene has no river.
 // `lacet check fit`: the Hausdorff distance between a scene's curves and the GIS sources they
 // were imported from, per layer (io/fit_check.h). Exits non-zero when anything is farther than
 // the tolerance.
@@ -17,6 +19,7 @@
 #include "io/scene_import.h"
 #include "model/validate.h"
 #include "raster/bridge_check.h"
+#include "raster/river_check.h"
 #include "synth/incremental_check.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_scene.h"
@@ -142,6 +145,38 @@ int runBridges(const BridgesOptions& o) {
     return r.passed() ? 0 : 2;
 }
 
+struct RiversOptions {
+    std::string scene;
+    bool json = false;
+};
+
+nlohmann::json quantilesJson(const Quantiles& q, double over) {
+    return {{"count", q.count}, {"p01_m", q.p01}, {"p05_m", q.p05}, {"median_m", q.median}, {"p95_m", q.p95}, {"p99_m", q.p99}, {"max_m", q.max}, {"min_m", q.min},
+            {"fraction_over_" + std::to_string(int(over * 100.0)) + "_cm", q.fractionOver}};
+}
+
+int runRivers(const RiversOptions& o) {
+    const SceneDocument doc = loadScene(o.scene);
+    if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: rivers cannot be checked against the terrain");
+    const RiverCheckReport r = checkRivers(doc.scene, *doc.dem);
+    const nlohmann::json out = {{"scene", o.scene},
+                                {"river_curves", r.curves},
+                                {"profile_above_dem", quantilesJson(r.profileAboveDem, r.over)},
+                                {"nodes_above_dem", quantilesJson(r.nodesAboveDem, r.over)},
+                                {"rising_samples", r.risingSamples},
+                                {"ms", r.ms}};
+    if (o.json) std::cout << out.dump(2) << "\n";
+    else
+        std::cout << r.curves << " river curves: profile above the DEM median " << r.profileAboveDem.median << " m, p95 "
+                  << r.profileAboveDem.p95 << " m, max " << r.profileAboveDem.max << " m over " << r.profileAboveDem.count
+                  << " samples; nodes above the DEM max " << r.nodesAboveDem.max << " m; " << r.risingSamples << " rising samples\n";
+    if (r.curves == 0) {
+        std::cerr << o.scene << ": the scene has no river: nothing was checked\n";
+        return 3;
+    }
+    return r.risingSamples == 0 ? 0 : 2;
+}
+
 }  // namespace
 
 void addCheckCommand(CLI::App& app) {
@@ -168,6 +203,14 @@ void addCheckCommand(CLI::App& app) {
     bridges->add_flag("--json", b->json, "Print JSON");
     bridges->callback([b] {
         if (const int rc = runBridges(*b); rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto rv = std::make_shared<RiversOptions>();
+    CLI::App* rivers = check->add_subcommand("rivers", "River profiles and node heights against the DEM, and whether a river rises");
+    rivers->add_option("scene", rv->scene, "Scene file (from lacet import or the editor)")->required();
+    rivers->add_flag("--json", rv->json, "Print JSON");
+    rivers->callback([rv] {
+        if (const int rc = runRivers(*rv); rc != 0) throw CLI::RuntimeError(rc);
     });
 
     auto f = std::make_shared<FitOptions>();

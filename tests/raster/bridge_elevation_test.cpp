@@ -8,6 +8,7 @@
 #include "model/graph_step.h"
 #include "raster/appearance_producer.h"
 #include "raster/bridge_check.h"
+#include "raster/river_check.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
 #include "synth/synthetic_scene.h"
@@ -134,6 +135,18 @@ TEST(BridgeElevation, TheSceneCheckFindsTheBedUntouchedAndTheDeckClear) {
     EXPECT_GT(r.deckSamples, 1u);
     EXPECT_GE(r.leastClearance, GraphStepParams{}.clearance - 1e-9);
     EXPECT_TRUE(r.passed());
+}
+
+// `lacet check rivers` on the valley: the river runs on its floor (at most the DEM's bilinear
+// error above it, the DEM being the valley sampled every 4 m) and never rises.
+TEST(BridgeElevation, TheRiverCheckFindsTheRiverOnTheValleyFloor) {
+    const Dem dem = valleyDem();
+    const RiverCheckReport r = checkRivers(valleyScene(std::nullopt), dem);
+    EXPECT_EQ(r.curves, 1u);
+    EXPECT_GT(r.profileAboveDem.count, 40u);
+    EXPECT_LE(r.profileAboveDem.max, 0.01);
+    EXPECT_LE(r.nodesAboveDem.max, 0.0);
+    EXPECT_EQ(r.risingSamples, 0u);
 }
 
 // A bridge over a lake's shore (an imported bridge, half over the water): the lake keeps its level

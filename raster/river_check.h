@@ -1,0 +1,32 @@
+#pragma once
+// Where a scene's rivers stand against its DEM (issue 14): a river runs on its valley floor and
+// never rises. For every river curve (a Rivers layer's curve that is not an area's border), its
+// z-profile samples (CurveDataCache) less the DEM under them, and every river node's height less
+// the DEM at it, as quantiles; and the samples where a profile rises downstream. `lacet check
+// rivers` prints the report.
+
+#include <cstddef>
+
+#include "model/curve_data.h"
+#include "raster/dem.h"
+
+namespace lacet {
+
+struct Quantiles {
+    std::size_t count = 0;
+    double min = 0.0, p01 = 0.0, p05 = 0.0, median = 0.0, p95 = 0.0, p99 = 0.0, max = 0.0;  // metres
+    double fractionOver = 0.0;  // of the values over `over` below
+};
+
+struct RiverCheckReport {
+    std::size_t curves = 0;
+    Quantiles profileAboveDem;  // z-profile samples less the DEM under them
+    Quantiles nodesAboveDem;    // river node heights less the DEM at the node
+    std::size_t risingSamples = 0;  // samples higher than the one upstream of them
+    double over = 0.01;             // m: fractionOver counts the values above this
+    double ms = 0.0;
+};
+
+RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileParams& profiles = {});
+
+}  // namespace lacet
