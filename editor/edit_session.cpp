@@ -59,10 +59,16 @@ EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(st
 CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     CommandReport r;
     r.applyMs = applyMs;
-    const std::vector<ElementRef> dropped = data_->invalidate(cs);
+    std::vector<ElementRef> dropped = data_->invalidate(cs);
     const auto t0 = Clock::now();
     const UpdateStats st = quadtree_->update(cs);
     r.updateMs = msSince(t0);
+    if (!st.reexpanded.empty()) {  // their procedural curves may keep their ids with a new shape
+        Changeset again;
+        for (const ElementRef& e : st.reexpanded) again.modify(e);
+        const std::vector<ElementRef> more = data_->invalidate(again);
+        dropped.insert(dropped.end(), more.begin(), more.end());
+    }
     r.changedQuads = st.changedQuads.size();
     std::set<QuadKey> changed;
     for (const Quad* q : st.changedQuads) changed.insert(keyOf(*q));

@@ -298,8 +298,8 @@ void Quadtree::copyStructureOf(const Quadtree& other) { copyQuad(root_, other.ro
 UpdateStats Quadtree::update(const Changeset& changeset) {
     // Root curves whose procedural expansion reads what the edit changed are re-expanded too.
     Changeset cs = changeset;
+    std::vector<ElementRef> dependents;
     if (procedural_) {
-        std::vector<ElementRef> dependents;
         procedural_->update(scene_, changeset, dependents);
         for (const ElementRef& r : dependents) cs.modify(r);
         cs.normalize();
@@ -368,6 +368,7 @@ UpdateStats Quadtree::update(const Changeset& changeset) {
     }
     UpdateStats stats;
     stats.quadsVisited = 1;
+    stats.reexpanded = std::move(dependents);
     if (!root_.isLeaf() && !(removed.empty() && added.empty()))
         for (auto& c : root_.children) updateQuad(*c, removed, added, stats);
     return stats;

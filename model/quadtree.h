@@ -74,6 +74,10 @@ constexpr std::size_t proceduralIndex(AncestorId a) {
 struct UpdateStats {
     std::size_t quadsVisited = 0;
     std::vector<const Quad*> changedQuads;  // quads whose graph changed: their textures are dirty
+    // Root curves the procedural step expanded again besides the changeset's (roads crossing a
+    // moved river, the roads of a changed roundabout): what was computed on their procedural
+    // curves (CurveDataCache) is stale too.
+    std::vector<ElementRef> reexpanded;
 };
 
 class Quadtree {

@@ -249,6 +249,19 @@ TEST(EditSession, DraggingARoadAcrossARiverMakesTheBridgeInThatFrameAndUndoRemov
     session.frame(viewer, 0.0);
     EXPECT_EQ(qt.proceduralCount(kBridge), 0u);
     expectTilesEqualFromScratch(session, params, "after undo and redo");
+    // The road over the river again, then the river moved under it: the road is expanded again
+    // by the graph step (not in the changeset), its pieces keep their ids with new shapes, and
+    // what the curve data held for them must go (the tiles equal a rebuild).
+    session.execute(MoveNodeCmd{kRoadsLayer, end, {700.0, 500.0}});
+    session.frame(viewer, 0.0);
+    ASSERT_EQ(qt.proceduralCount(kBridge), 1u);
+    const Curve& r = session.document().scene.layers[kRiversLayer].curves[0];
+    const ElementId top = r.start, bottom = r.end;
+    session.execute(MoveNodeCmd{kRiversLayer, top, {600.0, 1000.0}});
+    session.execute(MoveNodeCmd{kRiversLayer, bottom, {560.0, 20.0}});
+    session.frame(viewer, 0.0);
+    EXPECT_EQ(qt.proceduralCount(kBridge), 1u);
+    expectTilesEqualFromScratch(session, params, "after the river moved under the road");
 }
 
 TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
