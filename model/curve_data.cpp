@@ -177,6 +177,14 @@ std::unique_ptr<ZProfile> CurveDataCache::proceduralProfile(LayerId layer, Ances
     return prof;
 }
 
+double CurveDataCache::spanWater(const BridgeSpan& span) const {
+    const ZProfile& over = zProfile(span.layer, span.over);
+    const double ou = u(span.layer, span.over, span.overS);
+    double water = -INFINITY;
+    for (double d : {-params_.sampleSpacing, 0.0, params_.sampleSpacing}) water = std::max(water, over.at(ou + d));
+    return water;
+}
+
 void CurveDataCache::liftDeck(LayerId layer, AncestorId ancestor, std::span<const BridgeSpan> spans, ZProfile& prof) const {
     // A deck runs straight between its ends (where it meets the road on the ground), never under
     // the terrain profile it replaces, and rises where it must to clear what it spans: over each
@@ -197,21 +205,17 @@ void CurveDataCache::liftDeck(LayerId layer, AncestorId ancestor, std::span<cons
         return scene.layers[sp.layer].kind == LayerKind::Rivers && !border(sp);
     });
     for (const BridgeSpan& sp : spans) {
-        const double ou = u(sp.layer, sp.over, sp.overS);
         const double overHalf = sp.halfLength;
-        double water = -INFINITY;  // the crossed profile's highest point across its footprint
+        double water = -INFINITY;
         if (border(sp)) {
             // The profile of a border curve is the bank's, not the water's: the river inside the
             // area gives the water when the bridge spans it too, else the area's level.
             if (overARiver) continue;
             water = lakeLevel(sp.layer, scene.layers[sp.layer].curves[ElementId(sp.over)].areas.front());
         } else {
-            const ZProfile& over = zProfile(sp.layer, sp.over);
-            {
-                std::lock_guard lock(mutex_);
-                readers_[Key{sp.layer, sp.over}].insert(Key{layer, ancestor});
-            }
-            for (double d : {-params_.sampleSpacing, 0.0, params_.sampleSpacing}) water = std::max(water, over.at(ou + d));
+            water = spanWater(sp);
+            std::lock_guard lock(mutex_);
+            readers_[Key{sp.layer, sp.over}].insert(Key{layer, ancestor});
         }
         const double need = water + deckClearance_ + deckThickness_;
         const double a = std::max(0.0, sp.u - overHalf), b = std::min(len, sp.u + overHalf);
@@ -227,8 +231,7 @@ void CurveDataCache::liftDeck(LayerId layer, AncestorId ancestor, std::span<cons
     for (std::size_t i = 0; i < n; ++i) z[i] = std::max(z[i] + lift[i], ground[i]);
 }
 
-std::unique_ptr<ZProfile> CurveDataCache::terrainProfile(LayerId layer, AncestorId ancestor) const {
-    const Curve& c = quadtree_.ancestorCurve(layer, ancestor);
+std::vector<Vec2> CurveDataCache::samplePoints(LayerId layer, AncestorId ancestor) const {
     const Arc& a = arc(layer, ancestor);
     // Flatten, then place samples at regular arc length along the polyline.
     std::vector<Vec2> pts;
@@ -241,20 +244,29 @@ std::unique_ptr<ZProfile> CurveDataCache::terrainProfile(LayerId layer, Ancestor
             pts.push_back(p);
         }
     }
-    auto prof = std::make_unique<ZProfile>();
-    prof->length = a.start.back();
-    const double polyLength = cum.empty() ? 0.0 : cum.back();
-    const auto n = std::size_t(std::max(1.0, std::ceil(prof->length / params_.sampleSpacing))) + 1;
-    prof->spacing = prof->length / double(n - 1);
-    std::vector<double> raw(n);
+    const auto n = std::size_t(std::max(1.0, std::ceil(a.start.back() / params_.sampleSpacing))) + 1;
+    std::vector<Vec2> out(n, pts.empty() ? Vec2(0.0) : pts.front());
+    if (pts.size() < 2) return out;
     std::size_t seg = 0;
     for (std::size_t i = 0; i < n; ++i) {
-        const double target = polyLength * double(i) / double(n - 1);
+        const double target = cum.back() * double(i) / double(n - 1);
         while (seg + 2 < cum.size() && cum[seg + 1] < target) ++seg;
         const double span = cum[seg + 1] - cum[seg];
         const double f = span > 0.0 ? std::clamp((target - cum[seg]) / span, 0.0, 1.0) : 0.0;
-        raw[i] = heights_.height(pts[seg] + (pts[seg + 1] - pts[seg]) * f);
+        out[i] = pts[seg] + (pts[seg + 1] - pts[seg]) * f;
     }
+    return out;
+}
+
+std::unique_ptr<ZProfile> CurveDataCache::terrainProfile(LayerId layer, AncestorId ancestor) const {
+    const Curve& c = quadtree_.ancestorCurve(layer, ancestor);
+    const std::vector<Vec2> points = samplePoints(layer, ancestor);
+    auto prof = std::make_unique<ZProfile>();
+    prof->length = length(layer, ancestor);
+    const std::size_t n = points.size();
+    prof->spacing = prof->length / double(n - 1);
+    std::vector<double> raw(n);
+    for (std::size_t i = 0; i < n; ++i) raw[i] = heights_.height(points[i]);
     // Triangular kernel of half-width kernelRadius, indices clamped at the ends.
     const int half = prof->spacing > 0.0 ? int(params_.kernelRadius / prof->spacing) : 0;
     auto& z = prof->z;

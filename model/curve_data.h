@@ -78,6 +78,12 @@ public:
     const ZProfile& zProfile(LayerId layer, AncestorId ancestor) const;
     double nodeHeight(LayerId layer, ElementId node) const;
     double lakeLevel(LayerId layer, ElementId area) const;
+    // The water a bridge span stands over: the crossed curve's profile at the crossing, the
+    // highest within a sample spacing of it (what a deck's lift clears).
+    double spanWater(const BridgeSpan& span) const;
+    // Where a curve's terrain is sampled for its z-profile: sampleSpacing apart (at most) in arc
+    // length along a dense polyline, one point per ZProfile::z entry.
+    std::vector<Vec2> samplePoints(LayerId layer, AncestorId ancestor) const;
 
     // Drops what the changeset touches: its curves, nodes and areas, the procedural curves of its
     // curves, and for rivers everything downstream of a touched river node or curve. Returns the

@@ -54,34 +54,25 @@ std::size_t onCurveCount(const Curve& c) {
     return std::size_t(std::count_if(c.vertices.begin(), c.vertices.end(), [](const Vertex& v) { return v.onCurve; }));
 }
 
-// Root parameter s at arc length u along a polyline (linear between its points).
-double sAtU(const Polyline& pl, double u) {
-    if (u <= 0.0) return pl.s.front();
-    if (u >= pl.u.back()) return pl.s.back();
-    const auto it = std::upper_bound(pl.u.begin(), pl.u.end(), u);
-    const std::size_t i = std::size_t(it - pl.u.begin()) - 1;
-    const double span = pl.u[i + 1] - pl.u[i];
-    const double f = span > 0.0 ? (u - pl.u[i]) / span : 0.0;
-    return pl.s[i] + (pl.s[i + 1] - pl.s[i]) * f;
+// The value at x of `values`, linear between the increasing `keys` and clamped to the ends: a
+// polyline's root parameter s or point at an arc length u, or its u at an s.
+template <class T>
+T along(const std::vector<double>& keys, const std::vector<T>& values, double x) {
+    if (x <= keys.front()) return values.front();
+    if (x >= keys.back()) return values.back();
+    const std::size_t i = std::size_t(std::upper_bound(keys.begin(), keys.end(), x) - keys.begin()) - 1;
+    const double span = keys[i + 1] - keys[i];
+    return values[i] + (values[i + 1] - values[i]) * (span > 0.0 ? (x - keys[i]) / span : 0.0);
 }
+double sAtU(const Polyline& pl, double u) { return along(pl.u, pl.s, u); }
+double uAtS(const Polyline& pl, double s) { return along(pl.s, pl.u, s); }
+Vec2 pointAtU(const Polyline& pl, double u) { return along(pl.u, pl.p, u); }
 
-Vec2 pointAtU(const Polyline& pl, double u) {
-    if (u <= 0.0) return pl.p.front();
-    if (u >= pl.u.back()) return pl.p.back();
-    const auto it = std::upper_bound(pl.u.begin(), pl.u.end(), u);
-    const std::size_t i = std::size_t(it - pl.u.begin()) - 1;
-    const double span = pl.u[i + 1] - pl.u[i];
-    return pl.p[i] + (pl.p[i + 1] - pl.p[i]) * (span > 0.0 ? (u - pl.u[i]) / span : 0.0);
-}
-
-double uAtS(const Polyline& pl, double s) {
-    if (s <= pl.s.front()) return 0.0;
-    if (s >= pl.s.back()) return pl.u.back();
-    const auto it = std::upper_bound(pl.s.begin(), pl.s.end(), s);
-    const std::size_t i = std::size_t(it - pl.s.begin()) - 1;
-    const double span = pl.s[i + 1] - pl.s[i];
-    const double f = span > 0.0 ? (s - pl.s[i]) / span : 0.0;
-    return pl.u[i] + (pl.u[i + 1] - pl.u[i]) * f;
+// The box of a curve's vertices, controls included: it holds the curve.
+Box controlHull(const Curve& c) {
+    Box b{c.vertices.front().p, c.vertices.front().p};
+    for (const Vertex& v : c.vertices) b = {glm::min(b.min, v.p), glm::max(b.max, v.p)};
+    return b;
 }
 
 Box segmentBox(Vec2 a, Vec2 b) { return {glm::min(a, b), glm::max(a, b)}; }
@@ -218,8 +209,7 @@ struct GraphStep::Index {
             li.polylines[id] = std::move(pl);
             ++riverCurves;
         } else if (li.kind == LayerKind::Roads) {
-            Box b{c.vertices.front().p, c.vertices.front().p};
-            for (const Vertex& v : c.vertices) b = {glm::min(b.min, v.p), glm::max(b.max, v.p)};  // control hull
+            const Box b = controlHull(c);
             li.cells.insert(b, {id, 0});
             li.boxes[id] = b;
         }
@@ -339,8 +329,7 @@ bool GraphStep::expand(const Scene& scene, LayerId layer, ElementId id, std::vec
     if (lookForBridges && !imported) {
         // Most roads are nowhere near a river: their control hull (which holds the curve) meets
         // no river segment's cell, and they are not flattened.
-        Box hull{c.vertices.front().p, c.vertices.front().p};
-        for (const Vertex& v : c.vertices) hull = {glm::min(hull.min, v.p), glm::max(hull.max, v.p)};
+        const Box hull = controlHull(c);
         bool near = false;
         for (const Index::LayerIndex& li : index_->layers)
             if (li.kind == LayerKind::Rivers) li.cells.query(hull, [&](CellIndex::Item) { near = true; });

@@ -116,11 +116,7 @@ BridgeCheckReport checkBridges(const Scene& scene, const Dem& dem, const BridgeC
                     const Curve& over = scene.layers[s.layer].curves[ElementId(s.over)];
                     if (scene.layers[s.layer].kind != LayerKind::Rivers || (s.over & kProceduralBit) || !over.areas.empty()) continue;
                     ++r.riverSpans;
-                    const ZProfile& river = with.data.zProfile(s.layer, s.over);
-                    const double ou = with.data.u(s.layer, s.over, s.overS);
-                    double water = -INFINITY;  // as the deck's lift reads it: the profile across the crossing
-                    const double spacing = with.data.params().sampleSpacing;
-                    for (double d : {-spacing, 0.0, spacing}) water = std::max(water, river.at(ou + d));
+                    const double water = with.data.spanWater(s);
                     for (std::size_t i = 0; i < deck.z.size(); ++i) {
                         if (std::abs(deck.spacing * double(i) - s.u) > s.halfLength) continue;
                         const double c = deck.z[i] - params.graph.deckThickness - water;

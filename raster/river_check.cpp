@@ -5,8 +5,6 @@
 #include <cmath>
 #include <vector>
 
-#include <glm/geometric.hpp>
-
 #include "model/graph_step.h"
 #include "raster/dem_height_field.h"
 
@@ -48,27 +46,9 @@ RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileP
             if (!cv.alive || !cv.areas.empty()) continue;
             ++r.curves;
             const ZProfile& z = data.zProfile(l, c);
-            // The samples' points as the profile places them: regular in length along a dense
-            // polyline (a quarter of the sample spacing at most between its points).
-            std::vector<Vec2> pts;
-            std::vector<double> cum;
-            forEachPiece(cv.vertices, [&](const BezierPiece& b, std::size_t) {
-                const int n = std::max(16, int(std::ceil(arcLength(b, 1.0) / (0.25 * profiles.sampleSpacing))));
-                for (int i = pts.empty() ? 0 : 1; i <= n; ++i) {
-                    const Vec2 p = evaluate(b, double(i) / n);
-                    cum.push_back(pts.empty() ? 0.0 : cum.back() + glm::length(p - pts.back()));
-                    pts.push_back(p);
-                }
-            });
-            const std::size_t n = z.z.size();
-            if (pts.size() < 2) continue;
-            std::size_t seg = 0;
-            for (std::size_t i = 0; i < n; ++i) {
-                const double target = n > 1 ? cum.back() * double(i) / double(n - 1) : 0.0;
-                while (seg + 2 < cum.size() && cum[seg + 1] < target) ++seg;
-                const double span = cum[seg + 1] - cum[seg];
-                const double f = span > 0.0 ? std::clamp((target - cum[seg]) / span, 0.0, 1.0) : 0.0;
-                above.push_back(z.z[i] - dem.sample(pts[seg] + (pts[seg + 1] - pts[seg]) * f));
+            const std::vector<Vec2> points = data.samplePoints(l, c);
+            for (std::size_t i = 0; i < z.z.size() && i < points.size(); ++i) {
+                above.push_back(z.z[i] - dem.sample(points[i]));
                 r.risingSamples += i > 0 && z.z[i] > z.z[i - 1];
             }
         }
