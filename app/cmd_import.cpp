@@ -78,7 +78,10 @@ void addImportCommand(CLI::App& app) {
     CLI::App* info = app.add_subcommand("info", "What a scene file holds");
     info->add_option("scene", *path, "Scene file (GeoPackage)")->required();
     info->add_flag("--json", *json, "Print JSON (the only format)");
-    info->callback([path, json] { std::cout << sceneInfo(loadScene(*path), *path).dump(2) << "\n"; });
+    info->callback([path, json] {
+        if (isPyramidFile(*path)) printPyramidInfo(*path);  // a pyramid: every tile checked
+        else std::cout << sceneInfo(loadScene(*path), *path).dump(2) << "\n";
+    });
 }
 
 }  // namespace lacet::app

@@ -1,7 +1,11 @@
 #pragma once
 // Sub-commands of the `lacet` command-line tool; each registers itself on the CLI11 app.
 
+#include <string>
+
 #include <CLI/CLI.hpp>
+
+#include "pyramid/pyramid_build.h"
 
 namespace lacet::app {
 
@@ -11,5 +15,13 @@ void addBenchCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addImportCommand(CLI::App& app);
 void addEditCommand(CLI::App& app);
+void addPyramidCommand(CLI::App& app);
+
+// `lacet pyramid info` and `lacet info` of a pyramid file: the JSON report; exits 2 when a tile is
+// corrupt or missing.
+void printPyramidInfo(const std::string& path);
+// `lacet pyramid build --shards`: the build over the ranks of an MPI job (app/pyramid_mpi.cpp when
+// built with LACET_MPI; otherwise it refuses, saying so).
+void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json);
 
 }  // namespace lacet::app

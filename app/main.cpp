@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     lacet::app::addRenderCommand(app);
     lacet::app::addImportCommand(app);
     lacet::app::addEditCommand(app);
+    lacet::app::addPyramidCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -1,0 +1,181 @@
+// `lacet pyramid build|update|info`: precomputed texture pyramids (§7) in a GeoPackage
+// (pyramid/pyramid_build.h), and `--shards` for a build split over the ranks of an MPI job
+// (app/pyramid_mpi.h, when built with LACET_MPI).
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/progress_bar.h"
+#include "io/scene_file.h"
+#include "pyramid/pyramid_build.h"
+#include "pyramid/pyramid_check.h"
+
+namespace lacet::app {
+namespace {
+
+struct PyramidOptions {
+    std::string scene;
+    std::string out;
+    std::string levels;  // "A-B" or "B"
+    std::string layers = "appearance,elevation";
+    std::string encoding = "jpeg:90";
+    double texel = 1.0;
+    int vectorLevels = 1;
+    int shardLevel = -1;
+    bool force = false;
+    bool json = false;
+    bool shards = false;
+};
+
+nlohmann::json statsJson(const PyramidStats& s, const std::string& path) {
+    const auto& t = s.times;
+    const double tiles = double(s.tilesMade);
+    return {{"pyramid", path},
+            {"quads", s.quads},
+            {"quads_changed", s.quadsChanged},
+            {"tiles_made", s.tilesMade},
+            {"tiles_written", s.tilesWritten},
+            {"rebuilt", s.rebuilt},
+            {"stored", {{"appearance", s.appearanceTiles}, {"water", s.waterTiles}, {"elevation", s.elevationTiles}}},
+            {"bytes", s.bytes},
+            {"wall_s", s.wallSeconds},
+            {"tiles_per_s", s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0},
+            {"thread_seconds",
+             {{"clip", t.clip}, {"digest", t.digest}, {"elevation", t.elevation}, {"appearance", t.appearance},
+              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}}}};
+}
+
+void printStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json) {
+    if (json) {
+        std::cout << statsJson(s, path).dump(2) << "\n";
+        return;
+    }
+    const auto& t = s.times;
+    std::printf("%s %s: %zu quads (%zu changed), %zu tiles made, %zu written; stored %zu appearance, %zu water, %zu elevation "
+                "tiles, %.1f MB; %.2f s (%.0f tiles/s)\n  thread seconds: clip %.2f, digest %.2f, elevation %.2f, appearance %.2f, "
+                "mipmap %.2f, encode %.2f, decode %.2f, write %.2f\n",
+                what.c_str(), path.c_str(), s.quads, s.quadsChanged, s.tilesMade, s.tilesWritten, s.appearanceTiles, s.waterTiles,
+                s.elevationTiles, double(s.bytes) / 1e6, s.wallSeconds, s.wallSeconds > 0 ? double(s.tilesMade) / s.wallSeconds : 0.0,
+                t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write);
+    if (s.rebuilt) std::printf("  the scene's DEM, layers or a knob changed since the build: every tile was remade\n");
+}
+
+PyramidParams paramsOf(const PyramidOptions& o) {
+    PyramidParams p;
+    if (!o.levels.empty()) {
+        int a = 0, b = 0;
+        char dash = 0, extra = 0;
+        std::istringstream in(o.levels);
+        if ((in >> a >> dash >> b) && dash == '-' && !(in >> extra)) {
+            p.minLevel = a;
+            p.maxLevel = b;
+        } else {
+            std::istringstream one(o.levels);
+            if (!(one >> b) || (one >> extra)) throw std::invalid_argument("--levels must be A-B or B (levels, 0 <= A <= B <= 24)");
+            p.maxLevel = b;
+        }
+        if (p.minLevel < 0 || p.maxLevel < p.minLevel || p.maxLevel > 24)
+            throw std::invalid_argument("--levels must be A-B or B with 0 <= A <= B <= 24");
+    }
+    p.appearance = p.elevation = false;
+    std::istringstream layers(o.layers);
+    for (std::string l; std::getline(layers, l, ',');) {
+        if (l == "appearance") p.appearance = true;
+        else if (l == "elevation") p.elevation = true;
+        else throw std::invalid_argument("--layers: unknown layer '" + l + "' (appearance, elevation)");
+    }
+    p.texel = o.texel;
+    p.vectorLevels = o.vectorLevels;
+    p.shardLevel = o.shardLevel;
+    p.encoding = parseEncoding(o.encoding);
+    return p;
+}
+
+SceneDocument loadForPyramid(const std::string& scene) {
+    SceneDocument doc = loadScene(scene);
+    if (!doc.dem) std::cerr << "lacet pyramid: warning: " << scene << " holds no DEM: the ground is flat at 0 m\n";
+    return doc;
+}
+
+void checkOut(const PyramidOptions& o, const std::string& out) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (fs::exists(out) && fs::exists(o.scene) && fs::equivalent(out, o.scene, ec))
+        throw std::invalid_argument("--out " + out + " is the scene file, which every save rewrites: the pyramid goes beside it");
+}
+
+}  // namespace
+
+void addPyramidCommand(CLI::App& app) {
+    CLI::App* cmd = app.add_subcommand("pyramid", "Precomputed texture pyramids (§7): build, update, info");
+    cmd->require_subcommand(1);
+
+    auto b = std::make_shared<PyramidOptions>();
+    CLI::App* build = cmd->add_subcommand("build", "Build the appearance and elevation tile pyramid of a scene (GeoPackage)");
+    build->add_option("scene", b->scene, "Scene file (GeoPackage from lacet import)")->required();
+    build->add_option("--out", b->out, "Pyramid file (default: SCENE with .pyramid.gpkg)");
+    build->add_option("--levels", b->levels, "Levels A-B (or B: 0-B); default: down to --texel metres per texel");
+    build->add_option("--texel", b->texel, "Metres per texel the default deepest level reaches (> 0)");
+    build->add_option("--layers", b->layers, "appearance,elevation (either or both)");
+    build->add_option("--encoding", b->encoding, "Colour tiles: jpeg[:QUALITY], png[:ZLIB LEVEL] or webp[:QUALITY]");
+    build->add_option("--vector-levels", b->vectorLevels, "Deepest levels made from vector data (>= 1); the rest mipmapped");
+    build->add_option("--shard-level", b->shardLevel, "Level of the subtrees the build goes by (default: deepest - 4)");
+    build->add_flag("--force", b->force, "Replace a pyramid built for another scene in --out");
+    build->add_flag("--shards", b->shards, "Run the shards on the ranks of an MPI job (mpirun -np N lacet pyramid build ... --shards)");
+    build->add_flag("--json", b->json, "Print the figures as JSON");
+    build->callback([b] {
+        const std::string out = b->out.empty() ? defaultPyramidPath(b->scene) : b->out;
+        checkOut(*b, out);
+        const PyramidParams params = paramsOf(*b);
+        if (b->shards) {
+            runShardedPyramidBuild(b->scene, out, params, b->force, b->json);
+            return;
+        }
+        const SceneDocument doc = loadForPyramid(b->scene);
+        TerminalProgress progress;
+        const PyramidStats s = buildPyramid(doc, out, params, b->force, &progress);
+        printStats(s, "built", out, b->json);
+    });
+
+    auto u = std::make_shared<PyramidOptions>();
+    CLI::App* update = cmd->add_subcommand("update", "Remake the tiles of a pyramid whose inputs changed since it was built");
+    update->add_option("scene", u->scene, "Scene file")->required();
+    update->add_option("--pyramid", u->out, "Pyramid file (default: SCENE with .pyramid.gpkg)");
+    update->add_flag("--json", u->json, "Print the figures as JSON");
+    update->callback([u] {
+        const std::string path = u->out.empty() ? defaultPyramidPath(u->scene) : u->out;
+        const SceneDocument doc = loadForPyramid(u->scene);
+        TerminalProgress progress;
+        const PyramidStats s = updatePyramid(doc, path, &progress);
+        printStats(s, "updated", path, u->json);
+    });
+
+    auto path = std::make_shared<std::string>();
+    CLI::App* info = cmd->add_subcommand("info", "What a pyramid holds; every tile decoded (exit 2 when one is corrupt or missing)");
+    info->add_option("pyramid", *path, "Pyramid file")->required();
+    info->callback([path] { printPyramidInfo(*path); });
+}
+
+void printPyramidInfo(const std::string& path) {
+    const PyramidCheck c = checkPyramid(path);
+    std::cout << c.json().dump(2) << "\n";
+    if (!c.problems.empty()) {
+        std::cerr << "lacet: " << path << ": " << c.problems.size() << " tile(s) corrupt or missing, first: " << c.problems[0].table
+                  << " level " << c.problems[0].quad.level << " column " << c.problems[0].quad.tx << ": " << c.problems[0].reason
+                  << "\n";
+        std::exit(2);
+    }
+}
+
+#ifndef LACET_MPI
+void runShardedPyramidBuild(const std::string&, const std::string&, const PyramidParams&, bool, bool) {
+    throw std::invalid_argument("--shards needs MPI: this lacet was built without it (cmake -DLACET_MPI=ON, Open MPI from Debian's libopenmpi-dev)");
+}
+#endif
+
+}  // namespace lacet::app

@@ -1,0 +1,579 @@
+#include "pyramid/pyramid_build.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <mutex>
+#include <stdexcept>
+#include <unordered_set>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_for_each.h>
+#include <tbb/task_group.h>
+
+#include "model/graph_step.h"
+#include "model/quadtree.h"
+#include "pyramid/digest.h"
+#include "pyramid/pyramid_tiles.h"
+#include "pyramid/quad_digest.h"
+#include "raster/appearance_producer.h"
+#include "raster/dem_height_field.h"
+#include "raster/elevation_producer.h"
+
+namespace lacet {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Nanoseconds summed over threads.
+struct StageClock {
+    std::atomic<std::int64_t> ns{0};
+    template <class F>
+    auto time(F&& f) {
+        const auto t0 = Clock::now();
+        struct Add {
+            std::atomic<std::int64_t>& ns;
+            Clock::time_point t0;
+            ~Add() { ns += std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - t0).count(); }
+        } add{ns, t0};
+        return f();
+    }
+    double seconds() const { return double(ns.load()) * 1e-9; }
+};
+
+struct KeySet {
+    std::unordered_set<PyramidKey, PyramidKeyHash> set;
+    bool has(const PyramidKey& k) const { return set.count(k) != 0; }
+};
+
+PyramidKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
+
+// Every setting a tile depends on besides the scene's vector data.
+std::uint64_t inputsDigest(const SceneDocument& doc, const PyramidParams& p, const RefineParams& refine,
+                           const ZProfileParams& z, const GraphStepParams& g, const AppearanceParams& a) {
+    Digest d;
+    d.word(kPyramidFormatVersion).text(encodingName(p.encoding)).word(std::uint64_t(p.minLevel)).word(std::uint64_t(p.maxLevel));
+    d.word(std::uint64_t(p.vectorLevels)).word(p.appearance).word(p.elevation);
+    const Scene& s = doc.scene;
+    d.real(s.extent.min.x).real(s.extent.min.y).real(s.extent.max.x).real(s.extent.max.y).word(s.layers.size());
+    for (const Layer& l : s.layers) d.text(l.name).word(std::uint64_t(l.kind));
+    if (doc.dem) {
+        const Dem& dem = *doc.dem;
+        d.real(dem.extent().min.x).real(dem.extent().min.y).real(dem.extent().max.x).real(dem.extent().max.y);
+        d.word(std::uint64_t(dem.width())).word(std::uint64_t(dem.height())).reals(std::span<const float>(dem.heights()));
+    }
+    d.word(std::uint64_t(refine.resolution)).word(std::uint64_t(refine.appearanceBorder));
+    d.word(std::uint64_t(refine.elevationResolution)).word(std::uint64_t(refine.elevationBorder)).real(refine.toleranceTexels);
+    d.real(z.sampleSpacing).real(z.kernelRadius).real(z.arcLengthTolerance);
+    d.real(g.crossingTolerance).real(g.abutmentLength).real(g.clearance).real(g.deckThickness).word(g.bridges);
+    d.real(g.minBridgedRiverWidth);
+    d.word(std::uint64_t(a.samples)).real(a.markingMinTexels).word(std::uint64_t(a.groundCells)).real(a.groundCellMin);
+    d.word(a.detectUniform).real(a.tunnelPortalLength);
+    return d.value();
+}
+
+// A tile made in this run, ready to store.
+struct MadeTile {
+    std::vector<std::uint8_t> appearance, water;  // water empty: none
+    PyramidImage image;                            // as stored (decoded when lossy): what the parent mipmaps
+    bool hasAppearance = false;
+    std::vector<std::uint8_t> elevation;
+    ElevationCells cells;
+    bool hasElevation = false;
+};
+
+}  // namespace
+
+std::string encodingName(const TileEncoding& e) {
+    switch (e.format) {
+        case TileFormat::Png: return "png:" + std::to_string(e.pngLevel);
+        case TileFormat::Jpeg: return "jpeg:" + std::to_string(e.jpegQuality);
+        case TileFormat::Webp: return "webp:" + std::to_string(e.webpQuality);
+    }
+    return "?";
+}
+
+TileEncoding parseEncoding(const std::string& text) {
+    const auto colon = text.find(':');
+    const std::string name = text.substr(0, colon);
+    TileEncoding e;
+    int value = -1;
+    if (colon != std::string::npos) {
+        try {
+            std::size_t used = 0;
+            value = std::stoi(text.substr(colon + 1), &used);
+            if (used != text.size() - colon - 1) value = -1000;
+        } catch (const std::exception&) {
+            value = -1000;
+        }
+    }
+    const auto bad = [&](const char* range) {
+        return std::invalid_argument("encoding '" + text + "': expected png[:LEVEL 0..9], jpeg[:QUALITY 1..100] or webp[:QUALITY 0..100] (" +
+                                     range + ")");
+    };
+    if (name == "png") {
+        e.format = TileFormat::Png;
+        if (value != -1 && (value < 0 || value > 9)) throw bad("zlib level 0..9");
+        if (value != -1) e.pngLevel = value;
+    } else if (name == "jpeg" || name == "jpg") {
+        e.format = TileFormat::Jpeg;
+        if (value != -1 && (value < 1 || value > 100)) throw bad("quality 1..100");
+        if (value != -1) e.jpegQuality = value;
+    } else if (name == "webp") {
+        e.format = TileFormat::Webp;
+        if (value != -1 && (value < 0 || value > 100)) throw bad("quality 0..100");
+        if (value != -1) e.webpQuality = value;
+    } else {
+        throw bad("unknown format");
+    }
+    return e;
+}
+
+void PyramidParams::resolve(double extentSize, int tileSize) {
+    if (!(texel > 0.0) || !std::isfinite(texel)) throw std::invalid_argument("PyramidParams: texel must be > 0 metres");
+    if (!(extentSize > 0.0)) throw std::invalid_argument("PyramidParams: the scene has an empty extent");
+    if (maxLevel < 0) {
+        // The level whose texel is nearest `texel` by ratio.
+        maxLevel = 0;
+        double best = INFINITY;
+        for (int l = 0; l <= 24; ++l) {
+            const double ratio = std::abs(std::log2(extentSize / double(std::int64_t(1) << l) / double(tileSize) / texel));
+            if (ratio < best - 1e-12) {
+                best = ratio;
+                maxLevel = l;
+            }
+        }
+    }
+    if (minLevel < 0 || maxLevel < minLevel || maxLevel > 24)
+        throw std::invalid_argument("PyramidParams: levels must satisfy 0 <= minLevel <= maxLevel <= 24 (got " +
+                                    std::to_string(minLevel) + "-" + std::to_string(maxLevel) + ")");
+    if (vectorLevels < 1) throw std::invalid_argument("PyramidParams: vectorLevels must be >= 1");
+    if (shardLevel < 0) shardLevel = std::max(0, maxLevel - 4);
+    if (shardLevel > maxLevel) throw std::invalid_argument("PyramidParams: shardLevel must be <= maxLevel");
+    if (!appearance && !elevation) throw std::invalid_argument("PyramidParams: no layer chosen (appearance, elevation)");
+}
+
+std::string defaultPyramidPath(const std::string& scenePath) {
+    const std::string ext = ".gpkg";
+    if (scenePath.size() > ext.size() && scenePath.compare(scenePath.size() - ext.size(), ext.size(), ext) == 0)
+        return scenePath.substr(0, scenePath.size() - ext.size()) + ".pyramid.gpkg";
+    return scenePath + ".pyramid.gpkg";
+}
+
+struct PyramidJob::Impl {
+    const SceneDocument& doc;
+    PyramidParams params;
+    QuadDigestMap previous;
+    RefineParams refine;
+    GraphStep graphStep;
+    Quadtree qt;
+    std::optional<Dem> flat;  // a scene without a DEM: flat ground at 0
+    const Dem& dem;
+    DemHeightField heights;
+    CurveDataCache data;
+    QuadDigests digests;
+    AppearanceParams appearanceParams;
+    ElevationParams elevationParams;
+    PyramidStats stats;
+    StageClock clip, digest, elevation, appearance, mipmap, encode, decode, write;
+    std::mutex remadeMutex;
+    KeySet remade;  // appearance tiles remade at the shard level and above (the top's mipmaps read them)
+    Progress* progress = nullptr;
+
+    static const Dem& demOf(const SceneDocument& d, std::optional<Dem>& flat) {
+        if (d.dem) return *d.dem;
+        flat.emplace(d.scene.extent, 2, 2, std::vector<float>(4, 0.0f));
+        return *flat;
+    }
+
+    Impl(const SceneDocument& d, PyramidParams p, QuadDigestMap prev)
+        : doc(d),
+          params(p),
+          previous(std::move(prev)),
+          graphStep(d.scene),
+          qt(d.scene, refine, &graphStep),
+          dem(demOf(d, flat)),
+          heights(dem),
+          data(qt, heights),
+          digests(qt, data) {
+        params.resolve(d.scene.extent.size().x, refine.resolution);
+    }
+
+    int vectorLevel() const { return std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1); }
+    bool stored(int level) const { return level >= params.minLevel && level <= params.maxLevel; }
+    bool lossless() const { return params.encoding.format == TileFormat::Png; }
+
+    Quad& quadAt(const PyramidKey& k) {
+        Quad* q = &qt.root();
+        for (int l = 0; l < k.level; ++l) {
+            if (q->isLeaf()) clip.time([&] { qt.subdivide(*q); });
+            const int shift = k.level - l - 1;
+            const int child = int((k.tx >> shift) & 1) + 2 * int((k.ty >> shift) & 1);
+            q = q->children[std::size_t(child)].get();
+        }
+        return *q;
+    }
+
+    // Subdivides q's subtree down to maxLevel, subtrees on TBB tasks.
+    void subdivideAll(Quad& q) {
+        if (q.level >= params.maxLevel) return;
+        qt.subdivide(q);
+        tbb::parallel_for(0, 4, [&](int k) { subdivideAll(*q.children[std::size_t(k)]); });
+    }
+
+    static void collect(Quad& q, std::vector<std::vector<Quad*>>& byLevel, int base) {
+        byLevel[std::size_t(q.level - base)].push_back(&q);
+        if (!q.isLeaf())
+            for (auto& c : q.children) collect(*c, byLevel, base);
+    }
+
+    MadeTile encodeImage(PyramidImage image, bool keepForParent) {
+        MadeTile t;
+        t.hasAppearance = true;
+        encode.time([&] {
+            std::span<const std::uint8_t> rgb(image.rgb);
+            t.appearance = encodeRgb(rgb, image.size, image.size, params.encoding);
+            if (image.hasWater()) t.water = encodeGreyPng(image.water, image.size, image.size, 1);
+        });
+        if (keepForParent) {
+            if (!lossless()) {
+                decode.time([&] {
+                    DecodedImage d = decodeImage(t.appearance);
+                    image.rgb = std::move(d.pixels);
+                });
+            }
+            t.image = std::move(image);
+        }
+        return t;
+    }
+
+    // The stored image of a tile (colour decoded, water from its tile or none).
+    PyramidImage storedImage(PyramidStore& store, const PyramidKey& k) {
+        return decode.time([&] {
+            auto bytes = store.tile(kAppearanceTable, k);
+            if (!bytes)
+                throw PyramidError(store.path() + ": appearance tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) + "/" +
+                                   std::to_string(k.ty) + " is missing (an incomplete pyramid: build it again)");
+            DecodedImage d = decodeImage(*bytes);
+            const int n = refine.resolution;
+            if (d.width != n || d.height != n || d.channels != 3)
+                throw PyramidError(store.path() + ": appearance tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) +
+                                   "/" + std::to_string(k.ty) + " is not " + std::to_string(n) + "x" + std::to_string(n) + " RGB");
+            PyramidImage image;
+            image.size = n;
+            image.rgb = std::move(d.pixels);
+            image.water.assign(std::size_t(n) * std::size_t(n), 0);
+            if (auto w = store.tile(kWaterTable, k)) {
+                DecodedImage m = decodeImage(*w);
+                if (m.width != n || m.height != n || m.channels != 1)
+                    throw PyramidError(store.path() + ": water tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) + "/" +
+                                       std::to_string(k.ty) + " is not " + std::to_string(n) + "x" + std::to_string(n) + " grey");
+                image.water = std::move(m.pixels);
+            }
+            return image;
+        });
+    }
+
+    // Makes the tiles of `levels` (byLevel[i] holds level base + i; the deepest last), given the
+    // images of the level below the deepest mipmapped one where it is not in `levels`.
+    void makeLevels(std::vector<std::vector<Quad*>>& byLevel, int base, PyramidStore& store, bool topPass) {
+        const int vl = vectorLevel();
+        std::vector<std::pair<Quad*, std::size_t>> all;
+        for (auto& level : byLevel)
+            for (Quad* q : level) all.push_back({q, 0});
+        // Digests.
+        std::vector<std::uint64_t> dig(all.size());
+        std::vector<char> changed(all.size());
+        tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
+            dig[i] = digest.time([&] { return digests.of(*all[i].first); });
+            auto it = previous.find(keyOf(*all[i].first));
+            changed[i] = it == previous.end() || it->second != dig[i];
+        });
+        std::unordered_map<const Quad*, std::size_t> index;
+        for (std::size_t i = 0; i < all.size(); ++i) index[all[i].first] = i;
+        std::vector<MadeTile> made(all.size());
+        std::vector<char> appearanceMade(all.size(), 0);
+        // Elevation at every level, appearance at the vector levels: from vector data.
+        tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
+            Quad& q = *all[i].first;
+            if (!stored(q.level) || !changed[i]) return;
+            if (params.elevation) {
+                ElevationTile t = elevation.time([&] { return produceElevation(q, qt, data, dem, elevationParams); });
+                MadeTile& m = made[i];
+                m.cells = elevationCells(t);
+                m.elevation = encode.time([&] { return encodeFloatTiff(m.cells.z, m.cells.size, m.cells.size); });
+                m.hasElevation = true;
+                progressAdvance(progress);
+            }
+            if (params.appearance && q.level >= vl) {
+                AppearanceTile t = appearance.time([&] { return produceAppearance(q, qt, data, dem, appearanceParams); });
+                MadeTile m = encodeImage(pyramidImage(t), q.level > params.minLevel && q.level <= vl);
+                made[i].appearance = std::move(m.appearance);
+                made[i].water = std::move(m.water);
+                made[i].image = std::move(m.image);
+                made[i].hasAppearance = true;
+                appearanceMade[i] = 1;
+                progressAdvance(progress);
+            }
+        });
+        // Mipmapped levels, bottom up.
+        if (params.appearance) {
+            for (int li = int(byLevel.size()) - 1; li >= 0; --li) {
+                const int level = base + li;
+                if (level >= vl || !stored(level)) continue;
+                auto& quads = byLevel[std::size_t(li)];
+                // Children images not made in this pass come from the store (an update's unchanged
+                // children; the top pass's shard roots).
+                tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t qi) {
+                    Quad& q = *quads[qi];
+                    const std::size_t i = index.at(&q);
+                    std::array<PyramidImage, 4> loaded;
+                    std::array<const PyramidImage*, 4> kids{};
+                    bool any = false;
+                    for (int k = 0; k < 4; ++k) {
+                        const PyramidKey ck{q.level + 1, q.tx * 2 + std::uint32_t(k & 1), q.ty * 2 + std::uint32_t(k >> 1)};
+                        const Quad* c = q.isLeaf() ? nullptr : q.children[std::size_t(k)].get();
+                        auto it = c ? index.find(c) : index.end();
+                        if (it != index.end() && appearanceMade[it->second]) {
+                            kids[std::size_t(k)] = &made[it->second].image;
+                            any = true;
+                        } else {
+                            // A shard root below the top pass: remade in a build (all of them, on
+                            // whichever rank), in an update when its shard remade it.
+                            if (topPass && level + 1 == params.shardLevel) {
+                                std::lock_guard lock(remadeMutex);
+                                any = any || previous.empty() || remade.has(ck);
+                            }
+                            kids[std::size_t(k)] = nullptr;
+                        }
+                    }
+                    if (!any) return;
+                    for (int k = 0; k < 4; ++k)
+                        if (!kids[std::size_t(k)]) {
+                            const PyramidKey ck{q.level + 1, q.tx * 2 + std::uint32_t(k & 1), q.ty * 2 + std::uint32_t(k >> 1)};
+                            loaded[std::size_t(k)] = storedImage(store, ck);
+                            kids[std::size_t(k)] = &loaded[std::size_t(k)];
+                        }
+                    PyramidImage image = mipmap.time([&] { return lacet::mipmap(kids); });
+                    MadeTile m = encodeImage(std::move(image), q.level > params.minLevel);
+                    made[i].appearance = std::move(m.appearance);
+                    made[i].water = std::move(m.water);
+                    made[i].image = std::move(m.image);
+                    made[i].hasAppearance = true;
+                    appearanceMade[i] = 1;
+                    progressAdvance(progress);
+                });
+            }
+        }
+        // Unchanged tiles count as done for the progress bar.
+        std::size_t skipped = 0;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (!stored(all[i].first->level)) continue;
+            if (params.elevation && !made[i].hasElevation) ++skipped;
+            if (params.appearance && !appearanceMade[i]) ++skipped;
+        }
+        progressAdvance(progress, skipped);
+        // Write, in one thread (SQLite).
+        write.time([&] {
+            for (std::size_t i = 0; i < all.size(); ++i) {
+                const Quad& q = *all[i].first;
+                if (!stored(q.level)) continue;
+                const PyramidKey k = keyOf(q);
+                ++stats.quads;
+                if (changed[i]) {
+                    ++stats.quadsChanged;
+                    store.putDigest(k, dig[i]);
+                }
+                MadeTile& m = made[i];
+                if (m.hasElevation) {
+                    ++stats.tilesMade;
+                    if (store.putElevation(k, m.elevation, m.cells.min, m.cells.max, m.cells.mean, m.cells.stdDev)) ++stats.tilesWritten;
+                }
+                if (m.hasAppearance) {
+                    stats.tilesMade += 1;
+                    if (store.putTile(kAppearanceTable, k, m.appearance)) ++stats.tilesWritten;
+                    if (!m.water.empty()) {
+                        if (store.putTile(kWaterTable, k, m.water)) ++stats.tilesWritten;
+                    } else if (store.removeTile(kWaterTable, k)) {
+                        ++stats.tilesWritten;
+                    }
+                    if (q.level == params.shardLevel && !topPass) {
+                        std::lock_guard lock(remadeMutex);
+                        remade.set.insert(k);
+                    }
+                }
+            }
+        });
+    }
+};
+
+PyramidJob::PyramidJob(const SceneDocument& doc, PyramidParams params, QuadDigestMap previous)
+    : impl_(std::make_unique<Impl>(doc, params, std::move(previous))) {}
+PyramidJob::~PyramidJob() = default;
+void PyramidJob::forgetPrevious() { impl_->previous.clear(); }
+const PyramidParams& PyramidJob::params() const { return impl_->params; }
+PyramidStats& PyramidJob::stats() {
+    auto& s = impl_->stats;
+    s.times = {impl_->clip.seconds(),   impl_->digest.seconds(), impl_->elevation.seconds(), impl_->appearance.seconds(),
+               impl_->mipmap.seconds(), impl_->encode.seconds(), impl_->decode.seconds(),    impl_->write.seconds()};
+    return s;
+}
+
+PyramidInfo PyramidJob::info() const {
+    const Impl& m = *impl_;
+    PyramidInfo i;
+    i.minLevel = m.params.minLevel;
+    i.maxLevel = m.params.maxLevel;
+    i.vectorLevel = m.vectorLevel();
+    i.appearance = m.params.appearance;
+    i.elevation = m.params.elevation;
+    i.tileSize = m.refine.resolution;
+    i.elevationSize = m.refine.elevationResolution;
+    i.encoding = encodingName(m.params.encoding);
+    i.extent = m.doc.scene.extent;
+    i.crsWkt = m.doc.georeference.valid ? m.doc.georeference.crsWkt : std::string();
+    i.inputs = inputsDigest(m.doc, m.params, m.refine, m.data.params(), m.graphStep.params(), m.appearanceParams);
+    return i;
+}
+
+std::vector<PyramidKey> PyramidJob::shards() const {
+    const int s = impl_->params.shardLevel;
+    std::vector<PyramidKey> out;
+    const std::uint32_t n = std::uint32_t(1) << s;
+    for (std::uint32_t ty = 0; ty < n; ++ty)
+        for (std::uint32_t tx = 0; tx < n; ++tx) out.push_back({s, tx, ty});
+    return out;
+}
+
+std::size_t PyramidJob::tileTotal() const {
+    const Impl& m = *impl_;
+    std::size_t quads = 0;
+    for (int l = m.params.minLevel; l <= m.params.maxLevel; ++l) quads += std::size_t(1) << (2 * l);
+    return quads * (std::size_t(m.params.appearance) + std::size_t(m.params.elevation));
+}
+
+void PyramidJob::runShard(const PyramidKey& shard, PyramidStore& store, Progress* progress) {
+    Impl& m = *impl_;
+    m.progress = progress;
+    Quad& root = m.quadAt(shard);
+    m.clip.time([&] { m.subdivideAll(root); });
+    std::vector<std::vector<Quad*>> byLevel(std::size_t(m.params.maxLevel - shard.level + 1));
+    Impl::collect(root, byLevel, shard.level);
+    m.makeLevels(byLevel, shard.level, store, false);
+    m.qt.merge(root);
+}
+
+void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
+    Impl& m = *impl_;
+    m.progress = progress;
+    if (m.params.shardLevel <= m.params.minLevel) return;
+    // The quads above the shards: their graphs are still there (runShard merges only below).
+    std::vector<std::vector<Quad*>> byLevel(std::size_t(m.params.shardLevel));
+    std::vector<Quad*> stack{&m.qt.root()};
+    m.clip.time([&] {
+        for (const PyramidKey& k : shards()) m.quadAt(k);  // a merged rank's top may not be there yet
+    });
+    while (!stack.empty()) {
+        Quad* q = stack.back();
+        stack.pop_back();
+        if (q->level >= m.params.shardLevel) continue;
+        byLevel[std::size_t(q->level)].push_back(q);
+        for (auto& c : q->children) stack.push_back(c.get());
+    }
+    m.makeLevels(byLevel, 0, store, true);
+}
+
+namespace {
+
+void checkMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path) {
+    if (stored.extent.min != wanted.extent.min || stored.extent.max != wanted.extent.max || stored.crsWkt != wanted.crsWkt) {
+        const auto box = [](const Box& b) {
+            char s[160];
+            std::snprintf(s, sizeof s, "(%.3f, %.3f)-(%.3f, %.3f)", b.min.x, b.min.y, b.max.x, b.max.y);
+            return std::string(s);
+        };
+        throw PyramidError(path + ": the pyramid was built for another scene (extent " + box(stored.extent) +
+                           (stored.crsWkt == wanted.crsWkt ? std::string(", same CRS") : std::string(", another CRS")) +
+                           "; this scene's extent is " + box(wanted.extent) + ")");
+    }
+}
+
+PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
+    const auto t0 = Clock::now();
+    progressBegin(progress, "pyramid tiles", job.tileTotal(), "tiles");
+    for (const PyramidKey& s : job.shards()) job.runShard(s, store, progress);
+    job.runTop(store, progress);
+    progressEnd(progress);
+    PyramidStats& st = job.stats();
+    st.appearanceTiles = store.tileCount(kAppearanceTable);
+    st.waterTiles = store.tileCount(kWaterTable);
+    st.elevationTiles = store.tileCount(kElevationTable);
+    st.bytes = store.tileBytes(kAppearanceTable) + store.tileBytes(kWaterTable) + store.tileBytes(kElevationTable);
+    st.wallSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return st;
+}
+
+}  // namespace
+
+PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force, Progress* progress) {
+    PyramidJob job(doc, params);
+    PyramidStore store(out, PyramidStore::Mode::ReadWrite);
+    const PyramidInfo wanted = job.info();
+    if (auto old = store.info(); old && !force) checkMatches(*old, wanted, out);
+    try {
+        store.begin();
+        store.create(wanted);
+        PyramidStats st = run(job, store, progress);
+        PyramidInfo done = wanted;
+        done.complete = true;
+        store.writeInfo(done);
+        const auto t0 = Clock::now();
+        store.commit();
+        st.times.write += std::chrono::duration<double>(Clock::now() - t0).count();
+        return st;
+    } catch (...) {
+        store.rollback();
+        throw;
+    }
+}
+
+PyramidParams pyramidParams(const PyramidInfo& info) {
+    PyramidParams p;
+    p.minLevel = info.minLevel;
+    p.maxLevel = info.maxLevel;
+    p.vectorLevels = info.maxLevel - info.vectorLevel + 1;
+    p.appearance = info.appearance;
+    p.elevation = info.elevation;
+    p.encoding = parseEncoding(info.encoding);
+    return p;
+}
+
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress) {
+    if (!std::filesystem::exists(path)) throw PyramidError(path + ": no such pyramid file (build one with lacet pyramid build)");
+    PyramidStore store(path, PyramidStore::Mode::ReadWrite);
+    const auto old = store.info();
+    if (!old) throw PyramidError(path + ": the file holds no Lacet pyramid (lacet_pyramid table)");
+    if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
+    PyramidJob job(doc, pyramidParams(*old), store.digests());
+    const PyramidInfo wanted = job.info();
+    checkMatches(*old, wanted, path);
+    const bool rebuild = wanted.inputs != old->inputs;
+    if (rebuild) job.forgetPrevious();
+    try {
+        store.begin();
+        if (rebuild) store.create(wanted);
+        PyramidStats st = run(job, store, progress);
+        st.rebuilt = rebuild;
+        PyramidInfo done = wanted;
+        done.complete = true;
+        store.writeInfo(done);
+        store.commit();
+        return st;
+    } catch (...) {
+        store.rollback();
+        throw;
+    }
+}
+
+}  // namespace lacet

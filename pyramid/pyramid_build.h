@@ -1,0 +1,115 @@
+#pragma once
+// `lacet pyramid build` and `lacet pyramid update` (§7): the appearance and elevation tiles of
+// every quad of levels minLevel..maxLevel of a scene, stored in a GeoPackage (pyramid/pyramid_store.h).
+//
+// Which tiles are made how:
+// - elevation (z_m) at every level from vector data (the producer of §5.2: cheap, 25^2 samples a
+//   quad), so every level's elevation is exact;
+// - appearance at the `vectorLevels` deepest levels from vector data (§5.1), and each level above
+//   them mipmapped from its children's stored tiles (decoded, so that an update, which decodes the
+//   unchanged children from the file, gives the same bytes as a build).
+// The work goes by subtrees: the quadtree is clipped down to `shardLevel` once; then each subtree
+// below a quad of that level (a shard) is clipped down to maxLevel, its tiles are made on all
+// cores (TBB), encoded, written, and the subtree is merged again, so memory holds one subtree's
+// clipped graphs and tiles at a time. The levels above the shards are made last, from the shards'
+// stored tiles. Shards are independent: `lacet pyramid build --shards` runs them on the ranks of
+// an MPI job (app/cmd_pyramid.cpp).
+//
+// An update is the same walk with the digests of the previous build (pyramid/quad_digest.h): a
+// quad whose digest is unchanged keeps its tiles, unread; a mipmapped tile is remade when one of
+// its children was; a remade tile is written only when its bytes differ. When the scene's DEM,
+// layers or a knob changed (PyramidInfo::inputs), everything is remade; a pyramid of another
+// extent or CRS is refused.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/document.h"
+#include "io/tile_codec.h"
+#include "model/progress.h"
+#include "pyramid/pyramid_store.h"
+
+namespace lacet {
+
+struct PyramidParams {
+    int minLevel = 0;         // first level stored, >= 0
+    int maxLevel = -1;        // last level stored, >= minLevel, <= 24; -1: the level whose texel is nearest `texel`
+    double texel = 1.0;       // m per appearance texel the default maxLevel comes nearest to (by ratio), > 0
+    int vectorLevels = 1;     // the deepest levels whose appearance is made from vector data (>= 1); the rest mipmapped
+    int shardLevel = -1;      // level of the subtrees' roots; -1: maxLevel - 4 (at least minLevel... see resolve)
+    bool appearance = true, elevation = true;
+    TileEncoding encoding{};
+    // Checks ranges and fills the defaults for a scene of `extent`; throws std::invalid_argument.
+    void resolve(double extentSize, int tileSize);
+};
+
+// Seconds summed over threads (a stage on two cores for one second counts two).
+struct PyramidTimes {
+    double clip = 0.0, digest = 0.0, elevation = 0.0, appearance = 0.0, mipmap = 0.0, encode = 0.0, decode = 0.0,
+           write = 0.0;
+};
+
+struct PyramidStats {
+    std::size_t quads = 0;            // quads of the stored levels
+    std::size_t quadsChanged = 0;     // quads whose digest differed (all of them in a build)
+    std::size_t tilesMade = 0;        // tiles produced, mipmapped or remade
+    std::size_t tilesWritten = 0;     // tiles whose stored bytes changed (added, replaced or removed)
+    std::size_t appearanceTiles = 0, waterTiles = 0, elevationTiles = 0;  // stored after the run
+    std::uint64_t bytes = 0;          // of the stored tiles after the run
+    bool rebuilt = false;             // an update that remade everything (inputs changed)
+    PyramidTimes times;
+    double wallSeconds = 0.0;
+};
+
+// One run over a scene: the clipped tree to the shard level, the curve data and digests.
+class PyramidJob {
+public:
+    // `previous`: the digests of the pyramid being updated (empty for a build).
+    PyramidJob(const SceneDocument& doc, PyramidParams params, QuadDigestMap previous = {});
+    ~PyramidJob();
+    const PyramidParams& params() const;
+    PyramidInfo info() const;  // what the pyramid's lacet_pyramid says (complete = false)
+
+    // The roots of the shards, in a fixed order.
+    std::vector<PyramidKey> shards() const;
+    // Makes the tiles of the shard's subtree (levels shardLevel..maxLevel that are stored) into
+    // `store` (which must hold the pyramid, inside a transaction), and their digests.
+    void runShard(const PyramidKey& shard, PyramidStore& store, Progress* progress);
+    // The levels above the shards, from the shards' stored tiles at shardLevel.
+    void runTop(PyramidStore& store, Progress* progress);
+    // Tiles of the whole run, for the progress bar (every stored level's quads, both layers).
+    std::size_t tileTotal() const;
+    // Remakes every tile (an update whose inputs changed).
+    void forgetPrevious();
+    PyramidStats& stats();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// "png:1", "jpeg:90", "webp:90"; parseEncoding() reads them back (also "png", "jpeg", "webp" for the
+// defaults) and throws std::invalid_argument naming the accepted forms.
+std::string encodingName(const TileEncoding& e);
+TileEncoding parseEncoding(const std::string& text);
+
+// The default pyramid file of a scene file: "a/b.gpkg" -> "a/b.pyramid.gpkg".
+std::string defaultPyramidPath(const std::string& scenePath);
+
+// Builds the pyramid of `doc` into `out` in one transaction (a previous pyramid there stays
+// readable until it commits). Refuses a pyramid of another scene in `out` unless `force`.
+PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force,
+                          Progress* progress);
+
+// Updates the pyramid at `path` to `doc` (knobs as stored). Throws PyramidError when there is no
+// pyramid, it is incomplete, or it was made for another extent or CRS.
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress);
+
+// The parameters a stored pyramid was built with.
+PyramidParams pyramidParams(const PyramidInfo& info);
+
+}  // namespace lacet

@@ -1,0 +1,349 @@
+#include "pyramid/pyramid_store.h"
+
+#include <sqlite3.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "io/gpkg_dem.h"
+
+namespace lacet {
+namespace {
+
+constexpr const char* kInfoTable = "lacet_pyramid";
+constexpr const char* kQuadsTable = "lacet_pyramid_quads";
+constexpr int kSrsId = 100001;  // the scene's CRS in the pyramid file (when it has one)
+constexpr const char* kGriddedDef = "http://docs.opengeospatial.org/is/17-066r1/17-066r1.html";
+
+std::string exact(double v) {
+    char s[64];
+    std::snprintf(s, sizeof s, "%.17g", v);
+    return s;
+}
+
+const std::string& ensureGpkg(const std::string& path, PyramidStore::Mode mode) {
+    if (mode == PyramidStore::Mode::ReadWrite && !std::filesystem::exists(path)) createEmptyGpkg(path);
+    return path;
+}
+
+SqliteDb::Mode sqliteMode(PyramidStore::Mode mode) {
+    return mode == PyramidStore::Mode::ReadOnly ? SqliteDb::Mode::ReadOnly : SqliteDb::Mode::ReadWrite;
+}
+
+}  // namespace
+
+PyramidStore::PyramidStore(const std::string& path, Mode mode) try : path_(path), db_(ensureGpkg(path, mode), sqliteMode(mode)) {
+    if (!db_.hasTable("gpkg_contents")) throw PyramidError(path + ": not a GeoPackage (no gpkg_contents table)");
+    if (mode == Mode::ReadWrite) db_.exec("PRAGMA cache_size = -65536");  // 64 MiB before spilling to the journal
+} catch (const PyramidError&) {
+    throw;
+} catch (const std::exception& e) {
+    throw PyramidError(path + ": cannot open as a GeoPackage: " + e.what());
+}
+
+bool isPyramidFile(const std::string& path) {
+    try {
+        if (!std::filesystem::is_regular_file(path)) return false;
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        return db.hasTable(kInfoTable);
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+std::optional<PyramidInfo> PyramidStore::info() {
+    try {
+        if (!db_.hasTable(kInfoTable)) return std::nullopt;
+        std::map<std::string, std::string> kv;
+        auto st = db_.prepare(std::string("SELECT key, value FROM ") + kInfoTable);
+        while (st.step()) kv[st.text(0)] = st.text(1);
+        const auto get = [&](const char* k) {
+            auto it = kv.find(k);
+            if (it == kv.end()) throw PyramidError(std::string("lacet_pyramid has no '") + k + "'");
+            return it->second;
+        };
+        PyramidInfo i;
+        i.formatVersion = std::stoi(get("format_version"));
+        if (i.formatVersion > kPyramidFormatVersion)
+            throw PyramidError("pyramid format " + std::to_string(i.formatVersion) + " is later than this program's (" +
+                               std::to_string(kPyramidFormatVersion) + ")");
+        i.minLevel = std::stoi(get("min_level"));
+        i.maxLevel = std::stoi(get("max_level"));
+        i.vectorLevel = std::stoi(get("vector_level"));
+        i.appearance = get("appearance") == "1";
+        i.elevation = get("elevation") == "1";
+        i.tileSize = std::stoi(get("tile_size"));
+        i.elevationSize = std::stoi(get("elevation_size"));
+        i.encoding = get("encoding");
+        i.extent = {{std::stod(get("min_x")), std::stod(get("min_y"))}, {std::stod(get("max_x")), std::stod(get("max_y"))}};
+        i.crsWkt = get("crs_wkt");
+        i.inputs = std::stoull(get("inputs"), nullptr, 16);
+        i.complete = get("complete") == "1";
+        if (i.minLevel < 0 || i.maxLevel < i.minLevel || i.maxLevel > 30 || i.tileSize <= 0 || i.elevationSize <= 0)
+            throw PyramidError("lacet_pyramid holds impossible levels or tile sizes");
+        return i;
+    } catch (const PyramidError& e) {
+        throw PyramidError(path_ + ": " + e.what());
+    } catch (const std::exception& e) {
+        throw PyramidError(path_ + ": unreadable lacet_pyramid table: " + e.what());
+    }
+}
+
+void PyramidStore::begin() {
+    db_.exec("BEGIN IMMEDIATE");
+    inTransaction_ = true;
+}
+void PyramidStore::commit() {
+    db_.exec("COMMIT");
+    inTransaction_ = false;
+}
+void PyramidStore::rollback() {
+    if (!inTransaction_) return;
+    inTransaction_ = false;
+    try {
+        db_.exec("ROLLBACK");
+    } catch (const std::exception&) {
+    }
+}
+
+void PyramidStore::dropPyramid() {
+    for (const char* t : {kAppearanceTable, kWaterTable, kElevationTable}) {
+        db_.exec(std::string("DROP TABLE IF EXISTS \"") + t + "\"");
+        for (const char* meta : {"gpkg_tile_matrix", "gpkg_tile_matrix_set", "gpkg_contents"})
+            if (db_.hasTable(meta)) db_.exec(std::string("DELETE FROM ") + meta + " WHERE table_name = '" + t + "'");
+        if (db_.hasTable("gpkg_extensions")) db_.exec(std::string("DELETE FROM gpkg_extensions WHERE table_name = '") + t + "'");
+        if (db_.hasTable("gpkg_2d_gridded_coverage_ancillary"))
+            db_.exec(std::string("DELETE FROM gpkg_2d_gridded_coverage_ancillary WHERE tile_matrix_set_name = '") + t + "'");
+        if (db_.hasTable("gpkg_2d_gridded_tile_ancillary"))
+            db_.exec(std::string("DELETE FROM gpkg_2d_gridded_tile_ancillary WHERE tpudt_name = '") + t + "'");
+    }
+    for (const char* t : {kInfoTable, kQuadsTable}) {
+        db_.exec(std::string("DROP TABLE IF EXISTS ") + t);
+        db_.exec(std::string("DELETE FROM gpkg_contents WHERE table_name = '") + t + "'");
+    }
+}
+
+void PyramidStore::create(const PyramidInfo& info) {
+    dropPyramid();
+    int srs = -1;  // undefined Cartesian
+    if (!info.crsWkt.empty()) {
+        srs = kSrsId;
+        auto st = db_.prepare(
+            "INSERT OR REPLACE INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, "
+            "definition, description) VALUES ('Lacet scene', ?, 'NONE', ?, ?, 'the CRS of the Lacet scene the pyramid was built for')");
+        st.bind(1, std::int64_t(srs));
+        st.bind(2, std::int64_t(srs));
+        st.bindText(3, info.crsWkt);
+        st.step();
+    }
+    const Box& e = info.extent;
+    const std::string box = exact(e.min.x) + ", " + exact(e.min.y) + ", " + exact(e.max.x) + ", " + exact(e.max.y);
+    const auto tileTable = [&](const char* name, const char* dataType, const std::string& description, int tilePixels) {
+        db_.exec(std::string("CREATE TABLE \"") + name +
+                 "\" (id INTEGER PRIMARY KEY AUTOINCREMENT, zoom_level INTEGER NOT NULL, tile_column INTEGER NOT NULL, "
+                 "tile_row INTEGER NOT NULL, tile_data BLOB NOT NULL, UNIQUE (zoom_level, tile_column, tile_row))");
+        db_.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, min_x, "
+                             "min_y, max_x, max_y, srs_id) VALUES ('") +
+                 name + "', '" + dataType + "', '" + name + "', '" + description +
+                 "', strftime('%Y-%m-%dT%H:%M:%fZ','now'), " + box + ", " + std::to_string(srs) + ")");
+        db_.exec(std::string("INSERT INTO gpkg_tile_matrix_set (table_name, srs_id, min_x, min_y, max_x, max_y) VALUES ('") +
+                 name + "', " + std::to_string(srs) + ", " + box + ")");
+        auto st = db_.prepare(
+            "INSERT INTO gpkg_tile_matrix (table_name, zoom_level, matrix_width, matrix_height, tile_width, tile_height, "
+            "pixel_x_size, pixel_y_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+        for (int l = info.minLevel; l <= info.maxLevel; ++l) {
+            const std::int64_t n = std::int64_t(1) << l;
+            const double px = (e.max.x - e.min.x) / double(n) / double(tilePixels);
+            const double py = (e.max.y - e.min.y) / double(n) / double(tilePixels);
+            st.bindText(1, name);
+            st.bind(2, std::int64_t(l));
+            st.bind(3, n);
+            st.bind(4, n);
+            st.bind(5, std::int64_t(tilePixels));
+            st.bind(6, std::int64_t(tilePixels));
+            st.bind(7, px);
+            st.bind(8, py);
+            st.step();
+            st.reset();
+        }
+    };
+    if (info.appearance) {
+        tileTable(kAppearanceTable, "tiles", "Lacet appearance pyramid: colour (RGB)", info.tileSize);
+        tileTable(kWaterTable, "tiles", "Lacet appearance pyramid: water mask (0 land, 255 water; missing tiles: no water)",
+                  info.tileSize);
+        if (info.encoding.rfind("webp", 0) == 0) {
+            db_.exec(
+                "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
+                "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+            db_.exec(std::string("INSERT INTO gpkg_extensions VALUES ('") + kAppearanceTable +
+                     "', 'tile_data', 'gpkg_webp', 'http://www.geopackage.org/spec120/#extension_tiles_webp', 'read-write')");
+        }
+    }
+    if (info.elevation) {
+        tileTable(kElevationTable, "2d-gridded-coverage", "Lacet elevation pyramid: z_m (m) at cell centres", info.elevationSize);
+        db_.exec(
+            "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
+            "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+        db_.exec(
+            "CREATE TABLE IF NOT EXISTS gpkg_2d_gridded_coverage_ancillary (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+            "tile_matrix_set_name TEXT NOT NULL UNIQUE, datatype TEXT NOT NULL DEFAULT 'integer', scale REAL NOT NULL DEFAULT 1.0, "
+            "offset REAL NOT NULL DEFAULT 0.0, precision REAL DEFAULT 1.0, data_null REAL, grid_cell_encoding TEXT DEFAULT "
+            "'grid-value-is-center', uom TEXT, field_name TEXT DEFAULT 'Height', quantity_definition TEXT DEFAULT 'Height', "
+            "CONSTRAINT fk_g2dgtct_name FOREIGN KEY(tile_matrix_set_name) REFERENCES gpkg_tile_matrix_set ( table_name ) "
+            "CHECK (datatype in ('integer','float')))");
+        db_.exec(
+            "CREATE TABLE IF NOT EXISTS gpkg_2d_gridded_tile_ancillary (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+            "tpudt_name TEXT NOT NULL, tpudt_id INTEGER NOT NULL, scale REAL NOT NULL DEFAULT 1.0, offset REAL NOT NULL DEFAULT "
+            "0.0, min REAL DEFAULT NULL, max REAL DEFAULT NULL, mean REAL DEFAULT NULL, std_dev REAL DEFAULT NULL, CONSTRAINT "
+            "fk_g2dgtat_name FOREIGN KEY (tpudt_name) REFERENCES gpkg_contents(table_name), UNIQUE (tpudt_name, tpudt_id))");
+        for (const char* t : {"gpkg_2d_gridded_coverage_ancillary", "gpkg_2d_gridded_tile_ancillary"})
+            db_.exec(std::string("INSERT OR IGNORE INTO gpkg_extensions VALUES ('") + t + "', NULL, 'gpkg_2d_gridded_coverage', '" +
+                     kGriddedDef + "', 'read-write')");
+        db_.exec(std::string("INSERT OR IGNORE INTO gpkg_extensions VALUES ('") + kElevationTable +
+                 "', 'tile_data', 'gpkg_2d_gridded_coverage', '" + kGriddedDef + "', 'read-write')");
+        db_.exec(std::string("INSERT INTO gpkg_2d_gridded_coverage_ancillary (tile_matrix_set_name, datatype, scale, offset, "
+                             "precision, grid_cell_encoding, uom) VALUES ('") +
+                 kElevationTable + "', 'float', 1.0, 0.0, 0.0, 'grid-value-is-center', 'm')");
+    }
+    db_.exec(std::string("CREATE TABLE ") + kInfoTable + " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)");
+    db_.exec(std::string("CREATE TABLE ") + kQuadsTable +
+             " (level INTEGER NOT NULL, quad_x INTEGER NOT NULL, quad_y INTEGER NOT NULL, digest INTEGER NOT NULL, "
+             "PRIMARY KEY (level, quad_x, quad_y)) WITHOUT ROWID");
+    for (const char* t : {kInfoTable, kQuadsTable})
+        db_.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) VALUES ('") +
+                 t + "', 'attributes', '" + t + "', '" +
+                 (t == kInfoTable ? "Lacet pyramid: what it was built for (key/value)"
+                                  : "Lacet pyramid: digest of the inputs of each quad (quad_y grows northwards)") +
+                 "', strftime('%Y-%m-%dT%H:%M:%fZ','now'))");
+    writeInfo(info);
+}
+
+void PyramidStore::writeInfo(const PyramidInfo& i) {
+    char inputs[32];
+    std::snprintf(inputs, sizeof inputs, "%016llx", static_cast<unsigned long long>(i.inputs));
+    const std::map<std::string, std::string> kv = {
+        {"format_version", std::to_string(i.formatVersion)}, {"min_level", std::to_string(i.minLevel)},
+        {"max_level", std::to_string(i.maxLevel)},           {"vector_level", std::to_string(i.vectorLevel)},
+        {"appearance", i.appearance ? "1" : "0"},            {"elevation", i.elevation ? "1" : "0"},
+        {"tile_size", std::to_string(i.tileSize)},           {"elevation_size", std::to_string(i.elevationSize)},
+        {"encoding", i.encoding},                            {"min_x", exact(i.extent.min.x)},
+        {"min_y", exact(i.extent.min.y)},                    {"max_x", exact(i.extent.max.x)},
+        {"max_y", exact(i.extent.max.y)},                    {"crs_wkt", i.crsWkt},
+        {"inputs", inputs},                                  {"complete", i.complete ? "1" : "0"}};
+    auto st = db_.prepare(std::string("INSERT OR REPLACE INTO ") + kInfoTable + " (key, value) VALUES (?, ?)");
+    for (const auto& [k, v] : kv) {
+        st.bindText(1, k);
+        st.bindText(2, v);
+        st.step();
+        st.reset();
+    }
+}
+
+namespace {
+std::int64_t geopackageRow(const PyramidKey& q) { return (std::int64_t(1) << q.level) - 1 - std::int64_t(q.ty); }
+}  // namespace
+
+std::optional<std::vector<std::uint8_t>> PyramidStore::tile(const char* table, const PyramidKey& q) {
+    auto st = db_.prepare(std::string("SELECT tile_data FROM \"") + table +
+                          "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    st.bind(1, std::int64_t(q.level));
+    st.bind(2, std::int64_t(q.tx));
+    st.bind(3, geopackageRow(q));
+    if (!st.step()) return std::nullopt;
+    const auto b = st.blob(0);
+    return std::vector<std::uint8_t>(b.begin(), b.end());
+}
+
+bool PyramidStore::putTile(const char* table, const PyramidKey& q, std::span<const std::uint8_t> bytes) {
+    if (auto old = tile(table, q); old && std::equal(old->begin(), old->end(), bytes.begin(), bytes.end())) return false;
+    auto st = db_.prepare(std::string("INSERT INTO \"") + table +
+                          "\" (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?) ON CONFLICT (zoom_level, "
+                          "tile_column, tile_row) DO UPDATE SET tile_data = excluded.tile_data");
+    st.bind(1, std::int64_t(q.level));
+    st.bind(2, std::int64_t(q.tx));
+    st.bind(3, geopackageRow(q));
+    st.bindBlob(4, bytes);
+    st.step();
+    return true;
+}
+
+bool PyramidStore::putElevation(const PyramidKey& q, std::span<const std::uint8_t> bytes, double min, double max, double mean,
+                                double stdDev) {
+    if (!putTile(kElevationTable, q, bytes)) return false;
+    auto id = db_.prepare(std::string("SELECT id FROM \"") + kElevationTable +
+                          "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    id.bind(1, std::int64_t(q.level));
+    id.bind(2, std::int64_t(q.tx));
+    id.bind(3, geopackageRow(q));
+    id.step();
+    const std::int64_t rowId = id.integer(0);
+    auto st = db_.prepare(
+        "INSERT INTO gpkg_2d_gridded_tile_ancillary (tpudt_name, tpudt_id, scale, offset, min, max, mean, std_dev) VALUES "
+        "(?, ?, 1.0, 0.0, ?, ?, ?, ?) ON CONFLICT (tpudt_name, tpudt_id) DO UPDATE SET min = excluded.min, max = "
+        "excluded.max, mean = excluded.mean, std_dev = excluded.std_dev");
+    st.bindText(1, kElevationTable);
+    st.bind(2, rowId);
+    st.bind(3, min);
+    st.bind(4, max);
+    st.bind(5, mean);
+    st.bind(6, stdDev);
+    st.step();
+    return true;
+}
+
+bool PyramidStore::removeTile(const char* table, const PyramidKey& q) {
+    auto st = db_.prepare(std::string("DELETE FROM \"") + table + "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    st.bind(1, std::int64_t(q.level));
+    st.bind(2, std::int64_t(q.tx));
+    st.bind(3, geopackageRow(q));
+    st.step();
+    return db_.queryInteger("SELECT changes()") > 0;
+}
+
+std::size_t PyramidStore::tileCount(const char* table) {
+    if (!db_.hasTable(table)) return 0;
+    return std::size_t(db_.queryInteger(std::string("SELECT count(*) FROM \"") + table + "\""));
+}
+
+std::uint64_t PyramidStore::tileBytes(const char* table) {
+    if (!db_.hasTable(table)) return 0;
+    return std::uint64_t(db_.queryInteger(std::string("SELECT coalesce(sum(length(tile_data)), 0) FROM \"") + table + "\""));
+}
+
+QuadDigestMap PyramidStore::digests() {
+    QuadDigestMap m;
+    if (!db_.hasTable(kQuadsTable)) return m;
+    auto st = db_.prepare(std::string("SELECT level, quad_x, quad_y, digest FROM ") + kQuadsTable);
+    while (st.step())
+        m[PyramidKey{int(st.integer(0)), std::uint32_t(st.integer(1)), std::uint32_t(st.integer(2))}] =
+            std::uint64_t(st.integer(3));
+    return m;
+}
+
+void PyramidStore::putDigest(const PyramidKey& q, std::uint64_t digest) {
+    auto st = db_.prepare(std::string("INSERT OR REPLACE INTO ") + kQuadsTable + " (level, quad_x, quad_y, digest) VALUES (?, ?, ?, ?)");
+    st.bind(1, std::int64_t(q.level));
+    st.bind(2, std::int64_t(q.tx));
+    st.bind(3, std::int64_t(q.ty));
+    st.bind(4, std::int64_t(digest));
+    st.step();
+}
+
+std::vector<std::pair<PyramidKey, std::vector<std::uint8_t>>> PyramidStore::allTiles(const char* table) {
+    std::vector<std::pair<PyramidKey, std::vector<std::uint8_t>>> out;
+    if (!db_.hasTable(table)) return out;
+    auto st = db_.prepare(std::string("SELECT zoom_level, tile_column, tile_row, tile_data FROM \"") + table +
+                          "\" ORDER BY zoom_level, tile_column, tile_row");
+    while (st.step()) {
+        const int level = int(st.integer(0));
+        const std::int64_t row = st.integer(2);
+        const auto b = st.blob(3);
+        out.push_back({PyramidKey{level, std::uint32_t(st.integer(1)), std::uint32_t((std::int64_t(1) << level) - 1 - row)},
+                       std::vector<std::uint8_t>(b.begin(), b.end())});
+    }
+    return out;
+}
+
+}  // namespace lacet

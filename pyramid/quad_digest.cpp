@@ -1,0 +1,165 @@
+#include "pyramid/quad_digest.h"
+
+#include <algorithm>
+
+#include "pyramid/digest.h"
+
+namespace lacet {
+namespace {
+
+void vertices(Digest& d, const std::vector<Vertex>& vs) {
+    d.word(vs.size());
+    for (const Vertex& v : vs) d.real(v.p.x).real(v.p.y).word(std::uint64_t(v.onCurve) | std::uint64_t(v.closing) << 1);
+}
+
+template <class Map>
+std::vector<typename Map::key_type> sortedKeys(const Map& m) {
+    std::vector<typename Map::key_type> keys;
+    keys.reserve(m.size());
+    for (const auto& kv : m) keys.push_back(kv.first);
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+// Looks `key` up in `map`, computing it outside the lock when missing.
+template <class Key, class Compute>
+std::uint64_t cached(std::mutex& mutex, std::unordered_map<Key, std::uint64_t>& map, Key key, Compute&& compute) {
+    {
+        std::lock_guard lock(mutex);
+        if (auto it = map.find(key); it != map.end()) return it->second;
+    }
+    const std::uint64_t v = compute();
+    std::lock_guard lock(mutex);
+    map.emplace(key, v);
+    return v;
+}
+
+}  // namespace
+
+QuadDigests::QuadDigests(const Quadtree& quadtree, const CurveDataCache& curveData)
+    : qt_(quadtree),
+      data_(curveData),
+      curves_(quadtree.scene().layers.size()),
+      areas_(quadtree.scene().layers.size()),
+      nodes_(quadtree.scene().layers.size()),
+      riverLayers_(quadtree.scene().layers.size(), 0) {}
+
+std::uint64_t QuadDigests::curve(LayerId layer, AncestorId id) const {
+    return cached(mutex_, curves_[layer], id, [&] { return computeCurve(layer, id); });
+}
+std::uint64_t QuadDigests::area(LayerId layer, ElementId id) const {
+    return cached(mutex_, areas_[layer], AncestorId(id), [&] { return computeArea(layer, id); });
+}
+std::uint64_t QuadDigests::node(LayerId layer, ElementId id) const {
+    return cached(mutex_, nodes_[layer], AncestorId(id), [&] { return computeNode(layer, id); });
+}
+
+std::uint64_t QuadDigests::computeNode(LayerId layer, ElementId id) const {
+    const Layer& l = qt_.scene().layers[layer];
+    Digest d;
+    d.word(id);
+    if (id == kNoElement || id >= l.nodes.size() || !l.nodes[id].alive) return d.word(0xDEAD).value();
+    const Node& n = l.nodes[id];
+    d.real(n.p.x).real(n.p.y).real(n.roundabout).word(n.curves.size());
+    // Stop lines and junction radii read every curve at the node: its width, flags and direction.
+    for (ElementId c : n.curves) {
+        d.word(c);
+        if (c >= l.curves.size()) continue;
+        const Curve& cv = l.curves[c];
+        d.word(cv.start).word(cv.end).real(cv.w).real(cv.wf).word(cv.cls).word(cv.flags);
+        vertices(d, cv.vertices);
+    }
+    return d.value();
+}
+
+std::uint64_t QuadDigests::computeCurve(LayerId layer, AncestorId id) const {
+    const Curve& c = qt_.ancestorCurve(layer, id);
+    const LayerKind kind = qt_.scene().layers[layer].kind;
+    Digest d;
+    d.word(id).word(c.start).word(c.end).real(c.w).real(c.wf).word(c.cls).word(c.flags).word(c.areas.size());
+    for (ElementId a : c.areas) d.word(a);
+    vertices(d, c.vertices);
+    if (const ProceduralCurve* pc = qt_.proceduralCurve(layer, id)) {
+        d.real(pc->rootS0).real(pc->rootS1).word(pc->ringAtStart).word(pc->ringAtEnd).word(pc->spans.size());
+        for (const BridgeSpan& s : pc->spans) d.word(s.layer).word(s.over).real(s.overS).real(s.u).real(s.halfLength);
+        d.word(node(layer, pc->ringAtStart)).word(node(layer, pc->ringAtEnd));
+    }
+    d.word(node(layer, c.start)).word(node(layer, c.end));
+    // The computed z-profile sums up what the curve's heights depend on beyond its own shape.
+    if (kind == LayerKind::Roads || kind == LayerKind::Rivers) {
+        const ZProfile& z = data_.zProfile(layer, id);
+        d.real(z.length).real(z.spacing).reals(std::span<const double>(z.z));
+    }
+    return d.value();
+}
+
+std::uint64_t QuadDigests::riverLayer(LayerId layer) const {
+    {
+        std::lock_guard lock(mutex_);
+        if (riverLayers_[layer] != 0) return riverLayers_[layer];
+    }
+    const Layer& l = qt_.scene().layers[layer];
+    Digest d;
+    for (ElementId c = 0; c < l.curves.size(); ++c)
+        if (l.curves[c].alive) d.word(c).word(curve(layer, AncestorId(c)));
+    const std::uint64_t v = d.value() | 1;  // never 0, the "not computed" mark
+    std::lock_guard lock(mutex_);
+    riverLayers_[layer] = v;
+    return v;
+}
+
+std::uint64_t QuadDigests::computeArea(LayerId layer, ElementId id) const {
+    const Layer& l = qt_.scene().layers[layer];
+    const Area& a = l.areas[id];
+    Digest d;
+    d.word(id).real(a.wf).word(a.cls).word(a.axial).word(a.loops.size());
+    for (const auto& loop : a.loops) {
+        d.word(loop.size());
+        for (const AreaEdge& e : loop) {
+            d.word(e.curve).word(e.reversed);
+            if (e.curve < l.curves.size()) vertices(d, l.curves[e.curve].vertices);
+        }
+    }
+    if (l.kind == LayerKind::Lakes || (l.kind == LayerKind::Rivers && a.axial == kNoElement)) d.real(data_.lakeLevel(layer, id));
+    if (l.kind == LayerKind::Rivers && a.axial != kNoElement) d.word(riverLayer(layer));
+    return d.value();
+}
+
+std::uint64_t QuadDigests::of(const Quad& quad) const {
+    Digest d;
+    d.word(std::uint64_t(quad.level)).word(quad.tx).word(quad.ty).word(quad.layers.size());
+    for (LayerId l = 0; l < quad.layers.size(); ++l) {
+        const QuadLayer& ql = quad.layers[l];
+        d.word(0xC0FFEE).word(ql.curves.size());
+        for (AncestorId a : sortedKeys(ql.curves)) {
+            d.word(a).word(curve(l, a));
+            const auto& pieces = ql.curves.at(a);
+            d.word(pieces.size());
+            for (const ClippedCurve& p : pieces) {
+                vertices(d, p.vertices);
+                d.reals(std::span<const double>(p.s)).word(p.startsAtNode).word(p.endsAtNode);
+            }
+        }
+        d.word(ql.areas.size());
+        for (ElementId a : sortedKeys(ql.areas)) {
+            d.word(a).word(area(l, a));
+            const auto& pieces = ql.areas.at(a);
+            d.word(pieces.size());
+            for (const ClippedArea& p : pieces) {
+                d.word(p.coversQuad).word(p.loops.size());
+                for (const ClippedLoop& loop : p.loops) {
+                    d.word(loop.hole);
+                    vertices(d, loop.vertices);
+                }
+            }
+        }
+        d.word(ql.nodes.size());
+        for (ElementId n : sortedKeys(ql.nodes)) {
+            const Vec2 p = ql.nodes.at(n);
+            d.word(n).real(p.x).real(p.y).word(node(l, n));
+        }
+    }
+    return d.value();
+}
+
+}  // namespace lacet

@@ -1,0 +1,56 @@
+#pragma once
+// What a quad's tiles are made from, as one 64-bit digest per quad: `lacet pyramid update` remakes
+// the tiles of a quad whose digest changed since the pyramid was built, and only those (and the
+// mipmapped ancestors of its appearance). It is computed from the scene as it is, so it stays
+// right however the scene was changed (the editor, a re-import, another program).
+//
+// A quad's digest covers everything its producers read (raster/elevation_producer.h,
+// raster/appearance_producer.h) besides the DEM and the knobs, which a pyramid digests once as a
+// whole (pyramid/pyramid_build.h):
+// - its clipped graph: per layer, each ancestor's pieces (vertices, parameters s, node ends),
+//   each area's clipped loops, each kept node's position, in id order;
+// - for each ancestor curve it holds, the curve's own digest: its geometry and attributes, its
+//   procedural data (the root part, spans, rings), its computed z-profile (which sums up the
+//   terrain under it, the rivers upstream, the water a bridge spans), and for each end node
+//   the node and every curve meeting there (stop lines and junction radii read them);
+// - for each area: its loops' curves, attributes and axial curve; a lake's computed level; a
+//   river area, every river curve's digest of its layer (its heights follow the river through it).
+// These are conservative: an edit of a curve changes the digest of the quads of its neighbours at
+// its nodes too, never fewer quads than the tiles that changed.
+//
+// Thread safety: of() may run for many quads at once (ancestor digests are computed once, under a
+// lock, and the CurveDataCache is thread-safe).
+
+#include <cstdint>
+#include <mutex>
+#include <unordered_map>
+#include <vector>
+
+#include "model/curve_data.h"
+#include "model/quadtree.h"
+
+namespace lacet {
+
+class QuadDigests {
+public:
+    QuadDigests(const Quadtree& quadtree, const CurveDataCache& curveData);
+    std::uint64_t of(const Quad& quad) const;
+
+    std::uint64_t curve(LayerId layer, AncestorId id) const;
+    std::uint64_t area(LayerId layer, ElementId id) const;
+    std::uint64_t node(LayerId layer, ElementId id) const;
+
+private:
+    std::uint64_t computeCurve(LayerId layer, AncestorId id) const;
+    std::uint64_t computeArea(LayerId layer, ElementId id) const;
+    std::uint64_t computeNode(LayerId layer, ElementId id) const;
+    std::uint64_t riverLayer(LayerId layer) const;
+
+    const Quadtree& qt_;
+    const CurveDataCache& data_;
+    mutable std::mutex mutex_;
+    mutable std::vector<std::unordered_map<AncestorId, std::uint64_t>> curves_, areas_, nodes_;
+    mutable std::vector<std::uint64_t> riverLayers_;  // 0: not computed yet
+};
+
+}  // namespace lacet

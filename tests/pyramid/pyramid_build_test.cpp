@@ -1,0 +1,276 @@
+// The tile pyramid (§7, pyramid/pyramid_build.h): GIS tools read what it stores, an update after
+// random edits equals a build from scratch tile for tile and remakes only what changed, and bad
+// input (another scene, an interrupted build, a corrupt tile) is refused or reported.
+#include <filesystem>
+#include <random>
+#include <stdexcept>
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include "io/sqlite_db.h"
+#include "io/tile_codec.h"
+#include "pyramid/pyramid_build.h"
+#include "pyramid/pyramid_check.h"
+#include "pyramid/pyramid_tiles.h"
+#include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+
+namespace lacet {
+namespace {
+
+namespace fs = std::filesystem;
+
+SceneDocument smallScene(std::uint64_t seed = 7, std::size_t curves = 1500) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({seed, curves});
+    doc.dem = makeSyntheticDem(doc.scene, {seed, 800});
+    return doc;
+}
+
+PyramidParams smallParams() {
+    PyramidParams p;
+    p.minLevel = 0;
+    p.maxLevel = 3;
+    p.shardLevel = 1;
+    p.encoding = parseEncoding("png:1");
+    return p;
+}
+
+struct TempFile {
+    std::string path;
+    explicit TempFile(const std::string& name) : path((fs::temp_directory_path() / ("lacet_" + name)).string()) { fs::remove(path); }
+    ~TempFile() { fs::remove(path); }
+};
+
+using Tiles = std::vector<std::pair<PyramidKey, std::vector<std::uint8_t>>>;
+Tiles tilesOf(const std::string& path, const char* table) {
+    PyramidStore s(path, PyramidStore::Mode::ReadOnly);
+    return s.allTiles(table);
+}
+
+void expectSamePyramid(const std::string& a, const std::string& b) {
+    for (const char* t : {kAppearanceTable, kWaterTable, kElevationTable}) {
+        const Tiles ta = tilesOf(a, t), tb = tilesOf(b, t);
+        ASSERT_EQ(ta.size(), tb.size()) << t;
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < ta.size(); ++i) {
+            ASSERT_EQ(ta[i].first, tb[i].first) << t;
+            if (ta[i].second != tb[i].second) ++differ;
+        }
+        EXPECT_EQ(differ, 0u) << t << ": tiles that differ";
+    }
+    PyramidStore sa(a, PyramidStore::Mode::ReadOnly), sb(b, PyramidStore::Mode::ReadOnly);
+    EXPECT_EQ(sa.digests(), sb.digests());
+}
+
+TEST(PyramidTiles, MipmapAveragesEachChildIntoItsQuadrant) {
+    std::array<PyramidImage, 4> kids;
+    for (int k = 0; k < 4; ++k) {
+        kids[std::size_t(k)].size = 4;
+        kids[std::size_t(k)].rgb.assign(48, std::uint8_t(10 * (k + 1)));
+        kids[std::size_t(k)].water.assign(16, std::uint8_t(k == 3 ? 255 : 0));
+    }
+    kids[0].rgb[0] = 13;  // one texel of the lower-left child's top-left 2x2 block: (13 + 10 * 3 + 2) / 4 = 11
+    const PyramidImage p = mipmap({&kids[0], &kids[1], &kids[2], &kids[3]});
+    ASSERT_EQ(p.size, 4);
+    // Rows top first: the top half comes from the upper children (2 left, 3 right).
+    EXPECT_EQ(p.rgb[(0 * 4 + 0) * 3], 30);
+    EXPECT_EQ(p.rgb[(0 * 4 + 3) * 3], 40);
+    EXPECT_EQ(p.rgb[(2 * 4 + 0) * 3], 11);
+    EXPECT_EQ(p.rgb[(3 * 4 + 3) * 3], 20);
+    EXPECT_EQ(p.water[0 * 4 + 3], 255);
+    EXPECT_EQ(p.water[3 * 4 + 0], 0);
+    PyramidImage odd = kids[0];
+    odd.size = 3;
+    EXPECT_THROW(mipmap({&odd, &kids[1], &kids[2], &kids[3]}), std::invalid_argument);
+}
+
+TEST(PyramidBuild, GdalReadsTheTablesAsTheyAre) {
+    const SceneDocument doc = smallScene();
+    TempFile f("pyramid_gdal.gpkg");
+    const PyramidStats st = buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    EXPECT_EQ(st.appearanceTiles, 85u);
+    EXPECT_EQ(st.elevationTiles, 85u);
+    EXPECT_GT(st.waterTiles, 0u);
+    EXPECT_LT(st.waterTiles, 85u);  // tiles without water are not stored
+
+    GDALAllRegister();
+    {
+        const std::string open = "GPKG:" + f.path + ":" + kAppearanceTable;
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(open.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        ASSERT_TRUE(ds) << CPLGetLastErrorMsg();
+        EXPECT_EQ(ds->GetRasterXSize(), 8 * 256);  // the deepest level, 2^3 tiles of 256
+        EXPECT_EQ(ds->GetRasterYSize(), 8 * 256);
+        double gt[6];
+        ASSERT_EQ(ds->GetGeoTransform(gt), CE_None);
+        EXPECT_NEAR(gt[0], doc.scene.extent.min.x, 1e-6);
+        EXPECT_NEAR(gt[3], doc.scene.extent.max.y, 1e-6);
+        EXPECT_NEAR(gt[1], doc.scene.extent.size().x / 2048.0, 1e-9);
+        // A texel GDAL reads equals the tile's: quad (tx 2, ty 5) of level 3 is tile row 2.
+        std::vector<std::uint8_t> px(3);
+        const int col = 2 * 256 + 17, row = 2 * 256 + 200;
+        ASSERT_EQ(ds->RasterIO(GF_Read, col, row, 1, 1, px.data(), 1, 1, GDT_Byte, 3, nullptr, 3, 3, 1, nullptr), CE_None);
+        PyramidStore s(f.path, PyramidStore::Mode::ReadOnly);
+        const DecodedImage tile = decodeImage(*s.tile(kAppearanceTable, PyramidKey{3, 2, 5}));
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(px[std::size_t(c)], tile.pixels[std::size_t((200 * 256 + 17) * 3 + c)]);
+        EXPECT_EQ(ds->GetRasterBand(1)->GetOverviewCount(), 3);  // levels 2, 1, 0
+    }
+    {
+        const std::string open = "GPKG:" + f.path + ":" + kElevationTable;
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(open.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+        ASSERT_TRUE(ds) << CPLGetLastErrorMsg();
+        EXPECT_EQ(ds->GetRasterBand(1)->GetRasterDataType(), GDT_Float32);
+        EXPECT_EQ(ds->GetRasterXSize(), 8 * 24);
+        float z = 0.0f;
+        ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 24 + 5, 24 * 6 + 3, 1, 1, &z, 1, 1, GDT_Float32, 0, 0), CE_None);
+        PyramidStore s(f.path, PyramidStore::Mode::ReadOnly);
+        const DecodedFloats tile = decodeFloatTiff(*s.tile(kElevationTable, PyramidKey{3, 1, 1}));
+        EXPECT_EQ(z, tile.values[3 * 24 + 5]);
+        EXPECT_GT(z, -1000.0f);
+    }
+    const PyramidCheck check = checkPyramid(f.path);
+    EXPECT_TRUE(check.problems.empty());
+    EXPECT_TRUE(check.info.complete);
+}
+
+// An update after random edits (fixed seeds) equals a build from scratch of the edited scene,
+// tile for tile and byte for byte, and leaves untouched tiles as they were.
+TEST(PyramidUpdate, EqualsARebuildAfterRandomEdits) {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+        SceneDocument doc = smallScene(seed);
+        TempFile updated("pyramid_updated.gpkg"), rebuilt("pyramid_rebuilt.gpkg");
+        PyramidParams params = smallParams();
+        params.vectorLevels = 2;  // levels 2-3 from vector data, 0-1 mipmapped
+        buildPyramid(doc, updated.path, params, false, nullptr);
+        const Tiles before = tilesOf(updated.path, kAppearanceTable);
+
+        std::mt19937_64 rng(seed);
+        const int edits = 3;
+        for (int e = 0; e < edits; ++e) applyRandomEdit(doc.scene, rng, 60.0);
+        const PyramidStats up = updatePyramid(doc, updated.path, nullptr);
+        EXPECT_FALSE(up.rebuilt);
+        EXPECT_LT(up.quadsChanged, up.quads) << "seed " << seed;
+        buildPyramid(doc, rebuilt.path, params, false, nullptr);
+        expectSamePyramid(updated.path, rebuilt.path);
+
+        // Tiles of quads the edits did not reach are untouched.
+        const Tiles after = tilesOf(updated.path, kAppearanceTable);
+        std::size_t same = 0;
+        for (std::size_t i = 0; i < after.size(); ++i) same += after[i].second == before[i].second;
+        EXPECT_GT(same, 0u) << "seed " << seed;
+        EXPECT_GE(up.tilesWritten, after.size() - same);
+    }
+}
+
+TEST(PyramidUpdate, NothingChangedRemakesNothing) {
+    const SceneDocument doc = smallScene();
+    TempFile f("pyramid_same.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    const PyramidStats st = updatePyramid(doc, f.path, nullptr);
+    EXPECT_EQ(st.quadsChanged, 0u);
+    EXPECT_EQ(st.tilesMade, 0u);
+    EXPECT_EQ(st.tilesWritten, 0u);
+}
+
+TEST(PyramidUpdate, OneMovedRoadRemakesFewTiles) {
+    SceneDocument doc = smallScene();
+    TempFile f("pyramid_road.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    // Moves one inner control point of the first road with one, by 20 m.
+    Layer& roads = doc.scene.layers[kRoadsLayer];
+    for (Curve& c : roads.curves)
+        if (c.alive && c.vertices.size() > 2) {
+            c.vertices[1].p += Vec2(20.0, 0.0);
+            break;
+        }
+    const PyramidStats st = updatePyramid(doc, f.path, nullptr);
+    EXPECT_GT(st.tilesMade, 0u);
+    EXPECT_LT(st.tilesMade, 40u);  // of 170 (85 quads, two layers); the path up to the root at least
+    EXPECT_GE(st.quadsChanged, 4u);  // one quad per level at least
+}
+
+TEST(PyramidBuild, RefusesAPyramidOfAnotherScene) {
+    const SceneDocument a = smallScene(1, 1500), b = smallScene(1, 3000);  // another extent
+    TempFile f("pyramid_other.gpkg");
+    buildPyramid(a, f.path, smallParams(), false, nullptr);
+    try {
+        updatePyramid(b, f.path, nullptr);
+        FAIL() << "an update for another scene was accepted";
+    } catch (const PyramidError& e) {
+        EXPECT_NE(std::string(e.what()).find("another scene"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(f.path), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(buildPyramid(b, f.path, smallParams(), false, nullptr), PyramidError);
+    EXPECT_NO_THROW(buildPyramid(b, f.path, smallParams(), true, nullptr));  // --force
+}
+
+// A progress that fails part-way, as a killed build would stop.
+struct FailingProgress : Progress {
+    std::size_t left;
+    explicit FailingProgress(std::size_t n) : left(n) {}
+    void begin(const std::string&, std::size_t, const std::string&) override {}
+    void advance(std::size_t units) override {
+        if (units >= left) throw std::runtime_error("interrupted");
+        left -= units;
+    }
+    void end() override {}
+};
+
+TEST(PyramidBuild, AnInterruptedBuildOrUpdateLeavesThePreviousPyramid) {
+    SceneDocument doc = smallScene();
+    TempFile f("pyramid_interrupted.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    const Tiles before = tilesOf(f.path, kAppearanceTable);
+    FailingProgress failing(100);
+    EXPECT_THROW(buildPyramid(smallScene(9), f.path, smallParams(), true, &failing), std::runtime_error);
+    EXPECT_EQ(tilesOf(f.path, kAppearanceTable), before);
+    std::mt19937_64 rng(4);
+    for (int e = 0; e < 5; ++e) applyRandomEdit(doc.scene, rng, 200.0);
+    FailingProgress failing2(20);
+    EXPECT_THROW(updatePyramid(doc, f.path, &failing2), std::runtime_error);
+    EXPECT_EQ(tilesOf(f.path, kAppearanceTable), before);
+    EXPECT_TRUE(checkPyramid(f.path).problems.empty());
+}
+
+TEST(PyramidCheck, ReportsACorruptTileAndAMissingOne) {
+    const SceneDocument doc = smallScene();
+    TempFile f("pyramid_corrupt.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    {
+        SqliteDb db(f.path, SqliteDb::Mode::ReadWrite);
+        db.exec(std::string("UPDATE ") + kAppearanceTable + " SET tile_data = x'89504E470D0A1A0A0000' WHERE zoom_level = 2 AND "
+                "tile_column = 1 AND tile_row = 0");
+        db.exec(std::string("DELETE FROM ") + kElevationTable + " WHERE zoom_level = 3 AND tile_column = 0 AND tile_row = 7");
+    }
+    const PyramidCheck c = checkPyramid(f.path);
+    ASSERT_EQ(c.problems.size(), 2u);
+    EXPECT_EQ(c.problems[0].table, kAppearanceTable);
+    EXPECT_EQ(c.problems[0].quad, (PyramidKey{2, 1, 3}));
+    EXPECT_NE(c.problems[0].reason.find("does not decode"), std::string::npos) << c.problems[0].reason;
+    EXPECT_EQ(c.problems[1].table, kElevationTable);
+    EXPECT_EQ(c.problems[1].quad, (PyramidKey{3, 0, 0}));
+    EXPECT_EQ(c.problems[1].reason, "missing");
+}
+
+TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
+    PyramidParams p;
+    p.texel = 1.0;
+    p.resolve(34172.0, 256);  // Andorra's extent
+    EXPECT_EQ(p.maxLevel, 7);  // 34172 / 2^7 / 256 = 1.04 m, nearer 1 m than 0.52 m
+    PyramidParams q;
+    q.texel = 0.6;
+    q.resolve(34172.0, 256);
+    EXPECT_EQ(q.maxLevel, 8);
+    PyramidParams bad;
+    bad.minLevel = 3;
+    bad.maxLevel = 2;
+    EXPECT_THROW(bad.resolve(1000.0, 256), std::invalid_argument);
+    EXPECT_THROW(parseEncoding("gif"), std::invalid_argument);
+    EXPECT_THROW(parseEncoding("jpeg:0"), std::invalid_argument);
+    EXPECT_EQ(encodingName(parseEncoding("webp:75")), "webp:75");
+}
+
+}  // namespace
+}  // namespace lacet
