@@ -56,9 +56,27 @@ EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(st
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
 }
 
+bool EditSession::holdsDropped(const Quad& q, const std::vector<ElementRef>& dropped) const {
+    for (const ElementRef& d : dropped) {
+        // The root curve, or the procedural curves it expands to now (their profiles were
+        // dropped with it; one it expanded to before the edit left the quad with the edit).
+        const LayerId l = d.layer;
+        if (q.layers.size() <= l) continue;
+        const auto& curves = q.layers[l].curves;
+        if (curves.count(d.id) > 0) return true;
+        for (AncestorId a : quadtree_->expansionOf(l, d.id))
+            if (curves.count(a) > 0) return true;
+        // A river area's heights follow its river's profiles (the axial curve and the river
+        // on through the area), which need not be in the quad: any river area there is redone.
+        if (doc_.scene.layers[l].kind == LayerKind::Rivers && !q.layers[l].areas.empty()) return true;
+    }
+    return false;
+}
+
 CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     CommandReport r;
     r.applyMs = applyMs;
+    ++edits_;
     std::vector<ElementRef> dropped = data_->invalidate(cs);
     const auto t0 = Clock::now();
     const UpdateStats st = quadtree_->update(cs);
@@ -72,29 +90,65 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     r.changedQuads = st.changedQuads.size();
     std::set<QuadKey> changed;
     for (const Quad* q : st.changedQuads) changed.insert(keyOf(*q));
+    // UPDATE never lists the root (its graph is the scene's): any edit changes it.
+    const bool edited = !cs.empty();
+    if (edited) changed.insert(keyOf(quadtree_->root()));
     for (auto& [key, tile] : cache_) {
         if (tile.dirty) continue;
         const Quad* q = findQuad(quadtree_->root(), key);
         // A tile whose quad is not in the tree now cannot be checked: it is redone if needed.
-        bool stale = !q || changed.count(key) > 0;
-        for (std::size_t i = 0; !stale && i < dropped.size(); ++i) {
-            // The root curve, or the procedural curves it expands to now (their profiles were
-            // dropped with it; one it expanded to before the edit left the quad with the edit).
-            const LayerId l = dropped[i].layer;
-            if (q->layers.size() <= l) continue;
-            const auto& curves = q->layers[l].curves;
-            stale = curves.count(dropped[i].id) > 0;
-            for (AncestorId a : quadtree_->expansionOf(l, dropped[i].id)) stale = stale || curves.count(a) > 0;
-            // A river area's heights follow its river's profiles (the axial curve and the river
-            // on through the area), which need not be in the quad: any river area there is redone.
-            stale = stale || (doc_.scene.layers[l].kind == LayerKind::Rivers && !q->layers[l].areas.empty());
-        }
-        if (stale) {
+        if (!q || changed.count(key) > 0 || holdsDropped(*q, dropped)) {
             tile.dirty = true;
             ++r.dirtyTiles;
         }
     }
+    if (touchLevels_ > 0) recordTouched(changed, dropped, edited);
     return r;
+}
+
+void EditSession::recordTouched(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited) {
+    // The quads below L, walked from the root (a few hundred at most): UPDATE says exactly which
+    // children of a changed quad changed, but nothing of the quads below a leaf, which the tree
+    // will make from the changed graph when it subdivides: all of them count as changed.
+    auto visit = [&](const Quad& q, const auto& self) -> void {
+        if (q.level >= touchLevels_) return;
+        const QuadKey key = keyOf(q);
+        if ((edited && !q.parent) || changed.count(key) > 0 || holdsDropped(q, dropped)) {
+            touched_[key] = edits_;
+            if (q.isLeaf()) touchedBelow_[key] = edits_;
+        }
+        if (!q.isLeaf())
+            for (const auto& c : q.children) self(*c, self);
+    };
+    visit(quadtree_->root(), visit);
+}
+
+bool EditSession::touched(const Quad& q) const {
+    if (touched_.count(keyOf(q)) > 0) return true;
+    if (touchedBelow_.empty()) return false;
+    for (const Quad* a = &q; a; a = a->parent)
+        if (touchedBelow_.count(keyOf(*a)) > 0) return true;
+    return false;
+}
+
+bool EditSession::readsPyramid(const Quad& q) const {
+    if (!pyramid_ || !pyramid_->serves(q.level)) return false;
+    const std::vector<bool>& hidden = params_.appearance.hiddenLayers;
+    if (std::find(hidden.begin(), hidden.end(), true) != hidden.end()) return false;  // made with every layer
+    return !touched(q);
+}
+
+void EditSession::setPyramid(std::shared_ptr<PyramidReader> pyramid, std::optional<std::uint64_t> madeAt) {
+    if (pyramid && pyramid->tileSize() != params_.refine.resolution)
+        throw std::invalid_argument("EditSession::setPyramid(): the pyramid's tiles are " + std::to_string(pyramid->tileSize()) +
+                                    " texels, the session's " + std::to_string(params_.refine.resolution));
+    const std::uint64_t at = madeAt.value_or(edits_);
+    if (at > edits_) throw std::invalid_argument("EditSession::setPyramid(): madeAt is after the last edit");
+    // What the new pyramid holds already is no longer touched.
+    std::erase_if(touched_, [&](const auto& e) { return e.second <= at; });
+    std::erase_if(touchedBelow_, [&](const auto& e) { return e.second <= at; });
+    if (pyramid) touchLevels_ = std::max(touchLevels_, std::min(pyramid->vectorLevel(), pyramid->maxLevel() + 1));
+    pyramid_ = std::move(pyramid);
 }
 
 namespace {
@@ -204,17 +258,27 @@ void EditSession::setLayerVisible(LayerId layer, bool visible) {
     }
 }
 
-std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double budgetMs, Clock::time_point t0) {
+std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double budgetMs, Clock::time_point t0, FrameReport& r) {
     // A work queue in nearest-first order, one job per producer and quad (so the two threads
     // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
     // with a budget, a job whose estimated time (editor/production_estimate.h) would overrun it
     // is not started, and the workers take no more (a job the other worker took just before may
     // still run if its own estimate fits; a quad with one job of two made is dropped). The first
     // quad of a call is always made, so every frame makes progress. A quad is made when both its
-    // jobs are.
+    // jobs are. An appearance job of a quad the pyramid serves reads it there (its own estimate:
+    // a read costs the same whatever the quad holds), or makes it live when the read fails.
+    enum Source : char { kLive = 0, kRead = 1, kFailed = 2, kTouched = 3 };
     const std::size_t jobs = 2 * quads.size();
     std::vector<CachedTile> made(quads.size());
     std::vector<char> done(jobs, 0);  // each written by one worker, read after they join
+    std::vector<char> source(quads.size(), kLive);
+    std::vector<char> fromPyramid(quads.size(), 0);
+    for (std::size_t i = 0; i < quads.size(); ++i) {
+        fromPyramid[i] = readsPyramid(*quads[i]);
+        if (!fromPyramid[i] && pyramid_ && pyramid_->serves(quads[i]->level)) source[i] = kTouched;
+    }
+    PyramidReader* pyramid = pyramid_.get();
+    const int border = params_.refine.appearanceBorder;
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(jobs)));
@@ -224,28 +288,51 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
             const std::size_t j = next.fetch_add(1);
             if (j >= jobs) return;
             const bool appearance = j % 2 == 0;
-            const Quad& q = *quads[j / 2];
-            ProductionEstimate& estimate = estimates_[appearance ? 0 : 1];
+            const std::size_t i = j / 2;
+            const Quad& q = *quads[i];
+            const bool read = appearance && fromPyramid[i];
+            ProductionEstimate& estimate = estimates_[read ? 2 : appearance ? 0 : 1];
             const std::size_t elements = elementsOf(q);
-            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.predict(elements) > budgetMs) {
+            const std::size_t x = read ? 0 : elements;
+            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.predict(x) > budgetMs) {
                 stop = true;
                 return;
             }
-            const auto j0 = Clock::now();
-            if (appearance) made[j / 2].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
+            auto j0 = Clock::now();
+            if (read) {
+                std::optional<AppearanceTile> t = pyramid->appearance(q, border);
+                estimate.add(x, msSince(j0));
+                if (t) {
+                    made[i].appearance = std::move(*t);
+                    source[i] = kRead;
+                    done[j] = 1;
+                    continue;
+                }
+                source[i] = kFailed;  // made live below
+                j0 = Clock::now();
+            }
+            if (appearance) made[i].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
             else {
                 // The quad's objects stand on its displayed ground: made right after its z_m.
-                CachedTile& t = made[j / 2];
+                CachedTile& t = made[i];
                 t.elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
                 t.objects = produceObjects(q, *quadtree_, *data_, *doc_.dem, &t.elevation, params_.objects, &objectCounters_);
             }
-            estimate.add(elements, msSince(j0));
+            estimates_[appearance ? 0 : 1].add(elements, msSince(j0));
             done[j] = 1;
         }
     });
     std::size_t count = 0;
     for (std::size_t i = 0; i < quads.size(); ++i) {
+        if (done[2 * i]) {  // the appearance, even when its quad is dropped (the pyramid's work is done)
+            pyramidUse_.read += source[i] == kRead;
+            pyramidUse_.failed += source[i] == kFailed;
+            pyramidUse_.touched += source[i] == kTouched;
+            pyramidUse_.live += source[i] != kRead;
+        }
         if (!done[2 * i] || !done[2 * i + 1]) continue;
+        r.fromPyramid += source[i] == kRead;
+        r.pyramidFailed += source[i] == kFailed;
         CachedTile& t = cache_[keyOf(*quads[i])];
         t = std::move(made[i]);
         t.lastUsed = clock_;
@@ -272,9 +359,9 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     if (predicted) keepMadeAhead(std::move(leaves.madeAhead), fit.kept, *predicted);
     std::stable_sort(needed.begin(), needed.end(), nearestFirst(viewer));
     const auto t0 = Clock::now();
-    r.produced = produce(needed, budgetMs, t0);
+    r.produced = produce(needed, budgetMs, t0, r);
     r.pending = needed.size() - r.produced;
-    if (predicted && r.pending == 0) r.prefetched = prefetch(std::move(leaves.ahead), *predicted, budgetMs, t0);
+    if (predicted && r.pending == 0) r.prefetched = prefetch(std::move(leaves.ahead), *predicted, budgetMs, t0, r);
     r.produceMs = msSince(t0);
     plan_.clear();  // it points at tiles eviction may drop
     planPending_ = false;
@@ -353,7 +440,8 @@ void EditSession::keepMadeAhead(std::vector<const Quad*> madeAhead, std::size_t 
         cache_.at(keyOf(*madeAhead[i])).lastUsed = clock_;
 }
 
-std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs, Clock::time_point t0) {
+std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs, Clock::time_point t0,
+                                  FrameReport& r) {
     // Prefetch only with time left for the first quad ahead (it would otherwise always be made).
     // Prefetching fills the cache's room and no more (§9.1: "limited by the cache capacity"): the
     // budget less the tiles the LRU may not evict this frame (the view's, its ancestors', those
@@ -366,8 +454,9 @@ std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 pre
     ahead.resize(std::min(ahead.size(), room));
     if (ahead.empty()) return 0;
     const std::size_t first = elementsOf(*ahead.front());
-    if (budgetMs > 0.0 && msSince(t0) + estimates_[0].predict(first) + estimates_[1].predict(first) >= budgetMs) return 0;
-    return produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now());
+    const double appearance = readsPyramid(*ahead.front()) ? estimates_[2].predict(0) : estimates_[0].predict(first);
+    if (budgetMs > 0.0 && msSince(t0) + appearance + estimates_[1].predict(first) >= budgetMs) return 0;
+    return produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now(), r);
 }
 
 void EditSession::evict() {

@@ -27,6 +27,18 @@
 //
 // Undo granularity: a drag is many commands merged into one undo step (execute(cmd, merge)),
 // and a compound edit (a new road: its nodes, then its curve) is one group.
+//
+// The pyramid (§7, Fig. 10; pyramid/pyramid_reader.h): with one set, the appearance of a quad of
+// a level below the pyramid's first vector level L is read from it (a mipmap of level L's tiles)
+// instead of produced from the vector data, which at those levels holds most of the scene; its
+// elevation (cheap) and every tile at L and deeper are produced live. A quad whose appearance an
+// edit changed since the pyramid was made is produced live from then on: after each edit the
+// session records the quads below L that changed (UPDATE's changed quads, those holding a curve
+// whose z-profile was dropped, the root) and, for such a quad that is a leaf, every quad below it
+// (it has no children to say which changed). setPyramid() with the edit count of the document the
+// pyramid was made from (after a save and `lacet pyramid update`) forgets the records up to it. A
+// tile the pyramid cannot give (corrupt, missing, locked) is produced live and counted. While a
+// layer is hidden the pyramid (made with every layer) is not read.
 
 #include <algorithm>
 #include <chrono>
@@ -35,7 +47,9 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <tuple>
+#include <vector>
 
 #include "editor/cache_fit.h"
 #include "editor/command.h"
@@ -45,6 +59,7 @@
 #include "io/document.h"
 #include "model/curve_data.h"
 #include "model/quadtree.h"
+#include "pyramid/pyramid_reader.h"
 #include "raster/appearance_producer.h"
 #include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
@@ -92,6 +107,16 @@ struct FrameReport {
     std::size_t kept = 0;            // cached tiles the LRU may not evict: shown, their ancestors, made ahead
     bool refineDeferred = false;     // the refine budget left subdivisions for later frames
     double refineMs = 0.0, produceMs = 0.0;
+    std::size_t fromPyramid = 0;     // appearance tiles read from the pyramid (of `produced` and `prefetched`)
+    std::size_t pyramidFailed = 0;   // tiles the pyramid could not give (corrupt, missing, locked), made live
+};
+
+// What the pyramid saved the session so far (appearance tiles).
+struct PyramidUse {
+    std::size_t read = 0;     // read from the pyramid
+    std::size_t failed = 0;   // the pyramid could not give them (corrupt, missing, locked): made live
+    std::size_t touched = 0;  // below L but changed by an edit since the pyramid was made: made live
+    std::size_t live = 0;     // made live in all (failed and touched included)
 };
 
 using QuadVisibility = std::function<bool(const Quad&)>;
@@ -169,6 +194,18 @@ public:
     std::pair<const Quad*, const CachedTile*> tileAt(Vec2 p) const;
     const std::map<QuadKey, CachedTile>& tiles() const { return cache_; }
 
+    // The pyramid the appearance of coarse quads is read from (nullptr: none; every tile live).
+    // `madeAt`: the editCount() of the document the pyramid holds (edits after it stay live);
+    // the default, now, for a pyramid of the document as it is. Tiles already cached stay. Throws
+    // std::invalid_argument when its tiles are not the session's appearance resolution.
+    void setPyramid(std::shared_ptr<PyramidReader> pyramid, std::optional<std::uint64_t> madeAt = std::nullopt);
+    const std::shared_ptr<PyramidReader>& pyramid() const { return pyramid_; }
+    // Edits (commands, undos and redos) applied to the document so far.
+    std::uint64_t editCount() const { return edits_; }
+    // Whether quad `q`'s appearance would be read from the pyramid now.
+    bool readsPyramid(const Quad& q) const;
+    const PyramidUse& pyramidUse() const { return pyramidUse_; }
+
 private:
     struct Done {
         Command command;
@@ -192,10 +229,16 @@ private:
     std::vector<const Quad*> keepShown(const CacheFit& fit);
     void keepMadeAhead(std::vector<const Quad*> madeAhead, std::size_t kept, glm::dvec3 predicted);
     std::size_t prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs,
-                         std::chrono::steady_clock::time_point t0);
+                         std::chrono::steady_clock::time_point t0, FrameReport& r);
     void evict();
+    // Records the quads below the pyramid's level L whose appearance the edit changed.
+    void recordTouched(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited);
+    bool touched(const Quad& q) const;
+    // Whether cached `q` holds one of `dropped`'s curves (its tile used a dropped z-profile).
+    bool holdsDropped(const Quad& q, const std::vector<ElementRef>& dropped) const;
     // Makes the tiles of `quads` in order within the budget; returns how many were made.
-    std::size_t produce(const std::vector<const Quad*>& quads, double budgetMs, std::chrono::steady_clock::time_point t0);
+    std::size_t produce(const std::vector<const Quad*>& quads, double budgetMs, std::chrono::steady_clock::time_point t0,
+                        FrameReport& r);
 
     SceneDocument doc_;
     SessionParams params_;
@@ -211,8 +254,17 @@ private:
     QuadVisibility planVisible_;
     std::uint64_t clock_ = 0, version_ = 0, serial_ = 0, savedSerial_ = 0;
     std::uint64_t group_ = 0, nextGroup_ = 0;
-    ProductionEstimate estimates_[2];  // an appearance and an elevation tile's time (with its objects)
+    // An appearance and an elevation tile's time (with its objects), and an appearance tile read
+    // from the pyramid (whatever its quad holds: a read and a decode).
+    ProductionEstimate estimates_[3];
     ObjectCounters objectCounters_;
+    std::shared_ptr<PyramidReader> pyramid_;
+    int touchLevels_ = 0;  // edits record touched quads of the levels below this (L of the pyramids set)
+    std::uint64_t edits_ = 0;
+    // Quads below L an edit changed, and those whose whole subtree it may have: the edit count
+    // when last touched.
+    std::map<QuadKey, std::uint64_t> touched_, touchedBelow_;
+    PyramidUse pyramidUse_;
 };
 
 }  // namespace lacet
