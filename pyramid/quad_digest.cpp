@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include <glm/geometric.hpp>
+
 #include "pyramid/digest.h"
 
 namespace lacet {
@@ -61,13 +63,26 @@ std::uint64_t QuadDigests::computeNode(LayerId layer, ElementId id) const {
     if (id == kNoElement || id >= l.nodes.size() || !l.nodes[id].alive) return d.word(0xDEAD).value();
     const Node& n = l.nodes[id];
     d.real(n.p.x).real(n.p.y).real(n.roundabout).word(n.curves.size());
-    // Stop lines and junction radii read every curve at the node: its width, flags and direction.
+    // Stop lines and junction radii (model/junctions.h) read every curve at the node: its width,
+    // and where 3 meet the direction it leaves the node in, towards its first vertex that differs
+    // from the node.
+    const auto leaving = [&](const Curve& cv, bool atStart) {
+        const std::size_t count = cv.vertices.size();
+        const Vec2 origin = atStart ? cv.vertices.front().p : cv.vertices.back().p;
+        for (std::size_t k = 1; k < count; ++k) {
+            const Vec2 p = atStart ? cv.vertices[k].p : cv.vertices[count - 1 - k].p;
+            if (p != origin) return glm::normalize(p - origin);  // as model/junctions.cpp
+        }
+        return Vec2(0.0);
+    };
     for (ElementId c : n.curves) {
         d.word(c);
-        if (c >= l.curves.size()) continue;
+        if (c >= l.curves.size() || l.curves[c].vertices.empty()) continue;
         const Curve& cv = l.curves[c];
         d.word(cv.start).word(cv.end).real(cv.w).real(cv.wf).word(cv.cls).word(cv.flags);
-        vertices(d, cv.vertices);
+        if (n.curves.size() != 3) continue;  // directions decide stop lines only where 3 curves meet
+        const Vec2 a = leaving(cv, true), b = leaving(cv, false);
+        d.real(a.x).real(a.y).real(b.x).real(b.y);
     }
     return d.value();
 }
