@@ -75,6 +75,10 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--frames", fo->frames, "Frames of the flight");
     flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');
     flyover->add_option("--prefetch-frames", fo->prefetchFrames, "How far ahead (frames) the prefetching viewer is");
+    flyover->add_option("--pyramid", fo->pyramid,
+                        "Fly each budget without and with this pyramid of the synthetic scene ('auto': build one into a temporary file)");
+    flyover->add_option("--pyramid-quad", fo->pyramidQuadM, "With --pyramid auto: the side (m) of the deepest level's quads, made from vector data")
+        ->check(CLI::PositiveNumber);
     flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
     flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });
 

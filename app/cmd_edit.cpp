@@ -1,6 +1,8 @@
-// `lacet edit [scene.gpkg] [--script S.json]`: the editor's window (ui/editor_app.h) on a scene
-// file; without one, on the Andorra sample imported on the spot (its import report printed, as
-// `lacet import` prints it) when its data is there, else on a synthetic scene.
+// `lacet edit [scene.gpkg] [--script S.json] [--pyramid FILE | --no-pyramid]`: the editor's window
+// (ui/editor_app.h) on a scene file; without one, on the Andorra sample imported on the spot (its
+// import report printed, as `lacet import` prints it) when its data is there, else on a synthetic
+// scene. A scene file's pyramid (§7: `lacet pyramid build`, by default beside it as
+// NAME.pyramid.gpkg) gives the appearance of the coarse quads and is updated after each save.
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -9,6 +11,7 @@
 #include "app/import_summary.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
+#include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 #include "ui/editor_app.h"
@@ -71,11 +74,23 @@ void addEditCommand(CLI::App& app) {
     cmd->add_option("--width", o->editor.width, "Window width (pixels)");
     cmd->add_option("--height", o->editor.height, "Window height (pixels)");
     cmd->add_option("--budget", o->editor.budgetMs, "Tile production budget per frame (ms)");
+    cmd->add_option("--pyramid", o->editor.pyramid,
+                    "Pyramid file (lacet pyramid build) for the coarse quads' appearance; default: the scene's NAME.pyramid.gpkg when it exists");
+    cmd->add_flag("--no-pyramid", o->editor.noPyramid, "Make every tile live, even when the scene has a pyramid");
     cmd->add_option("--cache-tiles", o->editor.cacheTiles,
                     "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
         ->check(CLI::PositiveNumber);
     cmd->callback([o] {
         if (!o->editor.script.empty()) std::filesystem::create_directories(o->editor.outDir);
+        if (!o->editor.pyramid.empty() && o->editor.noPyramid) throw CLI::ValidationError("--pyramid and --no-pyramid exclude each other");
+        if (!o->editor.pyramid.empty() && !std::filesystem::exists(o->editor.pyramid))
+            throw CLI::ValidationError("--pyramid: " + o->editor.pyramid + " does not exist");
+        if (o->editor.pyramid.empty() && !o->editor.noPyramid && !o->scene.empty()) {
+            const std::string p = pyramidPathOf(o->scene);
+            if (std::filesystem::exists(p)) o->editor.pyramid = p;
+        }
+        if (!o->editor.pyramid.empty() && o->scene.empty())
+            throw CLI::ValidationError("--pyramid needs a scene file (the pyramid is that file's)");
         ui::EditorDocument doc = chooseDocument(*o);
         const bool synthetic = doc.label == "synthetic";
         ui::EditorApp editor(o->editor, std::move(doc));

@@ -5,9 +5,14 @@
 // frame, the update time (refinement and production), the tiles made and the cache size. Run with no budget (every tile of the view made
 // each frame) and with a per-frame budget (the rest left pending, shown coarser by a renderer),
 // each without and with prefetching: the viewer `prefetchFrames` frames ahead on the path is
-// given to the session, which makes that viewer's tiles with the budget left.
+// given to the session, which makes that viewer's tiles with the budget left. With a pyramid
+// (§7, issue 15: `--pyramid`), each budget is flown without and with it instead: the quads above
+// the pyramid's first vector level read their appearance from it.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -16,6 +21,7 @@
 #include "bench/tasks.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
+#include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -102,16 +108,49 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         bool prefetch, cull;
         double refineBudget;
         std::size_t cacheTiles = SessionParams{}.cacheTiles;
+        bool pyramid = false;
     };
+    // The pyramid: given, or built for the scene into a temporary file removed at the end.
+    std::shared_ptr<PyramidReader> pyramid;
+    nlohmann::json pyramidJson;
+    struct Remove {
+        std::string path;
+        ~Remove() {
+            if (!path.empty()) std::filesystem::remove(path);
+        }
+    } temporary;
+    if (!o.pyramid.empty()) {
+        std::string file = o.pyramid;
+        if (o.pyramid == "auto") {
+            if (!(o.pyramidQuadM > 0.0)) throw std::invalid_argument("bench flyover: --pyramid-quad must be > 0");
+            int maxLevel = 0;
+            while (doc.scene.extent.size().x / double(1 << maxLevel) > o.pyramidQuadM * (1.0 + 1e-9) && maxLevel < 12) ++maxLevel;
+            file = temporary.path =
+                (std::filesystem::temp_directory_path() / ("lacet_flyover_" + std::to_string(::getpid()) + ".pyramid.gpkg")).string();
+            const PyramidRunFigures f = buildPyramidFile(doc, file, maxLevel, 1, TileEncoding{});
+            pyramidJson = {{"built", true}, {"max_level", maxLevel}, {"quads", f.quads}, {"build_seconds", f.wallSeconds},
+                           {"file_mib", double(std::filesystem::file_size(file)) / (1024.0 * 1024.0)}};
+        }
+        pyramid = std::make_shared<PyramidReader>(file, doc);
+        pyramidJson["file"] = o.pyramid == "auto" ? std::string("(temporary)") : file;
+        pyramidJson["vector_level"] = pyramid->vectorLevel();
+        pyramidJson["levels_read"] = {pyramid->minLevel(), pyramid->vectorLevel() - 1};
+        pyramidJson["encoding"] = pyramid->encoding();
+    }
     std::vector<Run> plan;
-    for (double budget : o.budgetsMs)
+    if (pyramid)  // each budget without and with the pyramid, nothing else
+        for (double budget : o.budgetsMs)
+            for (const bool with : {false, true}) plan.push_back({budget, false, true, 0.0, SessionParams{}.cacheTiles, with});
+    for (double budget : pyramid ? std::vector<double>{} : o.budgetsMs)
         for (const bool prefetch : {false, true}) plan.push_back({budget, prefetch, true, 0.0});
-    for (double budget : o.budgetsMs)  // half of the budget for subdivisions, the rest deferred
-        if (budget > 0.0) plan.push_back({budget, false, true, 0.5 * budget});
-    // The paper's 784 tiles: fewer than the flight's views need, so the farthest quads stand in
-    // for their children (editor/cache_fit.h). What the smaller budget costs.
-    for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0, 784});
-    plan.push_back({0.0, false, false, 0.0});  // for comparison: every leaf of the view, no culling
+    if (!pyramid) {
+        for (double budget : o.budgetsMs)  // half of the budget for subdivisions, the rest deferred
+            if (budget > 0.0) plan.push_back({budget, false, true, 0.5 * budget});
+        // The paper's 784 tiles: fewer than the flight's views need, so the farthest quads stand in
+        // for their children (editor/cache_fit.h). What the smaller budget costs.
+        for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0, 784});
+        plan.push_back({0.0, false, false, 0.0});  // for comparison: every leaf of the view, no culling
+    }
     const ViewParams view;
     for (const Run& run : plan) {
         const double budget = run.budget;
@@ -121,7 +160,9 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         params.refineBudgetMs = run.refineBudget;
         params.cacheTiles = run.cacheTiles;
         EditSession session(SceneDocument(doc), params);
+        if (run.pyramid) session.setPyramid(pyramid);
         std::vector<double> ms, tiles, refine, produce;
+        std::size_t fromPyramid = 0, pyramidFailed = 0;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0, replacedFrames = 0, replacedMax = 0;
         double replacedSum = 0.0, viewSum = 0.0;
         for (int f = 0; f < o.frames; ++f) {
@@ -136,6 +177,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             refine.push_back(r.refineMs);
             produce.push_back(r.produceMs);
             cachePeak = std::max(cachePeak, r.cached);
+            fromPyramid += r.fromPyramid;
+            pyramidFailed += r.pyramidFailed;
             pendingFrames += r.pending > 0;
             prefetched += r.prefetched;
             deferredFrames += r.refineDeferred;
@@ -162,6 +205,9 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             worst.push_back({{"frame", f}, {"ms", ms[f]}, {"refine_ms", refine[f]}, {"produce_ms", produce[f]}, {"tiles", tiles[f]}});
         }
         runs.push_back({{"budget_ms", budget},
+                        {"pyramid", run.pyramid},
+                        {"pyramid_tiles_read", fromPyramid},
+                        {"pyramid_tiles_failed", pyramidFailed},
                         {"slowest_frames", worst},
                         {"first_frame_ms", ms.front()},
                         {"flight_mean_ms", flightSum / double(flight.size())},
@@ -197,6 +243,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                       {"end_to_road_m", std::abs(glm::length(end - start) - length * scale)}}},
             {"prefetch_frames_ahead", o.prefetchFrames},
             {"runs", runs},
+            {"pyramid", pyramidJson},
             {"peak_rss_mib", peakRssMiB()}};
 }
 

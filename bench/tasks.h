@@ -70,6 +70,12 @@ struct FlyoverBenchOptions {
     double startAltitude = 5000.0, endAltitude = 5.0;
     std::vector<double> budgetsMs{0.0, 10.0};
     int prefetchFrames = 25;  // how far ahead the predicted viewer is, in frames (the paper: 25)
+    // With a pyramid (§7; issue 15): each budget flown without and with it, no other runs. A file
+    // of this synthetic scene (lacet pyramid build), or "auto": built into a temporary file, its
+    // deepest level the first whose quads are `pyramidQuadM` or smaller, made from vector data
+    // (L = that level: the editor reads the levels above it).
+    std::string pyramid;
+    double pyramidQuadM = 2000.0;  // m, > 0
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
+#include <sstream>
 
 #include <epoxy/gl.h>
 #define GLFW_INCLUDE_NONE
@@ -103,6 +105,8 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
     objects_ = std::make_unique<ObjectRenderer>();
     overlay_ = std::make_unique<OverlayRenderer>();
     scenePath_ = document.path;
+    pyramidPath_ = options_.noPyramid ? std::string() : options_.pyramid;
+    pyramidScene_ = document.path;
     log_["scene"] = document.label;
     const Box ext = document.document.scene.extent;
     resetSession(std::move(document.document));
@@ -116,6 +120,7 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
 }
 
 EditorApp::~EditorApp() {
+    if (pyramidUpdate_ && pyramidUpdate_->thread.joinable()) pyramidUpdate_->thread.join();
     script_.reset();
     overlay_.reset();
     objects_.reset();
@@ -142,6 +147,8 @@ void EditorApp::resetSession(SceneDocument doc) {
     controller_.reset();
     session_.reset();
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
+    ++sessionSerial_;
+    openPyramid();
     controller_ = std::make_unique<EditingController>(*session_);
     controller_->onMessage = [this](const std::string& m) { status(m); };
     controller_->onCommand = [this](const CommandReport& r) {
@@ -255,13 +262,102 @@ void EditorApp::save(const std::string& path) {
         status("Saved " + target + " in " + std::to_string(int(msSince(t0))) + " ms");
     } catch (const std::exception& e) {
         status(std::string("Not saved: ") + e.what());
+        return;
     }
+    // The pyramid goes with its scene file: saved elsewhere, that file is another scene.
+    std::error_code e1, e2;
+    const bool sameFile = !pyramidScene_.empty() &&
+                          std::filesystem::weakly_canonical(target, e1) == std::filesystem::weakly_canonical(pyramidScene_, e2) && !e1 && !e2;
+    if (session_->pyramid() && sameFile)
+        startPyramidUpdate(std::make_shared<const SceneDocument>(session_->document()), session_->editCount());
+    else if (session_->pyramid())
+        status(std::string("Saved to another file than ") + pyramidScene_ + ": its pyramid " + pyramidPath_ + " was not updated");
 }
 
 void EditorApp::open(const std::string& path) {
+    while (pyramidUpdate_) pollPyramidUpdate(true);  // the updates of the scene being left end first
+    const std::string pyramid = pyramidPathOf(path);
+    pyramidPath_ = !options_.noPyramid && std::filesystem::exists(pyramid) ? pyramid : std::string();
+    pyramidScene_ = path;
     resetSession(loadScene(path));
     scenePath_ = path;
     status("Opened " + path);
+}
+
+void EditorApp::openPyramid() {
+    if (pyramidPath_.empty()) return;
+    try {
+        auto reader = std::make_shared<PyramidReader>(pyramidPath_, session_->document());
+        session_->setPyramid(reader);
+        log_["pyramid"] = {{"file", pyramidPath_}, {"vector_level", reader->vectorLevel()}, {"max_level", reader->maxLevel()},
+                           {"encoding", reader->encoding()}};
+        std::cerr << "lacet edit: pyramid " << pyramidPath_ << ": the appearance of levels " << reader->minLevel() << " to "
+                  << reader->vectorLevel() - 1 << " is read from it\n";
+    } catch (const std::exception& e) {
+        std::cerr << "lacet edit: warning: " << e.what() << "; going on without the pyramid (every tile made live)\n";
+        status(std::string("No pyramid: ") + e.what());
+        log_["pyramid_refused"] = e.what();
+        pyramidPath_.clear();
+    }
+}
+
+void EditorApp::startPyramidUpdate(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt) {
+    if (pyramidUpdate_) {  // one update at a time: this one after it (a later save replaces it)
+        pyramidQueued_ = std::move(saved);
+        pyramidQueuedAt_ = madeAt;
+        return;
+    }
+    pyramidUpdate_ = std::make_unique<PyramidUpdate>();
+    PyramidUpdate* u = pyramidUpdate_.get();
+    u->document = std::move(saved);
+    u->madeAt = madeAt;
+    u->session = sessionSerial_;
+    const std::string path = pyramidPath_;
+    status(std::string("Updating the pyramid ") + path + "...");
+    u->thread = std::thread([u, path] {
+        try {
+            u->figures = updatePyramidFile(*u->document, path);
+        } catch (const std::exception& e) {
+            u->error = e.what();
+        }
+        u->done = true;
+    });
+}
+
+void EditorApp::pollPyramidUpdate(bool wait) {
+    if (!pyramidUpdate_ || (!wait && !pyramidUpdate_->done)) return;
+    pyramidUpdate_->thread.join();
+    const std::unique_ptr<PyramidUpdate> u = std::move(pyramidUpdate_);
+    if (u->session == sessionSerial_ && !pyramidPath_.empty()) {
+        const PyramidRunFigures& f = u->figures;
+        nlohmann::json entry = {{"file", pyramidPath_}, {"edit_count", u->madeAt}};
+        if (!u->error.empty()) {
+            entry["error"] = u->error;
+            std::cerr << "lacet edit: warning: the pyramid was not updated: " << u->error << "\n";
+            status(std::string("Pyramid not updated: ") + u->error);
+        } else {
+            entry.update({{"quads", f.quads}, {"quads_changed", f.quadsChanged}, {"tiles_made", f.tilesMade},
+                          {"tiles_written", f.tilesWritten}, {"rebuilt", f.rebuilt}, {"seconds", f.wallSeconds}});
+            try {
+                session_->setPyramid(std::make_shared<PyramidReader>(pyramidPath_, session_->document()), u->madeAt);
+                std::ostringstream m;
+                m.precision(3);
+                m << "Pyramid updated: " << f.quadsChanged << " of " << f.quads << " quads changed, " << f.tilesMade << " tiles made, "
+                  << f.tilesWritten << " written in " << f.wallSeconds << " s";
+                status(m.str());
+            } catch (const std::exception& e) {
+                entry["error"] = e.what();
+                std::cerr << "lacet edit: warning: " << e.what() << "; the edited quads stay live\n";
+                status(std::string("Pyramid not reopened: ") + e.what());
+            }
+        }
+        log_["pyramid_updates"].push_back(entry);
+    }
+    if (pyramidQueued_ && u->session == sessionSerial_) {
+        std::shared_ptr<const SceneDocument> next = std::move(pyramidQueued_);
+        startPyramidUpdate(std::move(next), pyramidQueuedAt_);
+    }
+    pyramidQueued_.reset();
 }
 
 void EditorApp::requestScreenshot(const std::string& path, bool panels, bool overlay) {
@@ -325,6 +421,7 @@ int EditorApp::run() {
             glfwWaitEvents();
             continue;
         }
+        pollPyramidUpdate(false);
         if (script_ && !script_->step(*this)) break;
         std::vector<InputEvent> events;
         events.swap(events_);
@@ -401,12 +498,19 @@ int EditorApp::run() {
                                       {"drawn", ts.drawn}, {"fallback", ts.fallback}, {"missing", ts.missing},
                                       {"uploads", ts.uploads}, {"cached", lastFrame_.cached}, {"gpu_tiles", ts.gpuTiles},
                                       {"render_ms", lastRenderMs_}, {"viewer_height_m", h},
+                                      {"from_pyramid", lastFrame_.fromPyramid}, {"pyramid_failed", lastFrame_.pyramidFailed},
                                       {"object_meshes", objects_->stats().meshes}, {"object_triangles", objects_->stats().triangles}});
         }
         glfwSwapBuffers(window_);
         ++frames_;
     }
-    if (script_) script_->finish(*this);
+    while (pyramidUpdate_) pollPyramidUpdate(true);  // a script's log says how the last save's update went
+    if (script_) {
+        const PyramidUse& p = session_->pyramidUse();
+        if (session_->pyramid())
+            log_["pyramid_use"] = {{"read", p.read}, {"failed", p.failed}, {"touched", p.touched}, {"live", p.live}};
+        script_->finish(*this);
+    }
     return 0;
 }
 

@@ -19,10 +19,20 @@
 // Ctrl+Z undo, Ctrl+Y (or Ctrl+Shift+Z) redo, Ctrl+S save, Delete deletes the selected curve,
 // Enter ends the road being drawn, Escape cancels it or clears the selection, F toggles fly mode
 // (W A S D, Q E to move; Shift faster).
+//
+// The pyramid (§7; pyramid/pyramid_reader.h): with `EditorOptions::pyramid`, the session reads
+// the appearance of the quads below the pyramid's first vector level from that file (a pyramid
+// that does not match the scene is refused with a warning on stderr, and the editor goes on
+// without). Each save to the scene's own file then updates the pyramid (`lacet pyramid update`,
+// pyramid/pyramid_build.h) on a copy of the saved document in a background thread; the quads
+// edited since the pyramid was made stay live until the update is done and the reader reopened
+// (EditSession::setPyramid with the edit count of the save), and edits made meanwhile after.
 
+#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -49,6 +59,10 @@ struct EditorOptions {
     double budgetMs = 12.0;     // tile production per frame
     std::size_t cacheTiles = SessionParams{}.cacheTiles;  // tile pairs the session keeps (editor/cache_fit.h)
     bool vsync = true;
+    // The pyramid file of the document (empty: none). A scene opened later (a script's open)
+    // gets its default pyramid (pyramidPathOf) when that exists, unless `noPyramid`.
+    std::string pyramid;
+    bool noPyramid = false;
 };
 
 // The document the editor opens: the scene, the file it saves to (empty: none yet, a save goes to
@@ -106,6 +120,12 @@ private:
     void drawPanels();
     void writeScreenshot(const Screenshot& s);
     void status(const std::string& message);
+    // The pyramid: opened for the session (a warning and none when it does not fit), updated
+    // after a save in the background, and reopened when the update is done (checked each frame;
+    // `wait`: until it is).
+    void openPyramid();
+    void startPyramidUpdate(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt);
+    void pollPyramidUpdate(bool wait);
 
     EditorOptions options_;
     GLFWwindow* window_ = nullptr;
@@ -137,6 +157,22 @@ private:
     nlohmann::json log_;
     std::string status_;
     bool confirmClose_ = false, closing_ = false;
+    // The pyramid and its update after a save.
+    std::string pyramidPath_;   // the file (empty: none)
+    std::string pyramidScene_;  // the scene file it goes with: saves there update it
+    std::uint64_t sessionSerial_ = 0;  // resetSession() count: an update applies to its own session only
+    struct PyramidUpdate {
+        std::thread thread;
+        std::atomic<bool> done{false};
+        std::shared_ptr<const SceneDocument> document;  // as saved
+        std::uint64_t madeAt = 0, session = 0;  // the session's edit count at the save, and which session
+        PyramidRunFigures figures;
+        std::string error;
+    };
+    std::unique_ptr<PyramidUpdate> pyramidUpdate_;
+    // A save while an update ran: the document it saved, updated after.
+    std::shared_ptr<const SceneDocument> pyramidQueued_;
+    std::uint64_t pyramidQueuedAt_ = 0;
 };
 
 }  // namespace lacet::ui
