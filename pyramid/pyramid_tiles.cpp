@@ -13,7 +13,9 @@ bool PyramidImage::hasWater() const {
 }
 
 PyramidImage pyramidImage(const AppearanceTile& tile) {
-    const std::vector<std::uint8_t> texels = tileTexels(tile);
+    std::vector<std::uint8_t> uniformTexels;  // a uniform tile's texels, made here (the others are read in place)
+    if (tile.uniform) uniformTexels = tileTexels(tile);
+    const std::vector<std::uint8_t>& texels = tile.uniform ? uniformTexels : tile.rgbm;
     const int n = tile.resolution;
     PyramidImage image;
     image.size = n;

@@ -8,6 +8,7 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
+#include "io/scene_file.h"
 #include "io/sqlite_db.h"
 #include "io/tile_codec.h"
 #include "pyramid/pyramid_build.h"
@@ -172,6 +173,17 @@ TEST(PyramidUpdate, NothingChangedRemakesNothing) {
     EXPECT_EQ(st.quadsChanged, 0u);
     EXPECT_EQ(st.tilesMade, 0u);
     EXPECT_EQ(st.tilesWritten, 0u);
+}
+
+// A scene saved and loaded again, with no edit, is the same scene to the digests.
+TEST(PyramidUpdate, ASaveAndLoadRemakesNothing) {
+    const SceneDocument doc = smallScene();
+    TempFile f("pyramid_saved.gpkg"), scene("pyramid_scene.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    saveScene(scene.path, doc);
+    const PyramidStats st = updatePyramid(loadScene(scene.path), f.path, nullptr);
+    EXPECT_EQ(st.quadsChanged, 0u);
+    EXPECT_EQ(st.tilesMade, 0u);
 }
 
 TEST(PyramidUpdate, OneMovedRoadRemakesFewTiles) {
