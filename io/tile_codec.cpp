@@ -1,0 +1,716 @@
+#include "io/tile_codec.h"
+
+#include <stdio.h>  // jpeglib.h uses FILE and size_t without including their header
+
+#include <jpeglib.h>
+#include <png.h>
+#include <webp/decode.h>
+#include <webp/encode.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <csetjmp>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+// libpng and libjpeg report fatal errors through a callback that must not return: it longjmps back to
+// a setjmp in a small function (pngWriteRows, jpegReadHeader...) whose frame, like the C frames it
+// skips, holds no object with a destructor. What must outlive the jump (the output, the message)
+// lives in a state struct in the caller's frame, which then throws.
+
+namespace lacet {
+namespace {
+
+// ---- arguments ----
+
+void checkImageArgs(const char* function, std::size_t size, int width, int height, int channels) {
+    if (width < 1 || height < 1 || width > kMaxTileSide || height > kMaxTileSide)
+        throw std::invalid_argument(std::string(function) + ": width and height must be in 1.." +
+                                    std::to_string(kMaxTileSide) + ", got " + std::to_string(width) + " x " +
+                                    std::to_string(height));
+    if (size != std::size_t(width) * std::size_t(height) * std::size_t(channels))
+        throw std::invalid_argument(std::string(function) + ": expected width * height * " + std::to_string(channels) +
+                                    " values, got " + std::to_string(size));
+}
+
+void checkRange(const char* what, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+        throw std::invalid_argument(std::string(what) + " must be in " + std::to_string(lo) + ".." + std::to_string(hi) +
+                                    ", got " + std::to_string(value));
+}
+
+// ---- PNG ----
+
+struct PngState {
+    std::jmp_buf jump;
+    char message[200] = {};
+    std::vector<std::uint8_t>* out = nullptr;  // writing
+    const std::uint8_t* in = nullptr;          // reading
+    std::size_t inSize = 0, inPos = 0;
+};
+
+[[noreturn]] void pngError(png_structp png, png_const_charp message) {
+    auto* s = static_cast<PngState*>(png_get_error_ptr(png));
+    std::snprintf(s->message, sizeof s->message, "%s", message);
+    std::longjmp(s->jump, 1);
+}
+
+void pngIgnoreWarning(png_structp, png_const_charp) {}
+
+void pngWriteBytes(png_structp png, png_bytep data, std::size_t n) {
+    auto* s = static_cast<PngState*>(png_get_io_ptr(png));
+    bool ok = true;
+    try {
+        s->out->insert(s->out->end(), data, data + n);
+    } catch (const std::bad_alloc&) {
+        ok = false;
+    }
+    if (!ok) png_error(png, "out of memory");
+}
+
+void pngReadBytes(png_structp png, png_bytep data, std::size_t n) {
+    auto* s = static_cast<PngState*>(png_get_io_ptr(png));
+    if (s->inSize - s->inPos < n) png_error(png, "truncated PNG");
+    std::memcpy(data, s->in + s->inPos, n);
+    s->inPos += n;
+}
+
+int pngFilterMask(PngFilter f) {
+    switch (f) {
+    case PngFilter::None: return PNG_FILTER_NONE;
+    case PngFilter::Sub: return PNG_FILTER_SUB;
+    case PngFilter::Adaptive: return PNG_ALL_FILTERS;
+    }
+    return PNG_ALL_FILTERS;
+}
+
+bool pngWriteRows(png_structp png, png_infop info, PngState& s, png_bytepp rows, int width, int height, int channels,
+                  int level, int filterMask) {
+    if (setjmp(s.jump)) return false;
+    png_set_write_fn(png, &s, pngWriteBytes, nullptr);
+    png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8,
+                 channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(png, level);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, filterMask);
+    png_write_info(png, info);
+    png_write_image(png, rows);
+    png_write_end(png, nullptr);
+    return true;
+}
+
+struct PngHeader {
+    int width = 0, height = 0, channels = 0;
+};
+
+// Reads the header and sets the expansions to 8-bit grey, grey + alpha, RGB or RGBA.
+bool pngReadHeader(png_structp png, png_infop info, PngState& s, PngHeader& h) {
+    if (setjmp(s.jump)) return false;
+    png_set_read_fn(png, &s, pngReadBytes);
+    png_set_user_limits(png, kMaxTileSide, kMaxTileSide);
+    png_read_info(png, info);
+    const int depth = png_get_bit_depth(png, info);
+    const int type = png_get_color_type(png, info);
+    if (depth == 16) png_error(png, "16-bit PNG not supported");
+    if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+    if (png_get_valid(png, info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    h.width = int(png_get_image_width(png, info));
+    h.height = int(png_get_image_height(png, info));
+    h.channels = png_get_channels(png, info);
+    if (png_get_rowbytes(png, info) != std::size_t(h.width) * std::size_t(h.channels))
+        png_error(png, "unexpected PNG row size");
+    return true;
+}
+
+bool pngReadRows(png_structp png, png_infop info, PngState& s, png_bytepp rows) {
+    if (setjmp(s.jump)) return false;
+    png_read_image(png, rows);
+    png_read_end(png, info);
+    return true;
+}
+
+DecodedImage decodePng(std::span<const std::uint8_t> bytes) {
+    PngState s;
+    s.in = bytes.data();
+    s.inSize = bytes.size();
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, pngError, pngIgnoreWarning);
+    if (!png) throw std::bad_alloc();
+    png_infop info = png_create_info_struct(png);
+    struct Guard {
+        png_structp& png;
+        png_infop& info;
+        ~Guard() { png_destroy_read_struct(&png, info ? &info : nullptr, nullptr); }
+    } guard{png, info};
+    if (!info) throw std::bad_alloc();
+
+    PngHeader h;
+    if (!pngReadHeader(png, info, s, h)) throw TileDecodeError(std::string("PNG: ") + s.message);
+    DecodedImage image;
+    image.width = h.width;
+    image.height = h.height;
+    image.channels = h.channels;
+    image.pixels.resize(std::size_t(h.width) * std::size_t(h.height) * std::size_t(h.channels));
+    std::vector<png_bytep> rows(static_cast<std::size_t>(h.height));
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = image.pixels.data() + y * std::size_t(h.width) * std::size_t(h.channels);
+    if (!pngReadRows(png, info, s, rows.data())) throw TileDecodeError(std::string("PNG: ") + s.message);
+    return image;
+}
+
+// ---- JPEG ----
+
+struct JpegState {
+    jpeg_error_mgr manager;  // first: libjpeg hands the callbacks &manager as cinfo->err
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = {};
+    unsigned char* buffer = nullptr;  // jpeg_mem_dest's output, malloc'ed by libjpeg
+    unsigned long size = 0;
+};
+
+[[noreturn]] void jpegErrorExit(j_common_ptr c) {
+    auto* s = reinterpret_cast<JpegState*>(c->err);
+    (*c->err->format_message)(c, s->message);
+    std::longjmp(s->jump, 1);
+}
+
+// Warnings (level -1) are what libjpeg says of corrupt or truncated data before it fills the rest
+// with grey: errors here. Trace messages (level >= 0) are ignored.
+void jpegEmitMessage(j_common_ptr c, int level) {
+    if (level < 0) jpegErrorExit(c);
+}
+
+void jpegInstallErrors(JpegState& s) {
+    jpeg_std_error(&s.manager);
+    s.manager.error_exit = jpegErrorExit;
+    s.manager.emit_message = jpegEmitMessage;
+}
+
+bool jpegCompress(jpeg_compress_struct& c, JpegState& s, JSAMPARRAY rows, int width, int height, int quality) {
+    if (setjmp(s.jump)) return false;
+    jpeg_create_compress(&c);
+    jpeg_mem_dest(&c, &s.buffer, &s.size);
+    c.image_width = JDIMENSION(width);
+    c.image_height = JDIMENSION(height);
+    c.input_components = 3;
+    c.in_color_space = JCS_RGB;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, quality, TRUE);
+    jpeg_start_compress(&c, TRUE);
+    while (c.next_scanline < c.image_height) jpeg_write_scanlines(&c, rows + c.next_scanline, c.image_height - c.next_scanline);
+    jpeg_finish_compress(&c);
+    return true;
+}
+
+std::vector<std::uint8_t> encodeJpeg(std::span<const std::uint8_t> rgb, int width, int height, int quality) {
+    std::vector<JSAMPROW> rows(static_cast<std::size_t>(height));
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = const_cast<JSAMPROW>(rgb.data() + y * std::size_t(width) * 3);
+    JpegState s;
+    jpeg_compress_struct c{};
+    c.err = &s.manager;
+    jpegInstallErrors(s);
+    const bool ok = jpegCompress(c, s, rows.data(), width, height, quality);
+    jpeg_destroy_compress(&c);
+    struct Free {
+        unsigned char* p;
+        ~Free() { std::free(p); }
+    } freeBuffer{s.buffer};
+    if (!ok) throw std::runtime_error(std::string("encodeRgb(): libjpeg: ") + s.message);
+    return std::vector<std::uint8_t>(s.buffer, s.buffer + s.size);
+}
+
+bool jpegReadHeader(jpeg_decompress_struct& c, JpegState& s, std::span<const std::uint8_t> bytes) {
+    if (setjmp(s.jump)) return false;
+    jpeg_create_decompress(&c);
+    jpeg_mem_src(&c, bytes.data(), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&c, TRUE);
+    return true;
+}
+
+bool jpegReadRows(jpeg_decompress_struct& c, JpegState& s, JSAMPARRAY rows) {
+    if (setjmp(s.jump)) return false;
+    jpeg_start_decompress(&c);
+    while (c.output_scanline < c.output_height) jpeg_read_scanlines(&c, rows + c.output_scanline, c.output_height - c.output_scanline);
+    jpeg_finish_decompress(&c);
+    return true;
+}
+
+DecodedImage decodeJpeg(std::span<const std::uint8_t> bytes) {
+    JpegState s;
+    jpeg_decompress_struct c{};
+    c.err = &s.manager;
+    jpegInstallErrors(s);
+    struct Guard {
+        jpeg_decompress_struct& c;
+        ~Guard() { jpeg_destroy_decompress(&c); }
+    } guard{c};
+    if (!jpegReadHeader(c, s, bytes)) throw TileDecodeError(std::string("JPEG: ") + s.message);
+    DecodedImage image;
+    switch (c.jpeg_color_space) {
+    case JCS_GRAYSCALE: c.out_color_space = JCS_GRAYSCALE; image.channels = 1; break;
+    case JCS_YCbCr:
+    case JCS_RGB: c.out_color_space = JCS_RGB; image.channels = 3; break;
+    default: throw TileDecodeError("JPEG: colour space " + std::to_string(int(c.jpeg_color_space)) + " (CMYK or YCCK) not supported");
+    }
+    if (c.image_width > JDIMENSION(kMaxTileSide) || c.image_height > JDIMENSION(kMaxTileSide))
+        throw TileDecodeError("JPEG: " + std::to_string(c.image_width) + " x " + std::to_string(c.image_height) +
+                              " pixels, more than " + std::to_string(kMaxTileSide) + " on a side");
+    image.width = int(c.image_width);
+    image.height = int(c.image_height);
+    image.pixels.resize(std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.channels));
+    std::vector<JSAMPROW> rows(static_cast<std::size_t>(image.height));
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = image.pixels.data() + y * std::size_t(image.width) * std::size_t(image.channels);
+    if (!jpegReadRows(c, s, rows.data())) throw TileDecodeError(std::string("JPEG: ") + s.message);
+    return image;
+}
+
+// ---- WebP ----
+
+const char* webpStatus(VP8StatusCode status) {
+    switch (status) {
+    case VP8_STATUS_OUT_OF_MEMORY: return "out of memory";
+    case VP8_STATUS_INVALID_PARAM: return "invalid parameter";
+    case VP8_STATUS_BITSTREAM_ERROR: return "corrupt bitstream";
+    case VP8_STATUS_UNSUPPORTED_FEATURE: return "unsupported feature";
+    case VP8_STATUS_SUSPENDED: return "suspended";
+    case VP8_STATUS_USER_ABORT: return "aborted";
+    case VP8_STATUS_NOT_ENOUGH_DATA: return "truncated WebP";
+    default: return "unknown error";
+    }
+}
+
+DecodedImage decodeWebp(std::span<const std::uint8_t> bytes) {
+    WebPDecoderConfig config;
+    if (!WebPInitDecoderConfig(&config)) throw std::runtime_error("decodeImage(): libwebp version mismatch");
+    VP8StatusCode status = WebPGetFeatures(bytes.data(), bytes.size(), &config.input);
+    if (status != VP8_STATUS_OK) throw TileDecodeError(std::string("WebP: ") + webpStatus(status));
+    if (config.input.has_animation) throw TileDecodeError("WebP: animated WebP not supported");
+    DecodedImage image;
+    image.width = config.input.width;
+    image.height = config.input.height;
+    image.channels = config.input.has_alpha ? 4 : 3;
+    if (image.width < 1 || image.height < 1 || image.width > kMaxTileSide || image.height > kMaxTileSide)
+        throw TileDecodeError("WebP: " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                              " pixels, more than " + std::to_string(kMaxTileSide) + " on a side");
+    image.pixels.resize(std::size_t(image.width) * std::size_t(image.height) * std::size_t(image.channels));
+    config.output.colorspace = image.channels == 4 ? MODE_RGBA : MODE_RGB;
+    config.output.is_external_memory = 1;
+    config.output.u.RGBA.rgba = image.pixels.data();
+    config.output.u.RGBA.stride = image.width * image.channels;
+    config.output.u.RGBA.size = image.pixels.size();
+    status = WebPDecode(bytes.data(), bytes.size(), &config);
+    WebPFreeDecBuffer(&config.output);
+    if (status != VP8_STATUS_OK) throw TileDecodeError(std::string("WebP: ") + webpStatus(status));
+    return image;
+}
+
+// ---- signatures ----
+
+constexpr std::array<std::uint8_t, 8> kPngSignature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+constexpr std::array<std::uint8_t, 3> kJpegSignature = {0xff, 0xd8, 0xff};
+
+bool startsWith(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> prefix) {
+    return bytes.size() >= prefix.size() && std::equal(prefix.begin(), prefix.end(), bytes.begin());
+}
+
+// A blob shorter than a signature that begins it (a tile cut short) is named as truncated.
+bool truncatedSignature(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> signature) {
+    return !bytes.empty() && bytes.size() < signature.size() && std::equal(bytes.begin(), bytes.end(), signature.begin());
+}
+
+bool isWebp(std::span<const std::uint8_t> b) {
+    return b.size() >= 12 && std::memcmp(b.data(), "RIFF", 4) == 0 && std::memcmp(b.data() + 8, "WEBP", 4) == 0;
+}
+
+// ---- TIFF ----
+
+constexpr std::uint16_t kTagWidth = 256, kTagHeight = 257, kTagBitsPerSample = 258, kTagCompression = 259,
+                        kTagPhotometric = 262, kTagStripOffsets = 273, kTagSamplesPerPixel = 277,
+                        kTagRowsPerStrip = 278, kTagStripByteCounts = 279, kTagPlanarConfig = 284, kTagPredictor = 317,
+                        kTagTileWidth = 322, kTagTileLength = 323, kTagTileOffsets = 324, kTagTileByteCounts = 325,
+                        kTagSampleFormat = 339;
+constexpr std::uint16_t kTypeByte = 1, kTypeShort = 3, kTypeLong = 4;
+
+[[noreturn]] void tiffFail(const std::string& reason) { throw TileDecodeError("TIFF: " + reason); }
+
+// Bounds-checked reads of a TIFF blob in its byte order.
+class TiffBytes {
+public:
+    TiffBytes(std::span<const std::uint8_t> b, bool bigEndian) : b_(b), big_(bigEndian) {}
+    std::size_t size() const { return b_.size(); }
+    bool bigEndian() const { return big_; }
+    void need(std::uint64_t offset, std::uint64_t length, const char* what) const {
+        if (offset > b_.size() || length > b_.size() - offset)
+            tiffFail(std::string("truncated (") + what + " at byte " + std::to_string(offset) + ", " +
+                     std::to_string(length) + " bytes, beyond the end at " + std::to_string(b_.size()) + ")");
+    }
+    std::uint32_t read(std::uint64_t offset, int bytes, const char* what) const {
+        need(offset, std::uint64_t(bytes), what);
+        std::uint32_t v = 0;
+        for (int k = 0; k < bytes; ++k) {
+            const std::uint32_t byte = b_[std::size_t(offset) + std::size_t(k)];
+            v |= byte << (8 * (big_ ? bytes - 1 - k : k));
+        }
+        return v;
+    }
+    std::span<const std::uint8_t> span(std::uint64_t offset, std::uint64_t length, const char* what) const {
+        need(offset, length, what);
+        return b_.subspan(std::size_t(offset), std::size_t(length));
+    }
+
+private:
+    std::span<const std::uint8_t> b_;
+    bool big_;
+};
+
+struct TiffEntry {
+    std::uint16_t type = 0;
+    std::uint32_t count = 0;
+    std::uint64_t at = 0;  // offset of the entry in the blob
+};
+
+class TiffIfd {
+public:
+    TiffIfd(const TiffBytes& b, std::uint64_t offset) : b_(b) {
+        const std::uint32_t n = b.read(offset, 2, "IFD");
+        b.need(offset + 2, std::uint64_t(n) * 12, "IFD entries");
+        for (std::uint32_t i = 0; i < n; ++i) {
+            const std::uint64_t at = offset + 2 + std::uint64_t(i) * 12;
+            const auto tag = std::uint16_t(b.read(at, 2, "IFD entry"));
+            entries_.push_back({tag, {std::uint16_t(b.read(at + 2, 2, "IFD entry")), b.read(at + 4, 4, "IFD entry"), at}});
+        }
+    }
+    bool has(std::uint16_t tag) const { return find(tag) != nullptr; }
+    // The integer values of a tag (BYTE, SHORT or LONG), at least `minCount` and at most `maxCount` read.
+    std::vector<std::uint32_t> ints(std::uint16_t tag, std::uint64_t minCount, std::uint64_t maxCount) const {
+        const TiffEntry* e = find(tag);
+        if (!e) tiffFail("tag " + std::to_string(tag) + " missing");
+        const int size = e->type == kTypeByte ? 1 : e->type == kTypeShort ? 2 : e->type == kTypeLong ? 4 : 0;
+        if (size == 0) tiffFail("tag " + std::to_string(tag) + " has type " + std::to_string(e->type) + ", not an integer");
+        if (e->count < minCount) tiffFail("tag " + std::to_string(tag) + " has " + std::to_string(e->count) + " values, " + std::to_string(minCount) + " expected");
+        const std::uint64_t total = std::uint64_t(e->count) * std::uint64_t(size);
+        const std::uint64_t values = total <= 4 ? e->at + 8 : b_.read(e->at + 8, 4, "IFD entry");
+        const std::uint64_t n = std::min<std::uint64_t>(e->count, maxCount);
+        b_.need(values, n * std::uint64_t(size), "tag values");
+        std::vector<std::uint32_t> out(static_cast<std::size_t>(n));
+        for (std::size_t i = 0; i < out.size(); ++i) out[i] = b_.read(values + i * std::uint64_t(size), size, "tag values");
+        return out;
+    }
+    std::uint32_t value(std::uint16_t tag, std::uint32_t fallback) const { return has(tag) ? ints(tag, 1, 1)[0] : fallback; }
+
+private:
+    const TiffEntry* find(std::uint16_t tag) const {
+        for (const auto& [t, e] : entries_)
+            if (t == tag) return &e;
+        return nullptr;
+    }
+    const TiffBytes& b_;
+    std::vector<std::pair<std::uint16_t, TiffEntry>> entries_;
+};
+
+void inflateBlock(std::span<const std::uint8_t> in, std::span<std::uint8_t> out) {
+    z_stream z{};
+    if (inflateInit(&z) != Z_OK) throw std::bad_alloc();
+    z.next_in = const_cast<Bytef*>(in.data());
+    z.avail_in = uInt(in.size());
+    z.next_out = out.data();
+    z.avail_out = uInt(out.size());
+    const int r = inflate(&z, Z_FINISH);
+    inflateEnd(&z);
+    if (z.avail_out != 0 || (r != Z_STREAM_END && r != Z_OK && r != Z_BUF_ERROR))
+        tiffFail("corrupt or truncated deflate data");
+}
+
+// TIFF's LZW (TIFF 6.0 section 13): codes of 9 to 12 bits, most significant bit first, 256 clears
+// the table, 257 ends; the code width grows one code early (at 511, 1023 and 2047 entries), as libtiff
+// writes it.
+void lzwBlock(std::span<const std::uint8_t> in, std::span<std::uint8_t> out) {
+    constexpr int kClear = 256, kEnd = 257, kFirst = 258, kTableSize = 4096, kMaxWidth = 12;
+    if (in.size() >= 2 && in[0] == 0 && (in[1] & 1)) tiffFail("old-style LZW not supported");
+    std::vector<std::uint16_t> prefix(kTableSize), length(kTableSize);
+    std::vector<std::uint8_t> suffix(kTableSize), first(kTableSize);
+    for (int i = 0; i < 256; ++i) {
+        length[std::size_t(i)] = 1;
+        suffix[std::size_t(i)] = first[std::size_t(i)] = std::uint8_t(i);
+    }
+    std::uint64_t bit = 0;
+    const std::uint64_t bits = std::uint64_t(in.size()) * 8;
+    auto readCode = [&](int width) {
+        if (bit + std::uint64_t(width) > bits) return -1;
+        int code = 0;
+        for (int k = 0; k < width; ++k, ++bit) code = (code << 1) | ((in[std::size_t(bit >> 3)] >> (7 - (bit & 7))) & 1);
+        return code;
+    };
+    std::size_t o = 0;
+    int width = 9, next = kFirst, previous = -1;
+    while (o < out.size()) {
+        const int code = readCode(width);
+        if (code < 0 || code == kEnd) break;
+        if (code == kClear) {
+            width = 9;
+            next = kFirst;
+            previous = -1;
+            continue;
+        }
+        if (previous < 0) {
+            if (code > 255) tiffFail("corrupt LZW data (code " + std::to_string(code) + " after a clear)");
+        } else {
+            if (code > next || (code == next && next >= kTableSize)) tiffFail("corrupt LZW data (code " + std::to_string(code) + ")");
+            if (next < kTableSize) {
+                const auto p = std::size_t(previous), n = std::size_t(next);
+                prefix[n] = std::uint16_t(previous);
+                suffix[n] = code < next ? first[std::size_t(code)] : first[p];
+                first[n] = first[p];
+                length[n] = std::uint16_t(length[p] + 1);
+                ++next;
+                if (next == (1 << width) - 1 && width < kMaxWidth) ++width;
+            }
+        }
+        const std::size_t len = length[std::size_t(code)];
+        std::size_t c = std::size_t(code);
+        for (std::size_t k = len; k-- > 0;) {
+            if (o + k < out.size()) out[o + k] = suffix[c];
+            c = prefix[c];
+        }
+        o = std::min(o + len, out.size());
+        previous = code;
+    }
+    if (o < out.size()) tiffFail("truncated or corrupt LZW data");
+}
+
+}  // namespace
+
+// ---- encoders ----
+
+std::vector<std::uint8_t> encodePng(std::span<const std::uint8_t> pixels, int width, int height, int channels,
+                                    int level, PngFilter filter) {
+    if (channels != 1 && channels != 3) throw std::invalid_argument("encodePng(): channels must be 1 or 3");
+    checkImageArgs("encodePng()", pixels.size(), width, height, channels);
+    checkRange("encodePng(): level", level, 0, 9);
+    std::vector<png_bytep> rows(static_cast<std::size_t>(height));
+    for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = const_cast<png_bytep>(pixels.data() + y * std::size_t(width) * std::size_t(channels));
+    std::vector<std::uint8_t> out;
+    out.reserve(pixels.size() / 2 + 1024);
+    PngState s;
+    s.out = &out;
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, pngError, pngIgnoreWarning);
+    if (!png) throw std::bad_alloc();
+    png_infop info = png_create_info_struct(png);
+    struct Guard {
+        png_structp& png;
+        png_infop& info;
+        ~Guard() { png_destroy_write_struct(&png, info ? &info : nullptr); }
+    } guard{png, info};
+    if (!info) throw std::bad_alloc();
+    if (!pngWriteRows(png, info, s, rows.data(), width, height, channels, level, pngFilterMask(filter)))
+        throw std::runtime_error(std::string("encodePng(): libpng: ") + s.message);
+    return out;
+}
+
+std::vector<std::uint8_t> encodeWebp(std::span<const std::uint8_t> rgb, int width, int height, int quality, int method) {
+    checkImageArgs("encodeWebp()", rgb.size(), width, height, 3);
+    checkRange("encodeWebp(): quality", quality, 0, 100);
+    checkRange("encodeWebp(): method", method, 0, 6);
+    WebPConfig config;
+    if (!WebPConfigInit(&config)) throw std::runtime_error("encodeWebp(): libwebp version mismatch");
+    config.quality = float(quality);
+    config.method = method;
+    WebPPicture picture;
+    if (!WebPPictureInit(&picture)) throw std::runtime_error("encodeWebp(): libwebp version mismatch");
+    WebPMemoryWriter writer;
+    WebPMemoryWriterInit(&writer);
+    struct Guard {
+        WebPPicture& picture;
+        WebPMemoryWriter& writer;
+        ~Guard() {
+            WebPPictureFree(&picture);
+            WebPMemoryWriterClear(&writer);
+        }
+    } guard{picture, writer};
+    picture.width = width;
+    picture.height = height;
+    picture.writer = WebPMemoryWrite;
+    picture.custom_ptr = &writer;
+    if (!WebPPictureImportRGB(&picture, rgb.data(), width * 3) || !WebPEncode(&config, &picture))
+        throw std::runtime_error("encodeWebp(): libwebp error " + std::to_string(int(picture.error_code)));
+    return std::vector<std::uint8_t>(writer.mem, writer.mem + writer.size);
+}
+
+std::vector<std::uint8_t> encodeRgb(std::span<const std::uint8_t> rgb, int width, int height, const TileEncoding& e) {
+    checkImageArgs("encodeRgb()", rgb.size(), width, height, 3);
+    switch (e.format) {
+    case TileFormat::Png:
+        checkRange("TileEncoding::pngLevel", e.pngLevel, 0, 9);
+        return encodePng(rgb, width, height, 3, e.pngLevel, kPngFilter);
+    case TileFormat::Jpeg:
+        checkRange("TileEncoding::jpegQuality", e.jpegQuality, 1, 100);
+        return encodeJpeg(rgb, width, height, e.jpegQuality);
+    case TileFormat::Webp:
+        checkRange("TileEncoding::webpQuality", e.webpQuality, 0, 100);
+        return encodeWebp(rgb, width, height, e.webpQuality, kWebpMethod);
+    }
+    throw std::invalid_argument("encodeRgb(): unknown TileFormat " + std::to_string(int(e.format)));
+}
+
+std::vector<std::uint8_t> encodeGreyPng(std::span<const std::uint8_t> grey, int width, int height, int pngLevel) {
+    return encodePng(grey, width, height, 1, pngLevel, kPngFilter);
+}
+
+std::vector<std::uint8_t> encodeFloatTiff(std::span<const float> values, int width, int height) {
+    checkImageArgs("encodeFloatTiff()", values.size(), width, height, 1);
+    // Header, one IFD of kEntries, then the strip at a 4-byte boundary.
+    constexpr std::uint32_t kEntries = 11, kIfd = 8, kData = (kIfd + 2 + kEntries * 12 + 4 + 3) / 4 * 4;
+    const auto dataBytes = std::uint32_t(values.size() * 4);
+    std::vector<std::uint8_t> out;
+    out.reserve(kData + dataBytes);
+    auto u16 = [&](std::uint32_t v) {
+        out.push_back(std::uint8_t(v));
+        out.push_back(std::uint8_t(v >> 8));
+    };
+    auto u32 = [&](std::uint32_t v) {
+        u16(v & 0xffff);
+        u16(v >> 16);
+    };
+    auto entry = [&](std::uint16_t tag, std::uint16_t type, std::uint32_t value) {
+        u16(tag);
+        u16(type);
+        u32(1);
+        if (type == kTypeShort) {
+            u16(value);
+            u16(0);
+        } else {
+            u32(value);
+        }
+    };
+    out.push_back('I');
+    out.push_back('I');
+    u16(42);
+    u32(kIfd);
+    u16(kEntries);
+    entry(kTagWidth, kTypeLong, std::uint32_t(width));
+    entry(kTagHeight, kTypeLong, std::uint32_t(height));
+    entry(kTagBitsPerSample, kTypeShort, 32);
+    entry(kTagCompression, kTypeShort, 1);
+    entry(kTagPhotometric, kTypeShort, 1);  // BlackIsZero
+    entry(kTagStripOffsets, kTypeLong, kData);
+    entry(kTagSamplesPerPixel, kTypeShort, 1);
+    entry(kTagRowsPerStrip, kTypeLong, std::uint32_t(height));
+    entry(kTagStripByteCounts, kTypeLong, dataBytes);
+    entry(kTagPlanarConfig, kTypeShort, 1);
+    entry(kTagSampleFormat, kTypeShort, 3);  // IEEE floating point
+    u32(0);                                  // no next IFD
+    out.resize(kData, 0);
+    for (float v : values) u32(std::bit_cast<std::uint32_t>(v));
+    return out;
+}
+
+// ---- decoders ----
+
+DecodedImage decodeImage(std::span<const std::uint8_t> bytes) {
+    static constexpr std::array<std::uint8_t, 4> kRiff = {'R', 'I', 'F', 'F'};
+    if (startsWith(bytes, kPngSignature)) return decodePng(bytes);
+    if (startsWith(bytes, kJpegSignature)) return decodeJpeg(bytes);
+    if (isWebp(bytes)) return decodeWebp(bytes);
+    if (truncatedSignature(bytes, kPngSignature)) throw TileDecodeError("truncated PNG");
+    if (truncatedSignature(bytes, kJpegSignature)) throw TileDecodeError("truncated JPEG");
+    if (startsWith(bytes, kRiff) && bytes.size() < 12) throw TileDecodeError("truncated WebP");
+    if (bytes.empty()) throw TileDecodeError("empty tile: not a PNG, JPEG or WebP image");
+    throw TileDecodeError("not a PNG, JPEG or WebP image");
+}
+
+DecodedFloats decodeFloatTiff(std::span<const std::uint8_t> bytes) {
+    if (bytes.size() < 8) tiffFail("truncated (" + std::to_string(bytes.size()) + " bytes, no header)");
+    const bool big = bytes[0] == 'M' && bytes[1] == 'M';
+    if (!big && !(bytes[0] == 'I' && bytes[1] == 'I')) throw TileDecodeError("not a TIFF file");
+    const TiffBytes b(bytes, big);
+    const std::uint32_t magic = b.read(2, 2, "header");
+    if (magic == 43) tiffFail("BigTIFF not supported");
+    if (magic != 42) throw TileDecodeError("not a TIFF file");
+    const TiffIfd ifd(b, b.read(4, 4, "header"));
+
+    const std::uint32_t width = ifd.ints(kTagWidth, 1, 1)[0], height = ifd.ints(kTagHeight, 1, 1)[0];
+    if (width < 1 || height < 1 || width > std::uint32_t(kMaxTileSide) || height > std::uint32_t(kMaxTileSide))
+        tiffFail(std::to_string(width) + " x " + std::to_string(height) + " pixels, not in 1.." + std::to_string(kMaxTileSide));
+    if (ifd.value(kTagSamplesPerPixel, 1) != 1) tiffFail(std::to_string(ifd.value(kTagSamplesPerPixel, 1)) + " samples per pixel, 1 expected");
+    for (std::uint32_t bits : ifd.ints(kTagBitsPerSample, 1, 1))
+        if (bits != 32) tiffFail(std::to_string(bits) + " bits per sample, 32 expected");
+    const std::uint32_t format = ifd.value(kTagSampleFormat, 1);
+    if (format != 3) tiffFail("sample format " + std::to_string(format) + ", 3 (IEEE floating point) expected");
+    const std::uint32_t compression = ifd.value(kTagCompression, 1);
+    if (compression != 1 && compression != 5 && compression != 8 && compression != 32946)
+        throw TileDecodeError("TIFF compression " + std::to_string(compression) + " not supported");
+    const std::uint32_t predictor = compression == 1 ? 1 : ifd.value(kTagPredictor, 1);
+    if (predictor < 1 || predictor > 3) tiffFail("predictor " + std::to_string(predictor) + " not supported");
+
+    // Blocks: tiles, or strips as tiles as wide as the image (the last one may be shorter).
+    const bool tiled = ifd.has(kTagTileWidth);
+    std::uint32_t blockWidth = width, blockHeight = height;
+    if (tiled) {
+        blockWidth = ifd.ints(kTagTileWidth, 1, 1)[0];
+        blockHeight = ifd.ints(kTagTileLength, 1, 1)[0];
+        if (blockWidth < 1 || blockHeight < 1 || blockWidth > std::uint32_t(kMaxTileSide) || blockHeight > std::uint32_t(kMaxTileSide))
+            tiffFail("tile of " + std::to_string(blockWidth) + " x " + std::to_string(blockHeight) + " pixels");
+    } else {
+        blockHeight = std::clamp<std::uint32_t>(ifd.value(kTagRowsPerStrip, height), 1, height);
+    }
+    const std::uint32_t across = (width + blockWidth - 1) / blockWidth, down = (height + blockHeight - 1) / blockHeight;
+    const std::uint64_t blocks = std::uint64_t(across) * down;
+    const auto offsets = ifd.ints(tiled ? kTagTileOffsets : kTagStripOffsets, blocks, blocks);
+    const auto counts = ifd.ints(tiled ? kTagTileByteCounts : kTagStripByteCounts, blocks, blocks);
+
+    DecodedFloats out;
+    out.width = int(width);
+    out.height = int(height);
+    out.values.resize(std::size_t(width) * height);
+    std::vector<std::uint8_t> block;
+    std::vector<std::uint32_t> row(blockWidth);
+    const std::size_t rowBytes = std::size_t(blockWidth) * 4;
+    for (std::uint32_t by = 0; by < down; ++by)
+        for (std::uint32_t bx = 0; bx < across; ++bx) {
+            const std::size_t k = std::size_t(by) * across + bx;
+            const std::uint32_t rows = tiled ? blockHeight : std::min(blockHeight, height - by * blockHeight);
+            block.resize(rowBytes * rows);
+            const auto data = b.span(offsets[k], counts[k], tiled ? "tile" : "strip");
+            if (compression == 1) {
+                if (data.size() < block.size()) tiffFail("truncated (block " + std::to_string(k) + " holds " + std::to_string(data.size()) + " bytes, " + std::to_string(block.size()) + " expected)");
+                std::copy_n(data.begin(), block.size(), block.begin());
+            } else if (compression == 5) {
+                lzwBlock(data, block);
+            } else {
+                inflateBlock(data, block);
+            }
+            for (std::uint32_t y = 0; y < rows; ++y) {
+                const std::uint8_t* r = block.data() + y * rowBytes;
+                if (predictor == 3) {
+                    // Floating point predictor: bytes differenced along the row, then the row holds
+                    // the most significant bytes of every sample first, independent of the byte order.
+                    std::uint8_t* w = block.data() + y * rowBytes;
+                    for (std::size_t i = 1; i < rowBytes; ++i) w[i] = std::uint8_t(w[i] + w[i - 1]);
+                    for (std::size_t i = 0; i < blockWidth; ++i)
+                        row[i] = std::uint32_t(r[i]) << 24 | std::uint32_t(r[blockWidth + i]) << 16 |
+                                 std::uint32_t(r[2 * blockWidth + i]) << 8 | std::uint32_t(r[3 * blockWidth + i]);
+                } else {
+                    for (std::size_t i = 0; i < blockWidth; ++i) {
+                        const std::uint8_t* s = r + 4 * i;
+                        row[i] = big ? std::uint32_t(s[0]) << 24 | std::uint32_t(s[1]) << 16 | std::uint32_t(s[2]) << 8 | s[3]
+                                     : std::uint32_t(s[3]) << 24 | std::uint32_t(s[2]) << 16 | std::uint32_t(s[1]) << 8 | s[0];
+                    }
+                    if (predictor == 2)
+                        for (std::size_t i = 1; i < blockWidth; ++i) row[i] += row[i - 1];
+                }
+                const std::uint32_t y0 = by * blockHeight + y, x0 = bx * blockWidth;
+                if (y0 >= height) break;
+                const std::uint32_t n = std::min(blockWidth, width - x0);
+                float* dst = out.values.data() + std::size_t(y0) * width + x0;
+                for (std::uint32_t i = 0; i < n; ++i) dst[i] = std::bit_cast<float>(row[i]);
+            }
+        }
+    return out;
+}
+
+}  // namespace lacet
