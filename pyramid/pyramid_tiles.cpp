@@ -46,20 +46,25 @@ PyramidImage mipmap(const std::array<const PyramidImage*, 4>& children) {
     parent.size = n;
     parent.rgb.resize(std::size_t(n) * std::size_t(n) * 3);
     parent.water.resize(std::size_t(n) * std::size_t(n));
-    const int half = n / 2;
-    const std::size_t stride = std::size_t(n);
-    for (int row = 0; row < n; ++row) {
-        for (int col = 0; col < n; ++col) {
-            // Top rows of the parent are its upper children (2, 3).
-            const int k = (col >= half ? 1 : 0) + (row < half ? 2 : 0);
-            const PyramidImage& c = *children[std::size_t(k)];
-            const std::size_t cx = std::size_t(2 * (col % half)), cy = std::size_t(2 * (row % half));
-            const std::size_t t00 = cy * stride + cx, t01 = t00 + 1, t10 = t00 + stride, t11 = t10 + 1;
-            const std::size_t p = std::size_t(row) * stride + std::size_t(col);
-            for (std::size_t ch = 0; ch < 3; ++ch)
-                parent.rgb[3 * p + ch] = std::uint8_t(
-                    (unsigned(c.rgb[3 * t00 + ch]) + c.rgb[3 * t01 + ch] + c.rgb[3 * t10 + ch] + c.rgb[3 * t11 + ch] + 2) / 4);
-            parent.water[p] = std::uint8_t((unsigned(c.water[t00]) + c.water[t01] + c.water[t10] + c.water[t11] + 2) / 4);
+    const std::size_t half = std::size_t(n / 2), stride = std::size_t(n);
+    // Quadrant by quadrant: the parent's top rows are its upper children (2 left, 3 right).
+    for (int k = 0; k < 4; ++k) {
+        const PyramidImage& c = *children[std::size_t(k)];
+        const std::size_t col0 = (k & 1) ? half : 0, row0 = (k & 2) ? 0 : half;
+        for (std::size_t r = 0; r < half; ++r) {
+            const std::uint8_t* top = c.rgb.data() + 2 * r * stride * 3;
+            const std::uint8_t* bottom = top + stride * 3;
+            std::uint8_t* out = parent.rgb.data() + ((row0 + r) * stride + col0) * 3;
+            for (std::size_t x = 0; x < half * 3; x += 3) {
+                const std::size_t a = 2 * x;  // texel 2x/3 of the child row, in bytes
+                for (std::size_t ch = 0; ch < 3; ++ch)
+                    out[x + ch] = std::uint8_t((unsigned(top[a + ch]) + top[a + 3 + ch] + bottom[a + ch] + bottom[a + 3 + ch] + 2) / 4);
+            }
+            const std::uint8_t* wt = c.water.data() + 2 * r * stride;
+            const std::uint8_t* wb = wt + stride;
+            std::uint8_t* wo = parent.water.data() + (row0 + r) * stride + col0;
+            for (std::size_t x = 0; x < half; ++x)
+                wo[x] = std::uint8_t((unsigned(wt[2 * x]) + wt[2 * x + 1] + wb[2 * x] + wb[2 * x + 1] + 2) / 4);
         }
     }
     return parent;
