@@ -1,4 +1,4 @@
-// `lacet bench update|accuracy|producers|texture-accuracy|edit|flyover`: benchmark tasks printing their figures as JSON.
+// `lacet bench update|accuracy|producers|texture-accuracy|edit|flyover|pyramid`: benchmark tasks printing their figures as JSON.
 #include <iostream>
 
 #include "app/commands.h"
@@ -95,6 +95,19 @@ void addBenchCommand(CLI::App& app) {
     texture->add_option("--views", ta->views, "Views above roads whose quads are measured");
     texture->add_flag("--json", ta->json, "Print JSON (the only format)");
     texture->callback([ta] { std::cout << bench::benchTextureAccuracy(ta->curves, ta->seed, ta->views).dump(2) << "\n"; });
+
+    auto po = std::make_shared<bench::PyramidBenchOptions>();
+    auto pjson = std::make_shared<bool>(true);
+    CLI::App* pyramid = bench->add_subcommand("pyramid", "A scene's pyramid build: threads, encodings, mipmap error");
+    pyramid->add_option("--scene", po->scene, "Scene file")->required();
+    pyramid->add_option("--min-level", po->minLevel, "First level");
+    pyramid->add_option("--max-level", po->maxLevel, "Last level");
+    pyramid->add_option("--encoding", po->encoding, "Encoding of the thread runs");
+    pyramid->add_option("--threads", po->threads, "Thread counts, e.g. 1,2")->delimiter(',');
+    pyramid->add_option("--encodings", po->encodings, "Encodings to compare, e.g. png:1,jpeg:90,webp:90")->delimiter(',');
+    pyramid->add_flag("--mip-error", po->mipError, "Also the error of mipmapped levels against levels made from vector data");
+    pyramid->add_flag("--json", *pjson, "Print JSON (the only format)");
+    pyramid->callback([po] { std::cout << bench::benchPyramid(*po).dump(2) << "\n"; });
 }
 
 }  // namespace lacet::app

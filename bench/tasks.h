@@ -79,4 +79,17 @@ struct FlyoverBenchOptions {
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 
+// `lacet bench pyramid`: a scene's pyramid (pyramid/pyramid_build.h) built on each thread count
+// (wall time, tiles a second, thread seconds by stage), with each encoding (time, bytes), and the
+// error the mipmapped levels leave against the same levels made from vector data.
+struct PyramidBenchOptions {
+    std::string scene;
+    int minLevel = 0, maxLevel = 7;
+    std::string encoding = "jpeg:90";
+    std::vector<int> threads{1, 2};
+    std::vector<std::string> encodings;
+    bool mipError = false;
+};
+nlohmann::json benchPyramid(const PyramidBenchOptions& options);
+
 }  // namespace lacet::bench
