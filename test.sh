@@ -5,7 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install_deps.sh
 
-scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DLACET_BUILD_TESTS=ON
+scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DLACET_BUILD_TESTS=ON -DLACET_MPI=ON
 (cd build && ctest --output-on-failure -j 2)
 
 scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF

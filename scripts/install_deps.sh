@@ -8,6 +8,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtbb-dev libopenimageio-dev pkg-config
   libgdal-dev gdal-bin libgeographiclib-dev libsqlite3-dev
+  libopenmpi-dev openmpi-bin
   libpng-dev libjpeg-dev libwebp-dev zlib1g-dev
   libglfw3-dev libepoxy-dev libimgui-dev libgl-dev xvfb xauth libgl1-mesa-dri
 )
