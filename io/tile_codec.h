@@ -92,6 +92,12 @@ struct DecodedImage {
 // WebP image").
 DecodedImage decodeImage(std::span<const std::uint8_t> bytes);
 
+// The image at half its width and height, as a pyramid's parent tile needs it (§7's mipmap): a
+// JPEG through libjpeg's scaled IDCT (a 4x4 inverse DCT of each 8x8 block: the block's low
+// frequencies, about 3x faster than a full decode), any other image decoded whole and each 2 x 2
+// block's rounded mean. Throws TileDecodeError as decodeImage() does, and for an odd-sized image.
+DecodedImage decodeImageHalf(std::span<const std::uint8_t> bytes);
+
 struct DecodedFloats {
     int width = 0, height = 0;
     std::vector<float> values;  // width * height, rows from the top

@@ -76,7 +76,7 @@ std::uint64_t inputsDigest(const SceneDocument& doc, const PyramidParams& p, con
 // A tile made in this run, ready to store.
 struct MadeTile {
     std::vector<std::uint8_t> appearance, water;  // water empty: none
-    PyramidImage image;                            // as stored (decoded when lossy): what the parent mipmaps
+    PyramidImage half;                             // at half size as read back from the file: what the parent assembles
     bool hasAppearance = false;
     std::vector<std::uint8_t> elevation;
     ElevationCells cells;
@@ -228,47 +228,49 @@ struct PyramidJob::Impl {
             for (auto& c : q.children) collect(*c, byLevel, base);
     }
 
-    MadeTile encodeImage(PyramidImage image, bool keepForParent) {
+    // Encodes a tile; with keepForParent, also its image at half size as its parent reads it back
+    // from the file (decodeImageHalf of a lossy tile; the exact halve() of a lossless one).
+    MadeTile encodeImage(const PyramidImage& image, bool keepForParent) {
         MadeTile t;
         t.hasAppearance = true;
         encode.time([&] {
-            std::span<const std::uint8_t> rgb(image.rgb);
-            t.appearance = encodeRgb(rgb, image.size, image.size, params.encoding);
+            t.appearance = encodeRgb(image.rgb, image.size, image.size, params.encoding);
             if (image.hasWater()) t.water = encodeGreyPng(image.water, image.size, image.size, 1);
         });
         if (keepForParent) {
+            t.half = mipmap.time([&] { return halve(image); });
             if (!lossless()) {
                 decode.time([&] {
-                    DecodedImage d = decodeImage(t.appearance);
-                    image.rgb = std::move(d.pixels);
+                    DecodedImage d = decodeImageHalf(t.appearance);
+                    t.half.rgb = std::move(d.pixels);
                 });
             }
-            t.image = std::move(image);
         }
         return t;
     }
 
-    // The stored image of a tile (colour decoded, water from its tile or none).
-    PyramidImage storedImage(PyramidStore& store, const PyramidKey& k) {
+    // The stored tile at half size, as encodeImage() keeps it (colour decoded, water from its tile
+    // or none).
+    PyramidImage storedHalf(PyramidStore& store, const PyramidKey& k) {
         return decode.time([&] {
+            const auto where = [&] { return std::to_string(k.level) + "/" + std::to_string(k.tx) + "/" + std::to_string(k.ty); };
             auto bytes = store.tile(kAppearanceTable, k);
             if (!bytes)
-                throw PyramidError(store.path() + ": appearance tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) + "/" +
-                                   std::to_string(k.ty) + " is missing (an incomplete pyramid: build it again)");
-            DecodedImage d = decodeImage(*bytes);
-            const int n = refine.resolution;
-            if (d.width != n || d.height != n || d.channels != 3)
-                throw PyramidError(store.path() + ": appearance tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) +
-                                   "/" + std::to_string(k.ty) + " is not " + std::to_string(n) + "x" + std::to_string(n) + " RGB");
+                throw PyramidError(store.path() + ": appearance tile " + where() + " is missing (an incomplete pyramid: build it again)");
+            const int h = refine.resolution / 2;
+            DecodedImage d = decodeImageHalf(*bytes);
+            if (d.width != h || d.height != h || d.channels != 3)
+                throw PyramidError(store.path() + ": appearance tile " + where() + " is not " + std::to_string(2 * h) + "x" +
+                                   std::to_string(2 * h) + " RGB");
             PyramidImage image;
-            image.size = n;
+            image.size = h;
             image.rgb = std::move(d.pixels);
-            image.water.assign(std::size_t(n) * std::size_t(n), 0);
+            image.water.assign(std::size_t(h) * std::size_t(h), 0);
             if (auto w = store.tile(kWaterTable, k)) {
-                DecodedImage m = decodeImage(*w);
-                if (m.width != n || m.height != n || m.channels != 1)
-                    throw PyramidError(store.path() + ": water tile " + std::to_string(k.level) + "/" + std::to_string(k.tx) + "/" +
-                                       std::to_string(k.ty) + " is not " + std::to_string(n) + "x" + std::to_string(n) + " grey");
+                DecodedImage m = decodeImageHalf(*w);
+                if (m.width != h || m.height != h || m.channels != 1)
+                    throw PyramidError(store.path() + ": water tile " + where() + " is not " + std::to_string(2 * h) + "x" +
+                                       std::to_string(2 * h) + " grey");
                 image.water = std::move(m.pixels);
             }
             return image;
@@ -311,7 +313,7 @@ struct PyramidJob::Impl {
                 MadeTile m = encodeImage(pyramidImage(t), q.level > params.minLevel && q.level <= vl);
                 made[i].appearance = std::move(m.appearance);
                 made[i].water = std::move(m.water);
-                made[i].image = std::move(m.image);
+                made[i].half = std::move(m.half);
                 made[i].hasAppearance = true;
                 appearanceMade[i] = 1;
                 progressAdvance(progress);
@@ -336,7 +338,7 @@ struct PyramidJob::Impl {
                         const Quad* c = q.isLeaf() ? nullptr : q.children[std::size_t(k)].get();
                         auto it = c ? index.find(c) : index.end();
                         if (it != index.end() && appearanceMade[it->second]) {
-                            kids[std::size_t(k)] = &made[it->second].image;
+                            kids[std::size_t(k)] = &made[it->second].half;
                             any = true;
                         } else {
                             // A shard root below the top pass: remade in a build (all of them, on
@@ -352,14 +354,14 @@ struct PyramidJob::Impl {
                     for (int k = 0; k < 4; ++k)
                         if (!kids[std::size_t(k)]) {
                             const PyramidKey ck{q.level + 1, q.tx * 2 + std::uint32_t(k & 1), q.ty * 2 + std::uint32_t(k >> 1)};
-                            loaded[std::size_t(k)] = storedImage(store, ck);
+                            loaded[std::size_t(k)] = storedHalf(store, ck);
                             kids[std::size_t(k)] = &loaded[std::size_t(k)];
                         }
-                    PyramidImage image = mipmap.time([&] { return lacet::mipmap(kids); });
-                    MadeTile m = encodeImage(std::move(image), q.level > params.minLevel);
+                    const PyramidImage image = mipmap.time([&] { return assemble(kids); });
+                    MadeTile m = encodeImage(image, q.level > params.minLevel);
                     made[i].appearance = std::move(m.appearance);
                     made[i].water = std::move(m.water);
-                    made[i].image = std::move(m.image);
+                    made[i].half = std::move(m.half);
                     made[i].hasAppearance = true;
                     appearanceMade[i] = 1;
                     progressAdvance(progress);

@@ -36,38 +36,65 @@ PyramidImage pyramidImage(const AppearanceTile& tile) {
     return image;
 }
 
-PyramidImage mipmap(const std::array<const PyramidImage*, 4>& children) {
-    const int n = children[0] ? children[0]->size : 0;
-    for (const PyramidImage* c : children)
-        if (!c || c->size != n || n % 2 != 0 || n <= 0 || c->rgb.size() != std::size_t(n) * std::size_t(n) * 3 ||
-            c->water.size() != std::size_t(n) * std::size_t(n))
-            throw std::invalid_argument("mipmap(): four children of one even size required");
-    PyramidImage parent;
-    parent.size = n;
-    parent.rgb.resize(std::size_t(n) * std::size_t(n) * 3);
-    parent.water.resize(std::size_t(n) * std::size_t(n));
+namespace {
+bool wellFormed(const PyramidImage* c, int n) {
+    return c && c->size == n && n > 0 && c->rgb.size() == std::size_t(n) * std::size_t(n) * 3 &&
+           c->water.size() == std::size_t(n) * std::size_t(n);
+}
+}  // namespace
+
+PyramidImage halve(const PyramidImage& image) {
+    const int n = image.size;
+    if (!wellFormed(&image, n) || n % 2 != 0) throw std::invalid_argument("halve(): an image of even size with its planes required");
     const std::size_t half = std::size_t(n / 2), stride = std::size_t(n);
-    // Quadrant by quadrant: the parent's top rows are its upper children (2 left, 3 right).
-    for (int k = 0; k < 4; ++k) {
-        const PyramidImage& c = *children[std::size_t(k)];
+    PyramidImage h;
+    h.size = int(half);
+    h.rgb.resize(half * half * 3);
+    h.water.resize(half * half);
+    for (std::size_t r = 0; r < half; ++r) {
+        const std::uint8_t* top = image.rgb.data() + 2 * r * stride * 3;
+        const std::uint8_t* bottom = top + stride * 3;
+        std::uint8_t* out = h.rgb.data() + r * half * 3;
+        for (std::size_t x = 0; x < half * 3; x += 3) {
+            const std::size_t a = 2 * x;  // texel 2x/3 of the row, in bytes
+            for (std::size_t ch = 0; ch < 3; ++ch)
+                out[x + ch] = std::uint8_t((unsigned(top[a + ch]) + top[a + 3 + ch] + bottom[a + ch] + bottom[a + 3 + ch] + 2) / 4);
+        }
+        const std::uint8_t* wt = image.water.data() + 2 * r * stride;
+        const std::uint8_t* wb = wt + stride;
+        std::uint8_t* wo = h.water.data() + r * half;
+        for (std::size_t x = 0; x < half; ++x)
+            wo[x] = std::uint8_t((unsigned(wt[2 * x]) + wt[2 * x + 1] + wb[2 * x] + wb[2 * x + 1] + 2) / 4);
+    }
+    return h;
+}
+
+PyramidImage assemble(const std::array<const PyramidImage*, 4>& halves) {
+    const int h = halves[0] ? halves[0]->size : 0;
+    for (const PyramidImage* c : halves)
+        if (!wellFormed(c, h)) throw std::invalid_argument("assemble(): four images of one size > 0 with their planes required");
+    const std::size_t half = std::size_t(h), n = 2 * half;
+    PyramidImage parent;
+    parent.size = int(n);
+    parent.rgb.resize(n * n * 3);
+    parent.water.resize(n * n);
+    for (int k = 0; k < 4; ++k) {  // the parent's top rows are its upper children (2 left, 3 right)
+        const PyramidImage& c = *halves[std::size_t(k)];
         const std::size_t col0 = (k & 1) ? half : 0, row0 = (k & 2) ? 0 : half;
         for (std::size_t r = 0; r < half; ++r) {
-            const std::uint8_t* top = c.rgb.data() + 2 * r * stride * 3;
-            const std::uint8_t* bottom = top + stride * 3;
-            std::uint8_t* out = parent.rgb.data() + ((row0 + r) * stride + col0) * 3;
-            for (std::size_t x = 0; x < half * 3; x += 3) {
-                const std::size_t a = 2 * x;  // texel 2x/3 of the child row, in bytes
-                for (std::size_t ch = 0; ch < 3; ++ch)
-                    out[x + ch] = std::uint8_t((unsigned(top[a + ch]) + top[a + 3 + ch] + bottom[a + ch] + bottom[a + 3 + ch] + 2) / 4);
-            }
-            const std::uint8_t* wt = c.water.data() + 2 * r * stride;
-            const std::uint8_t* wb = wt + stride;
-            std::uint8_t* wo = parent.water.data() + (row0 + r) * stride + col0;
-            for (std::size_t x = 0; x < half; ++x)
-                wo[x] = std::uint8_t((unsigned(wt[2 * x]) + wt[2 * x + 1] + wb[2 * x] + wb[2 * x + 1] + 2) / 4);
+            std::copy_n(c.rgb.data() + r * half * 3, half * 3, parent.rgb.data() + ((row0 + r) * n + col0) * 3);
+            std::copy_n(c.water.data() + r * half, half, parent.water.data() + (row0 + r) * n + col0);
         }
     }
     return parent;
+}
+
+PyramidImage mipmap(const std::array<const PyramidImage*, 4>& children) {
+    const int n = children[0] ? children[0]->size : 0;
+    for (const PyramidImage* c : children)
+        if (!wellFormed(c, n) || n % 2 != 0) throw std::invalid_argument("mipmap(): four children of one even size required");
+    const std::array<PyramidImage, 4> h{halve(*children[0]), halve(*children[1]), halve(*children[2]), halve(*children[3])};
+    return assemble({&h[0], &h[1], &h[2], &h[3]});
 }
 
 AppearanceTile appearanceTile(const PyramidImage& image, const Box& bounds, int border) {

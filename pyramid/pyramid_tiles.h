@@ -31,8 +31,14 @@ PyramidImage pyramidImage(const AppearanceTile& tile);
 
 // §7's mipmap: each texel the rounded mean of the 2 x 2 texels of its child below it. `children`
 // in Quad::children order (0 lower-left, 1 lower-right, 2 upper-left, 3 upper-right), all of one
-// even size. Throws std::invalid_argument otherwise.
+// even size. Throws std::invalid_argument otherwise. It is assemble() of each child's halve().
 PyramidImage mipmap(const std::array<const PyramidImage*, 4>& children);
+// An image at half its size, each texel the rounded mean of 2 x 2 (an even size is required).
+PyramidImage halve(const PyramidImage& image);
+// The parent's image from its four children at half size (Quad::children order), each in its
+// quadrant: the build passes what it reads back from the stored tiles (io/tile_codec.h's
+// decodeImageHalf for a lossy encoding), so that an update gives the same bytes.
+PyramidImage assemble(const std::array<const PyramidImage*, 4>& halves);
 
 // An editor's tile of a quad from its pyramid image: the texels inside, the `border` around them
 // repeating the edge texels (a pyramid tile holds nothing outside its quad).

@@ -88,6 +88,30 @@ TEST(PyramidTiles, MipmapAveragesEachChildIntoItsQuadrant) {
     EXPECT_THROW(mipmap({&odd, &kids[1], &kids[2], &kids[3]}), std::invalid_argument);
 }
 
+// What a parent reads of a child tile: half size, near the 2 x 2 mean of the full decode for a
+// JPEG (scaled IDCT), exactly it for a PNG.
+TEST(PyramidTiles, HalfDecodeIsTheChildAtHalfSize) {
+    PyramidImage image;
+    image.size = 256;
+    image.rgb.resize(256 * 256 * 3);
+    image.water.assign(256 * 256, 0);
+    for (std::size_t k = 0; k < image.rgb.size(); ++k) image.rgb[k] = std::uint8_t((k * 7 / 3 + (k / 768) * 5) % 251);
+    const PyramidImage exact = halve(image);
+    const DecodedImage png = decodeImageHalf(encodeRgb(image.rgb, 256, 256, parseEncoding("png:1")));
+    ASSERT_EQ(png.width, 128);
+    EXPECT_EQ(png.pixels, exact.rgb);
+    for (int y = 0; y < 256; ++y)  // a smooth image: JPEG keeps it well
+        for (int x = 0; x < 256; ++x)
+            for (int c = 0; c < 3; ++c) image.rgb[std::size_t((y * 256 + x) * 3 + c)] = std::uint8_t((x + y + 40 * c) / 3);
+    const PyramidImage smooth = halve(image);
+    const DecodedImage jpeg = decodeImageHalf(encodeRgb(image.rgb, 256, 256, parseEncoding("jpeg:90")));
+    ASSERT_EQ(jpeg.width, 128);
+    ASSERT_EQ(jpeg.channels, 3);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < jpeg.pixels.size(); ++k) worst = std::max(worst, std::abs(double(jpeg.pixels[k]) - smooth.rgb[k]));
+    EXPECT_LE(worst, 6.0);
+}
+
 TEST(PyramidBuild, GdalReadsTheTablesAsTheyAre) {
     const SceneDocument doc = smallScene();
     TempFile f("pyramid_gdal.gpkg");
