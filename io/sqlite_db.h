@@ -3,6 +3,7 @@
 // exceptions carrying SQLite's message. No SQL of its own beyond what the caller passes.
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -63,6 +64,8 @@ public:
     // Runs one or more statements that return nothing the caller needs.
     void exec(std::string_view sql);
     SqliteStatement prepare(std::string_view sql) { return SqliteStatement(db_, sql); }
+    // The same, on the heap, to keep (statements are neither copied nor moved).
+    std::unique_ptr<SqliteStatement> prepareKept(std::string_view sql) { return std::make_unique<SqliteStatement>(db_, sql); }
     // The single value of a one-row, one-column query, as text (empty for NULL).
     std::string queryText(std::string_view sql);
     std::int64_t queryInteger(std::string_view sql);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <mutex>
 #include <stdexcept>
 #include <unordered_set>
@@ -180,6 +181,8 @@ struct PyramidJob::Impl {
     std::mutex remadeMutex;
     KeySet remade;  // appearance tiles remade at the shard level and above (the top's mipmaps read them)
     Progress* progress = nullptr;
+    bool deferWrites = false;          // runShards(): a shard's tiles are written while the next is made
+    std::future<void> pendingWrite;    // that write
 
     static const Dem& demOf(const SceneDocument& d, std::optional<Dem>& flat) {
         if (d.dem) return *d.dem;
@@ -319,7 +322,9 @@ struct PyramidJob::Impl {
                 progressAdvance(progress);
             }
         });
-        // Mipmapped levels, bottom up.
+        // Mipmapped levels, bottom up. They may read children from the store (an update's
+        // unchanged ones, the top pass's shard roots): the writes in flight go first.
+        if (topPass || !previous.empty()) flushWrites();
         if (params.appearance) {
             for (int li = int(byLevel.size()) - 1; li >= 0; --li) {
                 const int level = base + li;
@@ -376,18 +381,39 @@ struct PyramidJob::Impl {
             if (params.appearance && !appearanceMade[i]) ++skipped;
         }
         progressAdvance(progress, skipped);
-        // Write, in one thread (SQLite).
+        // Write, in one thread (SQLite): now, or while the next shard is made (deferWrites).
+        auto batch = std::make_shared<WriteBatch>();
+        batch->topPass = topPass;
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            if (!stored(all[i].first->level)) continue;
+            batch->keys.push_back(keyOf(*all[i].first));
+            batch->changed.push_back(changed[i]);
+            batch->digests.push_back(dig[i]);
+            batch->made.push_back(std::move(made[i]));
+        }
+        flushWrites();
+        if (deferWrites && !topPass) pendingWrite = std::async(std::launch::async, [this, batch, &store] { writeBatch(*batch, store); });
+        else writeBatch(*batch, store);
+    }
+
+    struct WriteBatch {
+        std::vector<PyramidKey> keys;
+        std::vector<char> changed;
+        std::vector<std::uint64_t> digests;
+        std::vector<MadeTile> made;
+        bool topPass = false;
+    };
+
+    void writeBatch(WriteBatch& b, PyramidStore& store) {
         write.time([&] {
-            for (std::size_t i = 0; i < all.size(); ++i) {
-                const Quad& q = *all[i].first;
-                if (!stored(q.level)) continue;
-                const PyramidKey k = keyOf(q);
+            for (std::size_t i = 0; i < b.keys.size(); ++i) {
+                const PyramidKey& k = b.keys[i];
                 ++stats.quads;
-                if (changed[i]) {
+                if (b.changed[i]) {
                     ++stats.quadsChanged;
-                    store.putDigest(k, dig[i]);
+                    store.putDigest(k, b.digests[i]);
                 }
-                MadeTile& m = made[i];
+                MadeTile& m = b.made[i];
                 if (m.hasElevation) {
                     ++stats.tilesMade;
                     if (store.putElevation(k, m.elevation, m.cells.min, m.cells.max, m.cells.mean, m.cells.stdDev)) ++stats.tilesWritten;
@@ -400,13 +426,20 @@ struct PyramidJob::Impl {
                     } else if (store.removeTile(kWaterTable, k)) {
                         ++stats.tilesWritten;
                     }
-                    if (q.level == params.shardLevel && !topPass) {
+                    if (k.level == params.shardLevel && !b.topPass) {
                         std::lock_guard lock(remadeMutex);
                         remade.set.insert(k);
                     }
                 }
             }
         });
+    }
+
+    // Waits for the write in flight, if any; rethrows its error.
+    void flushWrites() {
+        if (!pendingWrite.valid()) return;
+        std::future<void> f = std::move(pendingWrite);
+        f.get();
     }
 };
 
@@ -466,6 +499,23 @@ void PyramidJob::runShard(const PyramidKey& shard, PyramidStore& store, Progress
     m.qt.merge(root);
 }
 
+void PyramidJob::runShards(const std::vector<PyramidKey>& shards, PyramidStore& store, Progress* progress) {
+    Impl& m = *impl_;
+    m.deferWrites = true;
+    try {
+        for (const PyramidKey& s : shards) runShard(s, store, progress);
+        m.deferWrites = false;
+        m.flushWrites();
+    } catch (...) {
+        m.deferWrites = false;
+        try {  // the write in flight, if any, must end before the caller rolls back
+            m.flushWrites();
+        } catch (...) {
+        }
+        throw;
+    }
+}
+
 void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
     Impl& m = *impl_;
     m.progress = progress;
@@ -504,7 +554,7 @@ void checkMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const st
 PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
     const auto t0 = Clock::now();
     progressBegin(progress, "pyramid tiles", job.tileTotal(), "tiles");
-    for (const PyramidKey& s : job.shards()) job.runShard(s, store, progress);
+    job.runShards(job.shards(), store, progress);
     job.runTop(store, progress);
     progressEnd(progress);
     PyramidStats& st = job.stats();

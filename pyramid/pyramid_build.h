@@ -79,6 +79,9 @@ public:
     // Makes the tiles of the shard's subtree (levels shardLevel..maxLevel that are stored) into
     // `store` (which must hold the pyramid, inside a transaction), and their digests.
     void runShard(const PyramidKey& shard, PyramidStore& store, Progress* progress);
+    // runShard() for each of `shards` into one store, each shard's tiles written while the next
+    // is made; returns when all are written.
+    void runShards(const std::vector<PyramidKey>& shards, PyramidStore& store, Progress* progress);
     // The levels above the shards, from the shards' stored tiles at shardLevel.
     void runTop(PyramidStore& store, Progress* progress);
     // Tiles of the whole run, for the progress bar (every stored level's quads, both layers).

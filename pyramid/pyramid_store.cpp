@@ -108,7 +108,15 @@ void PyramidStore::rollback() {
     }
 }
 
+SqliteStatement& PyramidStore::statement(const std::string& sql) {
+    auto& st = statements_[sql];
+    if (!st) st = db_.prepareKept(sql);
+    else st->reset();
+    return *st;
+}
+
 void PyramidStore::dropPyramid() {
+    statements_.clear();  // no statement may hold a table being dropped
     for (const char* t : {kAppearanceTable, kWaterTable, kElevationTable}) {
         db_.exec(std::string("DROP TABLE IF EXISTS \"") + t + "\"");
         for (const char* meta : {"gpkg_tile_matrix", "gpkg_tile_matrix_set", "gpkg_contents"})
@@ -246,19 +254,31 @@ std::int64_t geopackageRow(const PyramidKey& q) { return (std::int64_t(1) << q.l
 }  // namespace
 
 std::optional<std::vector<std::uint8_t>> PyramidStore::tile(const char* table, const PyramidKey& q) {
-    auto st = db_.prepare(std::string("SELECT tile_data FROM \"") + table +
-                          "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    std::lock_guard lock(mutex_);
+    return readTile(table, q);
+}
+
+std::optional<std::vector<std::uint8_t>> PyramidStore::readTile(const char* table, const PyramidKey& q) {
+    auto& st = statement(std::string("SELECT tile_data FROM \"") + table +
+                         "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
     st.bind(1, std::int64_t(q.level));
     st.bind(2, std::int64_t(q.tx));
     st.bind(3, geopackageRow(q));
     if (!st.step()) return std::nullopt;
     const auto b = st.blob(0);
-    return std::vector<std::uint8_t>(b.begin(), b.end());
+    std::vector<std::uint8_t> bytes(b.begin(), b.end());
+    st.reset();  // no read left open on the table
+    return bytes;
 }
 
 bool PyramidStore::putTile(const char* table, const PyramidKey& q, std::span<const std::uint8_t> bytes) {
-    if (auto old = tile(table, q); old && std::equal(old->begin(), old->end(), bytes.begin(), bytes.end())) return false;
-    auto st = db_.prepare(std::string("INSERT INTO \"") + table +
+    std::lock_guard lock(mutex_);
+    return writeTile(table, q, bytes);
+}
+
+bool PyramidStore::writeTile(const char* table, const PyramidKey& q, std::span<const std::uint8_t> bytes) {
+    if (auto old = readTile(table, q); old && std::equal(old->begin(), old->end(), bytes.begin(), bytes.end())) return false;
+    auto& st = statement(std::string("INSERT INTO \"") + table +
                           "\" (zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?) ON CONFLICT (zoom_level, "
                           "tile_column, tile_row) DO UPDATE SET tile_data = excluded.tile_data");
     st.bind(1, std::int64_t(q.level));
@@ -271,15 +291,17 @@ bool PyramidStore::putTile(const char* table, const PyramidKey& q, std::span<con
 
 bool PyramidStore::putElevation(const PyramidKey& q, std::span<const std::uint8_t> bytes, double min, double max, double mean,
                                 double stdDev) {
-    if (!putTile(kElevationTable, q, bytes)) return false;
-    auto id = db_.prepare(std::string("SELECT id FROM \"") + kElevationTable +
+    std::lock_guard lock(mutex_);
+    if (!writeTile(kElevationTable, q, bytes)) return false;
+    auto& id = statement(std::string("SELECT id FROM \"") + kElevationTable +
                           "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
     id.bind(1, std::int64_t(q.level));
     id.bind(2, std::int64_t(q.tx));
     id.bind(3, geopackageRow(q));
     id.step();
     const std::int64_t rowId = id.integer(0);
-    auto st = db_.prepare(
+    id.reset();
+    auto& st = statement(
         "INSERT INTO gpkg_2d_gridded_tile_ancillary (tpudt_name, tpudt_id, scale, offset, min, max, mean, std_dev) VALUES "
         "(?, ?, 1.0, 0.0, ?, ?, ?, ?) ON CONFLICT (tpudt_name, tpudt_id) DO UPDATE SET min = excluded.min, max = "
         "excluded.max, mean = excluded.mean, std_dev = excluded.std_dev");
@@ -294,12 +316,17 @@ bool PyramidStore::putElevation(const PyramidKey& q, std::span<const std::uint8_
 }
 
 bool PyramidStore::removeTile(const char* table, const PyramidKey& q) {
-    auto st = db_.prepare(std::string("DELETE FROM \"") + table + "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
+    std::lock_guard lock(mutex_);
+    auto& st = statement(std::string("DELETE FROM \"") + table + "\" WHERE zoom_level = ? AND tile_column = ? AND tile_row = ?");
     st.bind(1, std::int64_t(q.level));
     st.bind(2, std::int64_t(q.tx));
     st.bind(3, geopackageRow(q));
     st.step();
-    return db_.queryInteger("SELECT changes()") > 0;
+    auto& changes = statement("SELECT changes()");
+    changes.step();
+    const bool removed = changes.integer(0) > 0;
+    changes.reset();
+    return removed;
 }
 
 std::size_t PyramidStore::tileCount(const char* table) {
@@ -323,7 +350,8 @@ QuadDigestMap PyramidStore::digests() {
 }
 
 void PyramidStore::putDigest(const PyramidKey& q, std::uint64_t digest) {
-    auto st = db_.prepare(std::string("INSERT OR REPLACE INTO ") + kQuadsTable + " (level, quad_x, quad_y, digest) VALUES (?, ?, ?, ?)");
+    std::lock_guard lock(mutex_);
+    auto& st = statement(std::string("INSERT OR REPLACE INTO ") + kQuadsTable + " (level, quad_x, quad_y, digest) VALUES (?, ?, ?, ?)");
     st.bind(1, std::int64_t(q.level));
     st.bind(2, std::int64_t(q.tx));
     st.bind(3, std::int64_t(q.ty));

@@ -16,8 +16,12 @@
 //
 // Writes happen inside begin() / commit(): an interrupted build or update leaves the previous
 // pyramid as it was (SQLite's rollback journal). Errors throw PyramidError naming the file.
+// tile(), putTile(), putElevation(), removeTile() and putDigest() may be called from several
+// threads at once (one at a time gets the connection); the others from one thread.
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -112,10 +116,16 @@ public:
 
 private:
     void dropPyramid();
+    // A prepared statement of `sql`, kept for the next call (reset, no bindings). Under mutex_.
+    SqliteStatement& statement(const std::string& sql);
+    std::optional<std::vector<std::uint8_t>> readTile(const char* table, const PyramidKey& q);  // under mutex_
+    bool writeTile(const char* table, const PyramidKey& q, std::span<const std::uint8_t> bytes);  // under mutex_
 
     std::string path_;
     SqliteDb db_;
     bool inTransaction_ = false;
+    std::mutex mutex_;  // tile reads and writes may come from several threads (a mipmap's children)
+    std::unordered_map<std::string, std::unique_ptr<SqliteStatement>> statements_;  // finalized before db_ closes
 };
 
 }  // namespace lacet

@@ -189,6 +189,23 @@ TEST(PyramidUpdate, EqualsARebuildAfterRandomEdits) {
     }
 }
 
+// Shards are independent: any shard level gives the same pyramid (the top levels read the shard
+// roots from the file, on several threads at once).
+TEST(PyramidBuild, EveryShardLevelGivesTheSamePyramid) {
+    const SceneDocument doc = smallScene();
+    TempFile reference("pyramid_shard0.gpkg");
+    PyramidParams p = smallParams();
+    p.shardLevel = 0;
+    p.encoding = parseEncoding("jpeg:90");
+    buildPyramid(doc, reference.path, p, false, nullptr);
+    for (int level : {1, 2, 3}) {
+        TempFile f("pyramid_shard.gpkg");
+        p.shardLevel = level;
+        buildPyramid(doc, f.path, p, false, nullptr);
+        expectSamePyramid(f.path, reference.path);
+    }
+}
+
 TEST(PyramidUpdate, NothingChangedRemakesNothing) {
     const SceneDocument doc = smallScene();
     TempFile f("pyramid_same.gpkg");
