@@ -1,8 +1,10 @@
 // `lacet bench pyramid`: what a pyramid build costs and what its choices cost in error
 // (pyramid/pyramid_build.h). Each run builds into a temporary file, removed after.
+#include <cmath>
 #include <filesystem>
 #include <map>
 
+#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
 
 #include "bench/tasks.h"
@@ -83,6 +85,56 @@ nlohmann::json benchPyramid(const PyramidBenchOptions& o) {
         encoders.push_back(j);
     }
     out["encodings"] = encoders;
+
+    // One road edited: a control point of the road nearest the scene's centre among those with
+    // an inner control point, moved 20 m across the road; then `pyramid update` against a build
+    // from scratch of the edited scene, tile for tile.
+    if (o.editRoad) {
+        TempPyramid updated("updated"), rebuilt("rebuilt");
+        const PyramidStats before = buildPyramid(doc, updated.path, base, true, nullptr);
+        SceneDocument edited = doc;
+        const Vec2 centre = (doc.scene.extent.min + doc.scene.extent.max) * 0.5;
+        LayerId roadLayer = 0;
+        ElementId best = kNoElement;
+        double bestDistance = INFINITY;
+        for (LayerId l = 0; l < edited.scene.layers.size(); ++l) {
+            if (edited.scene.layers[l].kind != LayerKind::Roads) continue;
+            const Layer& layer = edited.scene.layers[l];
+            for (ElementId c = 0; c < layer.curves.size(); ++c) {
+                const Curve& cv = layer.curves[c];
+                if (!cv.alive || cv.vertices.size() < 4 || cv.vertices[1].onCurve || cv.flags != 0) continue;
+                const double d = glm::length(cv.vertices[1].p - centre);
+                if (d < bestDistance) bestDistance = d, best = c, roadLayer = l;
+            }
+        }
+        if (best == kNoElement) throw std::invalid_argument("bench pyramid --edit-road: the scene has no road with a control point");
+        Curve& road = edited.scene.layers[roadLayer].curves[best];
+        const Vec2 along = road.vertices.back().p - road.vertices.front().p;
+        const Vec2 across = glm::length(along) > 0 ? Vec2(-along.y, along.x) / glm::length(along) : Vec2(1.0, 0.0);
+        road.vertices[1].p += 20.0 * across;
+        const PyramidStats up = updatePyramid(edited, updated.path, nullptr);
+        const PyramidStats full = buildPyramid(edited, rebuilt.path, base, true, nullptr);
+        PyramidStore a(updated.path, PyramidStore::Mode::ReadOnly), b(rebuilt.path, PyramidStore::Mode::ReadOnly);
+        std::size_t compared = 0, differ = 0;
+        for (const char* table : {kAppearanceTable, kWaterTable, kElevationTable}) {
+            const auto ta = a.allTiles(table), tb = b.allTiles(table);
+            if (ta.size() != tb.size()) differ += std::max(ta.size(), tb.size()) - std::min(ta.size(), tb.size());
+            for (std::size_t i = 0; i < std::min(ta.size(), tb.size()); ++i) {
+                ++compared;
+                if (!(ta[i].first == tb[i].first) || ta[i].second != tb[i].second) ++differ;
+            }
+        }
+        out["edit_road"] = {{"road", {{"layer", roadLayer}, {"curve", best}, {"moved_m", 20.0}}},
+                            {"tiles_total", before.tilesMade},
+                            {"quads", up.quads},
+                            {"quads_changed", up.quadsChanged},
+                            {"tiles_remade", up.tilesMade},
+                            {"tiles_written", up.tilesWritten},
+                            {"update_wall_s", up.wallSeconds},
+                            {"rebuild_wall_s", full.wallSeconds},
+                            {"tiles_compared_with_rebuild", compared},
+                            {"tiles_differing_from_rebuild", differ}};
+    }
 
     // Mipmapped levels against the same levels made from vector data (PNG: no coding error in
     // either), per level: the colour difference over every texel.

@@ -81,7 +81,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 
 // `lacet bench pyramid`: a scene's pyramid (pyramid/pyramid_build.h) built on each thread count
 // (wall time, tiles a second, thread seconds by stage), with each encoding (time, bytes), and the
-// error the mipmapped levels leave against the same levels made from vector data.
+// error the mipmapped levels leave against the same levels made from vector data; with editRoad,
+// the tiles an update remakes after one road's edit and its equality with a rebuild.
 struct PyramidBenchOptions {
     std::string scene;
     int minLevel = 0, maxLevel = 7;
@@ -89,6 +90,7 @@ struct PyramidBenchOptions {
     std::vector<int> threads{1, 2};
     std::vector<std::string> encodings;
     bool mipError = false;
+    bool editRoad = false;  // one road moved, then update against a rebuild
 };
 nlohmann::json benchPyramid(const PyramidBenchOptions& options);
 
