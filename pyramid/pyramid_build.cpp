@@ -86,82 +86,6 @@ struct MadeTile {
 
 }  // namespace
 
-std::string encodingName(const TileEncoding& e) {
-    switch (e.format) {
-        case TileFormat::Png: return "png:" + std::to_string(e.pngLevel);
-        case TileFormat::Jpeg: return "jpeg:" + std::to_string(e.jpegQuality);
-        case TileFormat::Webp: return "webp:" + std::to_string(e.webpQuality);
-    }
-    return "?";
-}
-
-TileEncoding parseEncoding(const std::string& text) {
-    const auto colon = text.find(':');
-    const std::string name = text.substr(0, colon);
-    TileEncoding e;
-    int value = -1;
-    if (colon != std::string::npos) {
-        try {
-            std::size_t used = 0;
-            value = std::stoi(text.substr(colon + 1), &used);
-            if (used != text.size() - colon - 1) value = -1000;
-        } catch (const std::exception&) {
-            value = -1000;
-        }
-    }
-    const auto bad = [&](const char* range) {
-        return std::invalid_argument("encoding '" + text + "': expected png[:LEVEL 0..9], jpeg[:QUALITY 1..100] or webp[:QUALITY 0..100] (" +
-                                     range + ")");
-    };
-    if (name == "png") {
-        e.format = TileFormat::Png;
-        if (value != -1 && (value < 0 || value > 9)) throw bad("zlib level 0..9");
-        if (value != -1) e.pngLevel = value;
-    } else if (name == "jpeg" || name == "jpg") {
-        e.format = TileFormat::Jpeg;
-        if (value != -1 && (value < 1 || value > 100)) throw bad("quality 1..100");
-        if (value != -1) e.jpegQuality = value;
-    } else if (name == "webp") {
-        e.format = TileFormat::Webp;
-        if (value != -1 && (value < 0 || value > 100)) throw bad("quality 0..100");
-        if (value != -1) e.webpQuality = value;
-    } else {
-        throw bad("unknown format");
-    }
-    return e;
-}
-
-void PyramidParams::resolve(double extentSize, int tileSize) {
-    if (!(texel > 0.0) || !std::isfinite(texel)) throw std::invalid_argument("PyramidParams: texel must be > 0 metres");
-    if (!(extentSize > 0.0)) throw std::invalid_argument("PyramidParams: the scene has an empty extent");
-    if (maxLevel < 0) {
-        // The level whose texel is nearest `texel` by ratio.
-        maxLevel = 0;
-        double best = INFINITY;
-        for (int l = 0; l <= 24; ++l) {
-            const double ratio = std::abs(std::log2(extentSize / double(std::int64_t(1) << l) / double(tileSize) / texel));
-            if (ratio < best - 1e-12) {
-                best = ratio;
-                maxLevel = l;
-            }
-        }
-    }
-    if (minLevel < 0 || maxLevel < minLevel || maxLevel > 24)
-        throw std::invalid_argument("PyramidParams: levels must satisfy 0 <= minLevel <= maxLevel <= 24 (got " +
-                                    std::to_string(minLevel) + "-" + std::to_string(maxLevel) + ")");
-    if (vectorLevels < 1) throw std::invalid_argument("PyramidParams: vectorLevels must be >= 1");
-    if (shardLevel < 0) shardLevel = std::max(0, maxLevel - 4);
-    if (shardLevel > maxLevel) throw std::invalid_argument("PyramidParams: shardLevel must be <= maxLevel");
-    if (!appearance && !elevation) throw std::invalid_argument("PyramidParams: no layer chosen (appearance, elevation)");
-}
-
-std::string defaultPyramidPath(const std::string& scenePath) {
-    const std::string ext = ".gpkg";
-    if (scenePath.size() > ext.size() && scenePath.compare(scenePath.size() - ext.size(), ext.size(), ext) == 0)
-        return scenePath.substr(0, scenePath.size() - ext.size()) + ".pyramid.gpkg";
-    return scenePath + ".pyramid.gpkg";
-}
-
 struct PyramidJob::Impl {
     const SceneDocument& doc;
     PyramidParams params;
@@ -588,17 +512,6 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
         store.rollback();
         throw;
     }
-}
-
-PyramidParams pyramidParams(const PyramidInfo& info) {
-    PyramidParams p;
-    p.minLevel = info.minLevel;
-    p.maxLevel = info.maxLevel;
-    p.vectorLevels = info.maxLevel - info.vectorLevel + 1;
-    p.appearance = info.appearance;
-    p.elevation = info.elevation;
-    p.encoding = parseEncoding(info.encoding);
-    return p;
 }
 
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress) {
