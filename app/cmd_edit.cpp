@@ -11,7 +11,7 @@
 #include "app/import_summary.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
-#include "pyramid/pyramid_reader.h"
+#include "pyramid/pyramid_build.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 #include "ui/editor_app.h"
@@ -86,7 +86,7 @@ void addEditCommand(CLI::App& app) {
         if (!o->editor.pyramid.empty() && !std::filesystem::exists(o->editor.pyramid))
             throw CLI::ValidationError("--pyramid: " + o->editor.pyramid + " does not exist");
         if (o->editor.pyramid.empty() && !o->editor.noPyramid && !o->scene.empty()) {
-            const std::string p = pyramidPathOf(o->scene);
+            const std::string p = defaultPyramidPath(o->scene);
             if (std::filesystem::exists(p)) o->editor.pyramid = p;
         }
         if (!o->editor.pyramid.empty() && o->scene.empty())

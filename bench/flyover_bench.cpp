@@ -21,6 +21,7 @@
 #include "bench/tasks.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
+#include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -127,7 +128,10 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             while (doc.scene.extent.size().x / double(1 << maxLevel) > o.pyramidQuadM * (1.0 + 1e-9) && maxLevel < 12) ++maxLevel;
             file = temporary.path =
                 (std::filesystem::temp_directory_path() / ("lacet_flyover_" + std::to_string(::getpid()) + ".pyramid.gpkg")).string();
-            const PyramidRunFigures f = buildPyramidFile(doc, file, maxLevel, 1, TileEncoding{});
+            PyramidParams params;
+            params.maxLevel = maxLevel;
+            params.vectorLevels = 1;
+            const PyramidStats f = buildPyramid(doc, file, params, /*force=*/true, nullptr);
             pyramidJson = {{"built", true}, {"max_level", maxLevel}, {"quads", f.quads}, {"build_seconds", f.wallSeconds},
                            {"file_mib", double(std::filesystem::file_size(file)) / (1024.0 * 1024.0)}};
         }

@@ -1,14 +1,16 @@
 #include "pyramid/pyramid_reader.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <mutex>
 #include <span>
 #include <sstream>
 #include <vector>
 
-#include "pyramid/pyramid_build.h"
+#include "io/tile_codec.h"
 #include "pyramid/pyramid_store.h"
 #include "pyramid/pyramid_tiles.h"
 
@@ -145,34 +147,6 @@ PyramidReadStats PyramidReader::stats() const {
     s.readMs = double(impl_->readNs.load()) * 1e-6;
     s.decodeMs = double(impl_->decodeNs.load()) * 1e-6;
     return s;
-}
-
-std::string pyramidPathOf(const std::string& scenePath) { return defaultPyramidPath(scenePath); }
-
-namespace {
-PyramidRunFigures figuresOf(const PyramidStats& s) {
-    PyramidRunFigures f;
-    f.quads = s.quads;
-    f.quadsChanged = s.quadsChanged;
-    f.tilesMade = s.tilesMade;
-    f.tilesWritten = s.tilesWritten;
-    f.rebuilt = s.rebuilt;
-    f.wallSeconds = s.wallSeconds;
-    return f;
-}
-}  // namespace
-
-PyramidRunFigures updatePyramidFile(const SceneDocument& doc, const std::string& path) {
-    return figuresOf(updatePyramid(doc, path, nullptr));
-}
-
-PyramidRunFigures buildPyramidFile(const SceneDocument& doc, const std::string& out, int maxLevel, int vectorLevels,
-                                   const TileEncoding& encoding) {
-    PyramidParams params;
-    params.maxLevel = maxLevel;
-    params.vectorLevels = vectorLevels;
-    params.encoding = encoding;
-    return figuresOf(buildPyramid(doc, out, params, true, nullptr));
 }
 
 }  // namespace lacet

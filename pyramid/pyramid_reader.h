@@ -15,20 +15,13 @@
 //
 // Thread safety: appearance() may run on many threads at once: the SQLite read (tens of
 // microseconds) is done under a mutex on one connection, the decode (most of the ~1 ms) outside it.
-//
-// This header does not include pyramid/pyramid_store.h: its PyramidKey (a struct) and
-// editor/draw_plan.h's (a tuple) are both lacet::PyramidKey, so no file can include both. The
-// functions at the end give the editor, its command and the benchmark what they need of
-// pyramid/pyramid_build.h without it.
 
-#include <atomic>
-#include <cstdint>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "io/document.h"
-#include "io/tile_codec.h"
 #include "model/quadtree.h"
 #include "model/types.h"
 #include "raster/appearance_tile.h"
@@ -77,22 +70,5 @@ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
-
-// pyramid/pyramid_build.h for files that cannot include it (see above).
-// The default pyramid file of a scene file ("a/b.gpkg" -> "a/b.pyramid.gpkg").
-std::string pyramidPathOf(const std::string& scenePath);
-
-// What a build or an update did, for the editor's log and the benchmark.
-struct PyramidRunFigures {
-    std::size_t quads = 0, quadsChanged = 0, tilesMade = 0, tilesWritten = 0;
-    bool rebuilt = false;
-    double wallSeconds = 0.0;
-};
-// updatePyramid(doc, path, nullptr).
-PyramidRunFigures updatePyramidFile(const SceneDocument& doc, const std::string& path);
-// buildPyramid(doc, out, params, force = true, nullptr) with PyramidParams{maxLevel, vectorLevels,
-// encoding}, the other knobs at their defaults.
-PyramidRunFigures buildPyramidFile(const SceneDocument& doc, const std::string& out, int maxLevel, int vectorLevels,
-                                   const TileEncoding& encoding);
 
 }  // namespace lacet

@@ -148,6 +148,7 @@ void EditorApp::resetSession(SceneDocument doc) {
     session_.reset();
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
     ++sessionSerial_;
+    lastPyramidUpdate_.reset();
     openPyramid();
     controller_ = std::make_unique<EditingController>(*session_);
     controller_->onMessage = [this](const std::string& m) { status(m); };
@@ -276,7 +277,7 @@ void EditorApp::save(const std::string& path) {
 
 void EditorApp::open(const std::string& path) {
     while (pyramidUpdate_) pollPyramidUpdate(true);  // the updates of the scene being left end first
-    const std::string pyramid = pyramidPathOf(path);
+    const std::string pyramid = defaultPyramidPath(path);
     pyramidPath_ = !options_.noPyramid && std::filesystem::exists(pyramid) ? pyramid : std::string();
     pyramidScene_ = path;
     resetSession(loadScene(path));
@@ -316,7 +317,7 @@ void EditorApp::startPyramidUpdate(std::shared_ptr<const SceneDocument> saved, s
     status(std::string("Updating the pyramid ") + path + "...");
     u->thread = std::thread([u, path] {
         try {
-            u->figures = updatePyramidFile(*u->document, path);
+            u->figures = updatePyramid(*u->document, path, nullptr);
         } catch (const std::exception& e) {
             u->error = e.what();
         }
@@ -329,7 +330,7 @@ void EditorApp::pollPyramidUpdate(bool wait) {
     pyramidUpdate_->thread.join();
     const std::unique_ptr<PyramidUpdate> u = std::move(pyramidUpdate_);
     if (u->session == sessionSerial_ && !pyramidPath_.empty()) {
-        const PyramidRunFigures& f = u->figures;
+        const PyramidStats& f = u->figures;
         nlohmann::json entry = {{"file", pyramidPath_}, {"edit_count", u->madeAt}};
         if (!u->error.empty()) {
             entry["error"] = u->error;
@@ -352,6 +353,7 @@ void EditorApp::pollPyramidUpdate(bool wait) {
             }
         }
         log_["pyramid_updates"].push_back(entry);
+        lastPyramidUpdate_ = PyramidUpdateResult{f, u->madeAt, entry.value("error", std::string())};
     }
     if (pyramidQueued_ && u->session == sessionSerial_) {
         std::shared_ptr<const SceneDocument> next = std::move(pyramidQueued_);

@@ -40,6 +40,7 @@
 #include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "editor/editing_controller.h"
+#include "pyramid/pyramid_build.h"
 #include "ui/input_event.h"
 #include "ui/script_host.h"
 
@@ -60,7 +61,7 @@ struct EditorOptions {
     std::size_t cacheTiles = SessionParams{}.cacheTiles;  // tile pairs the session keeps (editor/cache_fit.h)
     bool vsync = true;
     // The pyramid file of the document (empty: none). A scene opened later (a script's open)
-    // gets its default pyramid (pyramidPathOf) when that exists, unless `noPyramid`.
+    // gets its default pyramid (defaultPyramidPath) when that exists, unless `noPyramid`.
     std::string pyramid;
     bool noPyramid = false;
 };
@@ -166,10 +167,17 @@ private:
         std::atomic<bool> done{false};
         std::shared_ptr<const SceneDocument> document;  // as saved
         std::uint64_t madeAt = 0, session = 0;  // the session's edit count at the save, and which session
-        PyramidRunFigures figures;
+        PyramidStats figures;
         std::string error;
     };
     std::unique_ptr<PyramidUpdate> pyramidUpdate_;
+    // The last update of this session's pyramid that ended (the Statistics panel; none yet: empty).
+    struct PyramidUpdateResult {
+        PyramidStats figures;
+        std::uint64_t madeAt = 0;  // the session's edit count at the save it updated to
+        std::string error;         // empty: updated
+    };
+    std::optional<PyramidUpdateResult> lastPyramidUpdate_;
     // A save while an update ran: the document it saved, updated after.
     std::shared_ptr<const SceneDocument> pyramidQueued_;
     std::uint64_t pyramidQueuedAt_ = 0;

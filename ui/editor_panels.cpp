@@ -1,6 +1,7 @@
 // The editor's ImGui panels (EditorApp::drawPanels): layers and tools, the selection's
 // properties, statistics and the accuracy knobs, and the prompt before losing unsaved changes.
 #include <algorithm>
+#include <memory>
 #include <string>
 
 #include <epoxy/gl.h>
@@ -8,6 +9,7 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include "pyramid/pyramid_reader.h"
 #include "ui/editor_app.h"
 #include "ui/terrain_renderer.h"
 
@@ -109,6 +111,26 @@ void EditorApp::drawPanels() {
     ImGui::Text("  %zu quads changed, %zu tiles dirty", last.changedQuads, last.dirtyTiles);
     ImGui::Text("Undo %zu, redo %zu%s", session_->undoDepth(), session_->redoDepth(), session_->modified() ? ", unsaved" : "");
     ImGui::Text("Viewer %.1f m above the ground%s", viewerHeight(), camera_.fly ? " (fly)" : "");
+    ImGui::Separator();
+    const PyramidUse& pu = session_->pyramidUse();
+    if (const std::shared_ptr<PyramidReader>& pyramid = session_->pyramid())
+        ImGui::Text("Pyramid: open, levels %d to %d read (L = %d, %s)", pyramid->minLevel(), pyramid->vectorLevel() - 1,
+                    pyramid->vectorLevel(), pyramid->encoding().c_str());
+    else
+        ImGui::TextUnformatted("Pyramid: none (every tile made live)");
+    ImGui::Text("  appearance tiles: %zu read, %zu failed, %zu live (%zu touched by edits)", pu.read, pu.failed, pu.live, pu.touched);
+    if (pyramidUpdate_) {
+        ImGui::TextUnformatted("  updating after the last save...");
+    } else if (lastPyramidUpdate_) {
+        const PyramidStats& f = lastPyramidUpdate_->figures;
+        if (!lastPyramidUpdate_->error.empty())
+            ImGui::TextWrapped("  last update (edit %llu) failed: %s", static_cast<unsigned long long>(lastPyramidUpdate_->madeAt),
+                               lastPyramidUpdate_->error.c_str());
+        else
+            ImGui::Text("  last update (edit %llu): %zu of %zu quads changed, %zu tiles made, %zu written in %.1f s%s",
+                        static_cast<unsigned long long>(lastPyramidUpdate_->madeAt), f.quadsChanged, f.quads, f.tilesMade,
+                        f.tilesWritten, f.wallSeconds, f.rebuilt ? " (rebuilt)" : "");
+    }
     ImGui::Separator();
     ImGui::TextUnformatted("Accuracy");
     float K = float(session_->params().view.K);

@@ -9,8 +9,8 @@
 
 #include <sqlite3.h>
 
-#include <filesystem>
 #include <algorithm>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -19,6 +19,7 @@
 
 #include "io/tile_codec.h"
 #include "model/edits.h"
+#include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_tiles.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -99,9 +100,11 @@ protected:
         dir_ = std::filesystem::temp_directory_path() / ("lacet_pyramid_test_" + std::to_string(::getpid()));
         std::filesystem::create_directories(dir_);
         path_ = (dir_ / "scene.pyramid.gpkg").string();
-        TileEncoding png;
-        png.format = TileFormat::Png;
-        const PyramidRunFigures f = buildPyramidFile(pyramidDocument(), path_, kMaxLevel, kVectorLevels, png);
+        PyramidParams params;
+        params.maxLevel = kMaxLevel;
+        params.vectorLevels = kVectorLevels;
+        params.encoding.format = TileFormat::Png;
+        const PyramidStats f = buildPyramid(pyramidDocument(), path_, params, /*force=*/true, nullptr);
         std::cout << "[ figures  ] pyramid of " << f.quads << " quads, " << f.tilesMade << " tiles made in " << f.wallSeconds << " s\n";
     }
     static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
