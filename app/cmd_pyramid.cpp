@@ -32,39 +32,6 @@ struct PyramidOptions {
     bool shards = false;
 };
 
-nlohmann::json statsJson(const PyramidStats& s, const std::string& path) {
-    const auto& t = s.times;
-    const double tiles = double(s.tilesMade);
-    return {{"pyramid", path},
-            {"quads", s.quads},
-            {"quads_changed", s.quadsChanged},
-            {"tiles_made", s.tilesMade},
-            {"tiles_written", s.tilesWritten},
-            {"rebuilt", s.rebuilt},
-            {"stored", {{"appearance", s.appearanceTiles}, {"water", s.waterTiles}, {"elevation", s.elevationTiles}}},
-            {"bytes", s.bytes},
-            {"wall_s", s.wallSeconds},
-            {"tiles_per_s", s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0},
-            {"thread_seconds",
-             {{"clip", t.clip}, {"digest", t.digest}, {"elevation", t.elevation}, {"appearance", t.appearance},
-              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}}}};
-}
-
-void printStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json) {
-    if (json) {
-        std::cout << statsJson(s, path).dump(2) << "\n";
-        return;
-    }
-    const auto& t = s.times;
-    std::printf("%s %s: %zu quads (%zu changed), %zu tiles made, %zu written; stored %zu appearance, %zu water, %zu elevation "
-                "tiles, %.1f MB; %.2f s (%.0f tiles/s)\n  thread seconds: clip %.2f, digest %.2f, elevation %.2f, appearance %.2f, "
-                "mipmap %.2f, encode %.2f, decode %.2f, write %.2f\n",
-                what.c_str(), path.c_str(), s.quads, s.quadsChanged, s.tilesMade, s.tilesWritten, s.appearanceTiles, s.waterTiles,
-                s.elevationTiles, double(s.bytes) / 1e6, s.wallSeconds, s.wallSeconds > 0 ? double(s.tilesMade) / s.wallSeconds : 0.0,
-                t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write);
-    if (s.rebuilt) std::printf("  the scene's DEM, layers or a knob changed since the build: every tile was remade\n");
-}
-
 PyramidParams paramsOf(const PyramidOptions& o) {
     PyramidParams p;
     if (!o.levels.empty()) {
@@ -139,7 +106,7 @@ void addPyramidCommand(CLI::App& app) {
         const SceneDocument doc = loadForPyramid(b->scene);
         TerminalProgress progress;
         const PyramidStats s = buildPyramid(doc, out, params, b->force, &progress);
-        printStats(s, "built", out, b->json);
+        printPyramidStats(s, "built", out, b->json);
     });
 
     auto u = std::make_shared<PyramidOptions>();
@@ -152,13 +119,46 @@ void addPyramidCommand(CLI::App& app) {
         const SceneDocument doc = loadForPyramid(u->scene);
         TerminalProgress progress;
         const PyramidStats s = updatePyramid(doc, path, &progress);
-        printStats(s, "updated", path, u->json);
+        printPyramidStats(s, "updated", path, u->json);
     });
 
     auto path = std::make_shared<std::string>();
     CLI::App* info = cmd->add_subcommand("info", "What a pyramid holds; every tile decoded (exit 2 when one is corrupt or missing)");
     info->add_option("pyramid", *path, "Pyramid file")->required();
     info->callback([path] { printPyramidInfo(*path); });
+}
+
+nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) {
+    const auto& t = s.times;
+    const double tiles = double(s.tilesMade);
+    return {{"pyramid", path},
+            {"quads", s.quads},
+            {"quads_changed", s.quadsChanged},
+            {"tiles_made", s.tilesMade},
+            {"tiles_written", s.tilesWritten},
+            {"rebuilt", s.rebuilt},
+            {"stored", {{"appearance", s.appearanceTiles}, {"water", s.waterTiles}, {"elevation", s.elevationTiles}}},
+            {"bytes", s.bytes},
+            {"wall_s", s.wallSeconds},
+            {"tiles_per_s", s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0},
+            {"thread_seconds",
+             {{"clip", t.clip}, {"digest", t.digest}, {"elevation", t.elevation}, {"appearance", t.appearance},
+              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}}}};
+}
+
+void printPyramidStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json) {
+    if (json) {
+        std::cout << pyramidStatsJson(s, path).dump(2) << "\n";
+        return;
+    }
+    const auto& t = s.times;
+    std::printf("%s %s: %zu quads (%zu changed), %zu tiles made, %zu written; stored %zu appearance, %zu water, %zu elevation "
+                "tiles, %.1f MB; %.2f s (%.0f tiles/s)\n  thread seconds: clip %.2f, digest %.2f, elevation %.2f, appearance %.2f, "
+                "mipmap %.2f, encode %.2f, decode %.2f, write %.2f\n",
+                what.c_str(), path.c_str(), s.quads, s.quadsChanged, s.tilesMade, s.tilesWritten, s.appearanceTiles, s.waterTiles,
+                s.elevationTiles, double(s.bytes) / 1e6, s.wallSeconds, s.wallSeconds > 0 ? double(s.tilesMade) / s.wallSeconds : 0.0,
+                t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write);
+    if (s.rebuilt) std::printf("  the scene's DEM, layers or a knob changed since the build: every tile was remade\n");
 }
 
 void printPyramidInfo(const std::string& path) {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include "pyramid/pyramid_build.h"
 
@@ -20,6 +21,9 @@ void addPyramidCommand(CLI::App& app);
 // `lacet pyramid info` and `lacet info` of a pyramid file: the JSON report; exits 2 when a tile is
 // corrupt or missing.
 void printPyramidInfo(const std::string& path);
+// A pyramid run's figures (`what`: "built", "updated"), as text or JSON.
+nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path);
+void printPyramidStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json);
 // `lacet pyramid build --shards`: the build over the ranks of an MPI job (app/pyramid_mpi.cpp when
 // built with LACET_MPI; otherwise it refuses, saying so).
 void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json);

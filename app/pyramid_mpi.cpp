@@ -118,20 +118,6 @@ void makeShard(PyramidJob& job, const PyramidKey& key, const std::string& path, 
     fs::rename(part, path);
 }
 
-// As buildPyramid refuses it (pyramid/pyramid_build.cpp): a pyramid of another extent or CRS.
-void checkMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path) {
-    if (stored.extent.min != wanted.extent.min || stored.extent.max != wanted.extent.max || stored.crsWkt != wanted.crsWkt) {
-        const auto box = [](const Box& b) {
-            char s[160];
-            std::snprintf(s, sizeof s, "(%.3f, %.3f)-(%.3f, %.3f)", b.min.x, b.min.y, b.max.x, b.max.y);
-            return std::string(s);
-        };
-        throw PyramidError(path + ": the pyramid was built for another scene (extent " + box(stored.extent) +
-                           (stored.crsWkt == wanted.crsWkt ? std::string(", same CRS") : std::string(", another CRS")) +
-                           "; this scene's extent is " + box(wanted.extent) + ")");
-    }
-}
-
 // Copies a shard file's tiles, elevation statistics and quad digests into `store` (in its
 // transaction). The elevation tiles get new row ids in `store`: their ancillary rows are matched
 // by zoom level, column and row.
@@ -209,33 +195,13 @@ std::size_t shardTiles(const PyramidParams& p) {
 
 // As cmd_pyramid.cpp prints a build's figures, with the shards' figures after them.
 void printStats(const PyramidStats& s, const std::string& path, bool json, const nlohmann::json& shards) {
-    const auto& t = s.times;
-    const double tiles = double(s.tilesMade);
     if (json) {
-        const nlohmann::json j = {
-            {"pyramid", path},
-            {"quads", s.quads},
-            {"quads_changed", s.quadsChanged},
-            {"tiles_made", s.tilesMade},
-            {"tiles_written", s.tilesWritten},
-            {"rebuilt", s.rebuilt},
-            {"stored", {{"appearance", s.appearanceTiles}, {"water", s.waterTiles}, {"elevation", s.elevationTiles}}},
-            {"bytes", s.bytes},
-            {"wall_s", s.wallSeconds},
-            {"tiles_per_s", s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0},
-            {"thread_seconds",
-             {{"clip", t.clip}, {"digest", t.digest}, {"elevation", t.elevation}, {"appearance", t.appearance},
-              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}}},
-            {"shards", shards}};
+        nlohmann::json j = pyramidStatsJson(s, path);
+        j["shards"] = shards;
         std::cout << j.dump(2) << "\n";
         return;
     }
-    std::printf("built %s: %zu quads (%zu changed), %zu tiles made, %zu written; stored %zu appearance, %zu water, %zu elevation "
-                "tiles, %.1f MB; %.2f s (%.0f tiles/s)\n  thread seconds: clip %.2f, digest %.2f, elevation %.2f, appearance %.2f, "
-                "mipmap %.2f, encode %.2f, decode %.2f, write %.2f\n",
-                path.c_str(), s.quads, s.quadsChanged, s.tilesMade, s.tilesWritten, s.appearanceTiles, s.waterTiles, s.elevationTiles,
-                double(s.bytes) / 1e6, s.wallSeconds, s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0, t.clip, t.digest, t.elevation,
-                t.appearance, t.mipmap, t.encode, t.decode, t.write);
+    printPyramidStats(s, "built", path, false);
     std::string perRank;
     for (const auto& r : shards["ranks"]) {
         char line[160];
@@ -278,7 +244,7 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
     const PyramidParams& p = job.params();
     if (rank == 0 && fs::exists(out) && !force) {
         PyramidStore old(out, PyramidStore::Mode::ReadOnly);
-        if (auto i = old.info()) checkMatches(*i, wanted, out);
+        if (auto i = old.info()) checkPyramidMatches(*i, wanted, out);
     }
     const std::string dir = out + ".shards";
     std::error_code ec;
@@ -336,7 +302,7 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
     PyramidStats st;
     {
         PyramidStore store(out, PyramidStore::Mode::ReadWrite);
-        if (auto old = store.info(); old && !force) checkMatches(*old, wanted, out);
+        if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
         try {
             store.begin();
             store.create(wanted);

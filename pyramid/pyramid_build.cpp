@@ -54,7 +54,7 @@ PyramidKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
 std::uint64_t inputsDigest(const SceneDocument& doc, const PyramidParams& p, const RefineParams& refine,
                            const ZProfileParams& z, const GraphStepParams& g, const AppearanceParams& a) {
     Digest d;
-    d.word(kPyramidFormatVersion).text(encodingName(p.encoding)).word(std::uint64_t(p.minLevel)).word(std::uint64_t(p.maxLevel));
+    d.word(kPyramidFormatVersion).word(kQuadDigestVersion).text(encodingName(p.encoding)).word(std::uint64_t(p.minLevel)).word(std::uint64_t(p.maxLevel));
     d.word(std::uint64_t(p.vectorLevels)).word(p.appearance).word(p.elevation);
     const Scene& s = doc.scene;
     d.real(s.extent.min.x).real(s.extent.min.y).real(s.extent.max.x).real(s.extent.max.y).word(s.layers.size());
@@ -460,9 +460,7 @@ void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
     m.makeLevels(byLevel, 0, store, true);
 }
 
-namespace {
-
-void checkMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path) {
+void checkPyramidMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path) {
     if (stored.extent.min != wanted.extent.min || stored.extent.max != wanted.extent.max || stored.crsWkt != wanted.crsWkt) {
         const auto box = [](const Box& b) {
             char s[160];
@@ -474,6 +472,8 @@ void checkMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const st
                            "; this scene's extent is " + box(wanted.extent) + ")");
     }
 }
+
+namespace {
 
 PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
     const auto t0 = Clock::now();
@@ -496,7 +496,7 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
     PyramidJob job(doc, params);
     PyramidStore store(out, PyramidStore::Mode::ReadWrite);
     const PyramidInfo wanted = job.info();
-    if (auto old = store.info(); old && !force) checkMatches(*old, wanted, out);
+    if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
     try {
         store.begin();
         store.create(wanted);
@@ -522,7 +522,7 @@ PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Pr
     if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
     PyramidJob job(doc, pyramidParams(*old), store.digests());
     const PyramidInfo wanted = job.info();
-    checkMatches(*old, wanted, path);
+    checkPyramidMatches(*old, wanted, path);
     const bool rebuild = wanted.inputs != old->inputs;
     if (rebuild) job.forgetPrevious();
     try {

@@ -112,6 +112,10 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
 // pyramid, it is incomplete, or it was made for another extent or CRS.
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress);
 
+// Throws PyramidError naming `path` when a stored pyramid was made for another extent or CRS than
+// `wanted` (a build refuses to replace it without --force, an update refuses it).
+void checkPyramidMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path);
+
 // The parameters a stored pyramid was built with.
 PyramidParams pyramidParams(const PyramidInfo& info);
 
