@@ -83,6 +83,8 @@ SqliteDb::SqliteDb(const std::string& path, Mode mode) {
 
 SqliteDb::~SqliteDb() { sqlite3_close_v2(db_); }
 
+void SqliteDb::busyTimeout(int ms) { sqlite3_busy_timeout(db_, ms); }
+
 void SqliteDb::exec(std::string_view sql) {
     char* message = nullptr;
     if (sqlite3_exec(db_, std::string(sql).c_str(), nullptr, nullptr, &message) != SQLITE_OK) {

@@ -61,6 +61,9 @@ public:
     SqliteDb& operator=(const SqliteDb&) = delete;
     ~SqliteDb();  // closes quietly; call close() to see errors
 
+    // How long a statement waits for a lock another connection holds before failing with
+    // "database is locked" (milliseconds; 0: fail at once, SQLite's default).
+    void busyTimeout(int ms);
     // Runs one or more statements that return nothing the caller needs.
     void exec(std::string_view sql);
     SqliteStatement prepare(std::string_view sql) { return SqliteStatement(db_, sql); }

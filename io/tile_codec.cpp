@@ -262,6 +262,9 @@ DecodedImage decodeJpeg(std::span<const std::uint8_t> bytes, unsigned denom = 1)
     if (c.image_width > JDIMENSION(kMaxTileSide) || c.image_height > JDIMENSION(kMaxTileSide))
         throw TileDecodeError("JPEG: " + std::to_string(c.image_width) + " x " + std::to_string(c.image_height) +
                               " pixels, more than " + std::to_string(kMaxTileSide) + " on a side");
+    if (c.image_width % denom != 0 || c.image_height % denom != 0)  // libjpeg would round an odd side up
+        throw TileDecodeError(std::to_string(c.image_width) + " x " + std::to_string(c.image_height) +
+                              " pixels: not of even size, cannot halve");
     c.scale_num = 1;
     c.scale_denom = denom;
     jpeg_calc_output_dimensions(&c);
@@ -630,8 +633,7 @@ DecodedImage decodeImage(std::span<const std::uint8_t> bytes) {
 
 DecodedImage decodeImageHalf(std::span<const std::uint8_t> bytes) {
     if (startsWith(bytes, kJpegSignature)) {
-        const DecodedImage half = decodeJpeg(bytes, 2);
-        return half;
+        return decodeJpeg(bytes, 2);
     }
     const DecodedImage full = decodeImage(bytes);
     if (full.width % 2 != 0 || full.height % 2 != 0)

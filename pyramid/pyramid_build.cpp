@@ -13,6 +13,7 @@
 #include <tbb/parallel_for_each.h>
 #include <tbb/task_group.h>
 
+#include "io/scene_checksum.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "pyramid/digest.h"
@@ -393,6 +394,7 @@ PyramidInfo PyramidJob::info() const {
     i.extent = m.doc.scene.extent;
     i.crsWkt = m.doc.georeference.valid ? m.doc.georeference.crsWkt : std::string();
     i.inputs = inputsDigest(m.doc, m.params, m.refine, m.data.params(), m.graphStep.params(), m.appearanceParams);
+    i.sceneChecksum = sceneChecksumText(m.doc);
     return i;
 }
 
@@ -447,9 +449,7 @@ void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
     // The quads above the shards: their graphs are still there (runShard merges only below).
     std::vector<std::vector<Quad*>> byLevel(std::size_t(m.params.shardLevel));
     std::vector<Quad*> stack{&m.qt.root()};
-    m.clip.time([&] {
-        for (const PyramidKey& k : shards()) m.quadAt(k);  // a merged rank's top may not be there yet
-    });
+    for (const PyramidKey& k : shards()) m.quadAt(k);  // a merged rank's top may not be there yet (quadAt times it)
     while (!stack.empty()) {
         Quad* q = stack.back();
         stack.pop_back();
@@ -506,7 +506,9 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
         store.writeInfo(done);
         const auto t0 = Clock::now();
         store.commit();
-        st.times.write += std::chrono::duration<double>(Clock::now() - t0).count();
+        const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
+        st.times.write += commit;
+        st.wallSeconds += commit;  // the tiles are stored only once committed
         return st;
     } catch (...) {
         store.rollback();
@@ -533,7 +535,11 @@ PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Pr
         PyramidInfo done = wanted;
         done.complete = true;
         store.writeInfo(done);
+        const auto t0 = Clock::now();
         store.commit();
+        const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
+        st.times.write += commit;
+        st.wallSeconds += commit;
         return st;
     } catch (...) {
         store.rollback();

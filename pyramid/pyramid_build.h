@@ -35,15 +35,20 @@
 
 namespace lacet {
 
+// Limits of a pyramid run: quads of all its levels, and the shards' level (4^level shards).
+inline constexpr double kMaxPyramidQuads = 268435456.0;  // 2^28 (levels 0-13)
+inline constexpr int kMaxShardLevel = 12;
+
 struct PyramidParams {
     int minLevel = 0;         // first level stored, >= 0
     int maxLevel = -1;        // last level stored, >= minLevel, <= 24; -1: the level whose texel is nearest `texel`
     double texel = 1.0;       // m per appearance texel the default maxLevel comes nearest to (by ratio), > 0
     int vectorLevels = 1;     // the deepest levels whose appearance is made from vector data (>= 1); the rest mipmapped
-    int shardLevel = -1;      // level of the subtrees' roots; -1: maxLevel - 4 (at least minLevel... see resolve)
+    int shardLevel = -1;      // level of the subtrees' roots, <= maxLevel and kMaxShardLevel; -1: max(0, maxLevel - 4)
     bool appearance = true, elevation = true;
     TileEncoding encoding{};
-    // Checks ranges and fills the defaults for a scene of `extent`; throws std::invalid_argument.
+    // Checks ranges (and the limits above) and fills the defaults for a scene of `extent`; throws
+    // std::invalid_argument.
     void resolve(double extentSize, int tileSize);
 };
 

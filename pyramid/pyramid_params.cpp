@@ -72,8 +72,19 @@ void PyramidParams::resolve(double extentSize, int tileSize) {
         throw std::invalid_argument("PyramidParams: levels must satisfy 0 <= minLevel <= maxLevel <= 24 (got " +
                                     std::to_string(minLevel) + "-" + std::to_string(maxLevel) + ")");
     if (vectorLevels < 1) throw std::invalid_argument("PyramidParams: vectorLevels must be >= 1");
+    vectorLevels = std::min(vectorLevels, maxLevel - minLevel + 1);  // as stored (PyramidInfo::vectorLevel)
     if (shardLevel < 0) shardLevel = std::max(0, maxLevel - 4);
     if (shardLevel > maxLevel) throw std::invalid_argument("PyramidParams: shardLevel must be <= maxLevel");
+    if (shardLevel > kMaxShardLevel)
+        throw std::invalid_argument("PyramidParams: shardLevel " + std::to_string(shardLevel) + " makes over 4^" +
+                                    std::to_string(kMaxShardLevel) + " shards; choose --shard-level " + std::to_string(kMaxShardLevel) +
+                                    " or less");
+    double quads = 0.0;
+    for (int l = minLevel; l <= maxLevel; ++l) quads += std::ldexp(1.0, 2 * l);
+    if (quads > kMaxPyramidQuads)
+        throw std::invalid_argument("PyramidParams: levels " + std::to_string(minLevel) + "-" + std::to_string(maxLevel) + " are " +
+                                    std::to_string(quads) + " quads, over the " + std::to_string(kMaxPyramidQuads) +
+                                    " a pyramid may hold; choose fewer levels (--levels) or a coarser --texel");
     if (!appearance && !elevation) throw std::invalid_argument("PyramidParams: no layer chosen (appearance, elevation)");
 }
 

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "io/scene_checksum.h"
 #include "io/tile_codec.h"
 #include "pyramid/pyramid_store.h"
 #include "pyramid/pyramid_tiles.h"
@@ -55,7 +56,13 @@ struct PyramidReader::Impl {
 };
 
 PyramidReader::PyramidReader(const std::string& path, const SceneDocument& doc)
-    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string()) {}
+    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string()) {
+    // Tiles of another state of the scene (edited without updating the pyramid, imported again)
+    // would show what is no longer there.
+    if (!impl_->info.sceneChecksum.empty() && impl_->info.sceneChecksum != sceneChecksumText(doc))
+        throw PyramidError(path + ": the pyramid was made from another state of the scene (edited or imported since): run lacet "
+                                  "pyramid update on the scene");
+}
 
 PyramidReader::PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt) : impl_(std::make_unique<Impl>()) {
     std::optional<PyramidInfo> info;

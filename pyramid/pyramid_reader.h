@@ -43,7 +43,9 @@ public:
     // synthetic scenes). Throws PyramidError naming the file and the reason when it holds no
     // pyramid, an incomplete one, one without appearance, or one of another extent or CRS.
     PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt);
-    // The same for the scene of `doc` (its extent and georeference's CRS).
+    // The same for the scene of `doc` (its extent and georeference's CRS), and refuses a pyramid
+    // made from another state of that scene (PyramidInfo::sceneChecksum: edited or imported again
+    // without `lacet pyramid update`), whose tiles would show what is no longer there.
     PyramidReader(const std::string& path, const SceneDocument& doc);
     ~PyramidReader();
     PyramidReader(const PyramidReader&) = delete;

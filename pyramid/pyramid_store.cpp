@@ -14,7 +14,7 @@ namespace {
 
 constexpr const char* kInfoTable = "lacet_pyramid";
 constexpr const char* kQuadsTable = "lacet_pyramid_quads";
-constexpr int kSrsId = 100001;  // the scene's CRS in the pyramid file (when it has one)
+constexpr int kBusyTimeoutMs = 30000;  // ms a statement waits for another connection's lock
 constexpr const char* kGriddedDef = "http://docs.opengeospatial.org/is/17-066r1/17-066r1.html";
 
 std::string exact(double v) {
@@ -35,6 +35,8 @@ SqliteDb::Mode sqliteMode(PyramidStore::Mode mode) {
 }  // namespace
 
 PyramidStore::PyramidStore(const std::string& path, Mode mode) try : path_(path), db_(ensureGpkg(path, mode), sqliteMode(mode)) {
+    // The editor reads a pyramid while an update writes it: each waits for the other's lock.
+    db_.busyTimeout(kBusyTimeoutMs);
     if (!db_.hasTable("gpkg_contents")) throw PyramidError(path + ": not a GeoPackage (no gpkg_contents table)");
     if (mode == Mode::ReadWrite) db_.exec("PRAGMA cache_size = -65536");  // 64 MiB before spilling to the journal
 } catch (const PyramidError&) {
@@ -81,6 +83,7 @@ std::optional<PyramidInfo> PyramidStore::info() {
         i.crsWkt = get("crs_wkt");
         i.inputs = std::stoull(get("inputs"), nullptr, 16);
         i.complete = get("complete") == "1";
+        if (auto it = kv.find("scene_checksum"); it != kv.end()) i.sceneChecksum = it->second;
         if (i.minLevel < 0 || i.maxLevel < i.minLevel || i.maxLevel > 30 || i.tileSize <= 0 || i.elevationSize <= 0)
             throw PyramidError("lacet_pyramid holds impossible levels or tile sizes");
         return i;
@@ -137,14 +140,22 @@ void PyramidStore::create(const PyramidInfo& info) {
     dropPyramid();
     int srs = -1;  // undefined Cartesian
     if (!info.crsWkt.empty()) {
-        srs = kSrsId;
-        auto st = db_.prepare(
-            "INSERT OR REPLACE INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, "
-            "definition, description) VALUES ('Lacet scene', ?, 'NONE', ?, ?, 'the CRS of the Lacet scene the pyramid was built for')");
-        st.bind(1, std::int64_t(srs));
-        st.bind(2, std::int64_t(srs));
-        st.bindText(3, info.crsWkt);
-        st.step();
+        // The row of this CRS if the file has one; otherwise a new id from 100000 up (GDAL's
+        // custom range), never another row's.
+        auto same = db_.prepare("SELECT srs_id FROM gpkg_spatial_ref_sys WHERE definition = ? ORDER BY srs_id LIMIT 1");
+        same.bindText(1, info.crsWkt);
+        if (same.step()) {
+            srs = int(same.integer(0));
+        } else {
+            srs = int(db_.queryInteger("SELECT max(100000, coalesce(max(srs_id), 0) + 1) FROM gpkg_spatial_ref_sys"));
+            auto st = db_.prepare(
+                "INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, definition, "
+                "description) VALUES ('Lacet scene', ?, 'NONE', ?, ?, 'the CRS of the Lacet scene the pyramid was built for')");
+            st.bind(1, std::int64_t(srs));
+            st.bind(2, std::int64_t(srs));
+            st.bindText(3, info.crsWkt);
+            st.step();
+        }
     }
     const Box& e = info.extent;
     const std::string box = exact(e.min.x) + ", " + exact(e.min.y) + ", " + exact(e.max.x) + ", " + exact(e.max.y);
@@ -239,7 +250,8 @@ void PyramidStore::writeInfo(const PyramidInfo& i) {
         {"encoding", i.encoding},                            {"min_x", exact(i.extent.min.x)},
         {"min_y", exact(i.extent.min.y)},                    {"max_x", exact(i.extent.max.x)},
         {"max_y", exact(i.extent.max.y)},                    {"crs_wkt", i.crsWkt},
-        {"inputs", inputs},                                  {"complete", i.complete ? "1" : "0"}};
+        {"inputs", inputs},                                  {"complete", i.complete ? "1" : "0"},
+        {"scene_checksum", i.sceneChecksum}};
     auto st = db_.prepare(std::string("INSERT OR REPLACE INTO ") + kInfoTable + " (key, value) VALUES (?, ?)");
     for (const auto& [k, v] : kv) {
         st.bindText(1, k);

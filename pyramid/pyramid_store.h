@@ -56,6 +56,7 @@ struct PyramidInfo {
     std::string crsWkt;              // the scene's CRS, empty when it has none
     std::uint64_t inputs = 0;        // digest of the DEM, the scene's layers and every knob
     bool complete = false;           // every tile of the levels is stored
+    std::string sceneChecksum;       // io/scene_checksum.h's text of the scene the tiles show; empty: unknown
 };
 
 struct PyramidKey {

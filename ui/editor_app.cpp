@@ -340,7 +340,8 @@ void EditorApp::pollPyramidUpdate(bool wait) {
             entry.update({{"quads", f.quads}, {"quads_changed", f.quadsChanged}, {"tiles_made", f.tilesMade},
                           {"tiles_written", f.tilesWritten}, {"rebuilt", f.rebuilt}, {"seconds", f.wallSeconds}});
             try {
-                session_->setPyramid(std::make_shared<PyramidReader>(pyramidPath_, session_->document()), u->madeAt);
+                // The saved document, which the pyramid now shows (edits made since stay live).
+                session_->setPyramid(std::make_shared<PyramidReader>(pyramidPath_, *u->document), u->madeAt);
                 std::ostringstream m;
                 m.precision(3);
                 m << "Pyramid updated: " << f.quadsChanged << " of " << f.quads << " quads changed, " << f.tilesMade << " tiles made, "

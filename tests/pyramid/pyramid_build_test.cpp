@@ -13,6 +13,7 @@
 #include "io/tile_codec.h"
 #include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_check.h"
+#include "pyramid/pyramid_reader.h"
 #include "pyramid/pyramid_tiles.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_dem.h"
@@ -313,6 +314,47 @@ TEST(PyramidCheck, ReportsACorruptTileAndAMissingOne) {
     EXPECT_EQ(c.problems[1].reason, "missing");
 }
 
+// The editor does not show a pyramid of another state of the scene; after an update it does.
+TEST(PyramidReader, RefusesAPyramidOfAnEarlierStateOfTheScene) {
+    SceneDocument doc = smallScene();
+    TempFile f("pyramid_stale.gpkg");
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    EXPECT_NO_THROW(PyramidReader(f.path, doc));
+    std::mt19937_64 rng(5);
+    applyRandomEdit(doc.scene, rng, 50.0);
+    try {
+        PyramidReader reader(f.path, doc);
+        FAIL() << "a pyramid of the scene before an edit was accepted";
+    } catch (const PyramidError& e) {
+        EXPECT_NE(std::string(e.what()).find("another state of the scene"), std::string::npos) << e.what();
+    }
+    updatePyramid(doc, f.path, nullptr);
+    EXPECT_NO_THROW(PyramidReader(f.path, doc));
+}
+
+// A pyramid added to a GeoPackage that has custom CRSs of its own takes a new id and leaves
+// theirs alone; built again, it reuses its own.
+TEST(PyramidStore, TheScenesCrsTakesAFreeIdAndLeavesOthersAlone) {
+    SceneDocument doc = smallScene();
+    doc.georeference.valid = true;
+    doc.georeference.crsWkt = "LOCAL_CS[\"Lacet test scene\",LOCAL_DATUM[\"none\",32767],UNIT[\"metre\",1]]";
+    TempFile f("pyramid_srs.gpkg");
+    {
+        PyramidStore created(f.path, PyramidStore::Mode::ReadWrite);  // a new, empty GeoPackage
+        created.db().exec("INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, "
+                          "definition) VALUES ('a', 100000, 'NONE', 100000, 'LOCAL_CS[\"a\"]'), ('b', 100001, 'NONE', "
+                          "100001, 'LOCAL_CS[\"b\"]')");
+    }
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    buildPyramid(doc, f.path, smallParams(), false, nullptr);
+    SqliteDb db(f.path, SqliteDb::Mode::ReadOnly);
+    EXPECT_EQ(db.queryInteger(std::string("SELECT srs_id FROM gpkg_tile_matrix_set WHERE table_name = '") + kAppearanceTable + "'"),
+              100002);
+    EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = 100000"), "LOCAL_CS[\"a\"]");
+    EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = 100001"), "LOCAL_CS[\"b\"]");
+    EXPECT_EQ(db.queryInteger("SELECT count(*) FROM gpkg_spatial_ref_sys WHERE srs_id >= 100000"), 3);
+}
+
 TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
     PyramidParams p;
     p.texel = 1.0;
@@ -326,6 +368,15 @@ TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
     bad.minLevel = 3;
     bad.maxLevel = 2;
     EXPECT_THROW(bad.resolve(1000.0, 256), std::invalid_argument);
+    PyramidParams huge;
+    huge.maxLevel = 20;  // 4^20 quads at the deepest level
+    EXPECT_THROW(huge.resolve(1000.0, 256), std::invalid_argument);
+    PyramidParams many;
+    many.minLevel = 3;
+    many.maxLevel = 5;
+    many.vectorLevels = 10;
+    many.resolve(1000.0, 256);
+    EXPECT_EQ(many.vectorLevels, 3);  // what the file stores: an update gets the same knobs
     EXPECT_THROW(parseEncoding("gif"), std::invalid_argument);
     EXPECT_THROW(parseEncoding("jpeg:0"), std::invalid_argument);
     EXPECT_EQ(encodingName(parseEncoding("webp:75")), "webp:75");
