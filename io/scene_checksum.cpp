@@ -4,48 +4,13 @@
 #include <cstdio>
 #include <string_view>
 
+#include "io/digest.h"
 #include "io/scene_file.h"
 
 namespace lacet {
 namespace {
 
-// xxHash64-style rounds over 64-bit words, then a final avalanche. Not cryptographic: it detects
-// damage, not tampering.
-class Checksum {
-public:
-    void word(std::uint64_t w) {
-        w *= 0xC2B2AE3D27D4EB4FULL;
-        w = std::rotl(w, 31) * 0x9E3779B185EBCA87ULL;
-        h_ = std::rotl(h_ ^ w, 27) * 0x9E3779B185EBCA87ULL + 0x85EBCA77C2B2AE63ULL;
-    }
-    void real(double v) { word(std::bit_cast<std::uint64_t>(v)); }
-    void real(float v) { word(std::bit_cast<std::uint32_t>(v)); }
-    void text(std::string_view t) {
-        word(t.size());
-        std::uint64_t w = 0;
-        for (std::size_t k = 0; k < t.size(); ++k) {
-            w |= std::uint64_t(static_cast<unsigned char>(t[k])) << (8 * (k % 8));
-            if (k % 8 == 7 || k + 1 == t.size()) {
-                word(w);
-                w = 0;
-            }
-        }
-    }
-    void ids(const std::vector<ElementId>& v) {
-        word(v.size());
-        for (ElementId id : v) word(id);
-    }
-    std::uint64_t value() const {
-        std::uint64_t h = h_;
-        h ^= h >> 33;
-        h *= 0xC2B2AE3D27D4EB4FULL;
-        h ^= h >> 29;
-        return h;
-    }
-
-private:
-    std::uint64_t h_ = 0x27D4EB2F165667C5ULL;
-};
+using Checksum = Digest;  // io/digest.h: this checksum's rounds, unchanged (files written before load the same)
 
 }  // namespace
 

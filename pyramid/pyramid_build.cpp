@@ -16,7 +16,7 @@
 #include "io/scene_checksum.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
-#include "pyramid/digest.h"
+#include "io/digest.h"
 #include "pyramid/pyramid_tiles.h"
 #include "pyramid/quad_digest.h"
 #include "raster/appearance_producer.h"
@@ -156,10 +156,10 @@ struct PyramidJob::Impl {
             for (auto& c : q.children) collect(*c, byLevel, base);
     }
 
-    // Encodes a tile; with keepForParent, also its image at half size as its parent reads it back
-    // from the file (decodeImageHalf of a lossy tile; the exact halve() of a lossless one).
-    MadeTile encodeImage(const PyramidImage& image, bool keepForParent) {
-        MadeTile t;
+    // Encodes a tile's appearance into `t`; with keepForParent, also its image at half size as its
+    // parent reads it back from the file (decodeImageHalf of a lossy tile; the exact halve() of a
+    // lossless one).
+    void encodeImage(const PyramidImage& image, bool keepForParent, MadeTile& t) {
         t.hasAppearance = true;
         encode.time([&] {
             t.appearance = encodeRgb(image.rgb, image.size, image.size, params.encoding);
@@ -174,7 +174,6 @@ struct PyramidJob::Impl {
                 });
             }
         }
-        return t;
     }
 
     // The stored tile at half size, as encodeImage() keeps it (colour decoded, water from its tile
@@ -223,7 +222,6 @@ struct PyramidJob::Impl {
         std::unordered_map<const Quad*, std::size_t> index;
         for (std::size_t i = 0; i < all.size(); ++i) index[all[i].first] = i;
         std::vector<MadeTile> made(all.size());
-        std::vector<char> appearanceMade(all.size(), 0);
         // Elevation at every level, appearance at the vector levels: from vector data.
         tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
             Quad& q = *all[i].first;
@@ -238,12 +236,7 @@ struct PyramidJob::Impl {
             }
             if (params.appearance && q.level >= vl) {
                 AppearanceTile t = appearance.time([&] { return produceAppearance(q, qt, data, dem, appearanceParams); });
-                MadeTile m = encodeImage(pyramidImage(t), q.level > params.minLevel && q.level <= vl);
-                made[i].appearance = std::move(m.appearance);
-                made[i].water = std::move(m.water);
-                made[i].half = std::move(m.half);
-                made[i].hasAppearance = true;
-                appearanceMade[i] = 1;
+                encodeImage(pyramidImage(t), q.level > params.minLevel && q.level <= vl, made[i]);
                 progressAdvance(progress);
             }
         });
@@ -267,7 +260,7 @@ struct PyramidJob::Impl {
                         const PyramidKey ck{q.level + 1, q.tx * 2 + std::uint32_t(k & 1), q.ty * 2 + std::uint32_t(k >> 1)};
                         const Quad* c = q.isLeaf() ? nullptr : q.children[std::size_t(k)].get();
                         auto it = c ? index.find(c) : index.end();
-                        if (it != index.end() && appearanceMade[it->second]) {
+                        if (it != index.end() && made[it->second].hasAppearance) {
                             kids[std::size_t(k)] = &made[it->second].half;
                             any = true;
                         } else {
@@ -288,12 +281,7 @@ struct PyramidJob::Impl {
                             kids[std::size_t(k)] = &loaded[std::size_t(k)];
                         }
                     const PyramidImage image = mipmap.time([&] { return assemble(kids); });
-                    MadeTile m = encodeImage(image, q.level > params.minLevel);
-                    made[i].appearance = std::move(m.appearance);
-                    made[i].water = std::move(m.water);
-                    made[i].half = std::move(m.half);
-                    made[i].hasAppearance = true;
-                    appearanceMade[i] = 1;
+                    encodeImage(image, q.level > params.minLevel, made[i]);
                     progressAdvance(progress);
                 });
             }
@@ -303,7 +291,7 @@ struct PyramidJob::Impl {
         for (std::size_t i = 0; i < all.size(); ++i) {
             if (!stored(all[i].first->level)) continue;
             if (params.elevation && !made[i].hasElevation) ++skipped;
-            if (params.appearance && !appearanceMade[i]) ++skipped;
+            if (params.appearance && !made[i].hasAppearance) ++skipped;
         }
         progressAdvance(progress, skipped);
         // Write, in one thread (SQLite): now, or while the next shard is made (deferWrites).
@@ -475,6 +463,18 @@ void checkPyramidMatches(const PyramidInfo& stored, const PyramidInfo& wanted, c
 
 namespace {
 
+// Marks the pyramid complete and commits; the commit counts in the run's times (the tiles are
+// stored only once committed).
+void complete(PyramidStore& store, PyramidInfo info, PyramidStats& st) {
+    info.complete = true;
+    store.writeInfo(info);
+    const auto t0 = Clock::now();
+    store.commit();
+    const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
+    st.times.write += commit;
+    st.wallSeconds += commit;
+}
+
 PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
     const auto t0 = Clock::now();
     progressBegin(progress, "pyramid tiles", job.tileTotal(), "tiles");
@@ -501,14 +501,7 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
         store.begin();
         store.create(wanted);
         PyramidStats st = run(job, store, progress);
-        PyramidInfo done = wanted;
-        done.complete = true;
-        store.writeInfo(done);
-        const auto t0 = Clock::now();
-        store.commit();
-        const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
-        st.times.write += commit;
-        st.wallSeconds += commit;  // the tiles are stored only once committed
+        complete(store, wanted, st);
         return st;
     } catch (...) {
         store.rollback();
@@ -532,14 +525,7 @@ PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Pr
         if (rebuild) store.create(wanted);
         PyramidStats st = run(job, store, progress);
         st.rebuilt = rebuild;
-        PyramidInfo done = wanted;
-        done.complete = true;
-        store.writeInfo(done);
-        const auto t0 = Clock::now();
-        store.commit();
-        const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
-        st.times.write += commit;
-        st.wallSeconds += commit;
+        complete(store, wanted, st);
         return st;
     } catch (...) {
         store.rollback();

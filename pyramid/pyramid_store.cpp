@@ -188,23 +188,24 @@ void PyramidStore::create(const PyramidInfo& info) {
             st.reset();
         }
     };
+    const auto extensionsTable = [&] {
+        db_.exec(
+            "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
+            "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+    };
     if (info.appearance) {
         tileTable(kAppearanceTable, "tiles", "Lacet appearance pyramid: colour (RGB)", info.tileSize);
         tileTable(kWaterTable, "tiles", "Lacet appearance pyramid: water mask (0 land, 255 water; missing tiles: no water)",
                   info.tileSize);
         if (info.encoding.rfind("webp", 0) == 0) {
-            db_.exec(
-                "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
-                "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+            extensionsTable();
             db_.exec(std::string("INSERT INTO gpkg_extensions VALUES ('") + kAppearanceTable +
                      "', 'tile_data', 'gpkg_webp', 'http://www.geopackage.org/spec120/#extension_tiles_webp', 'read-write')");
         }
     }
     if (info.elevation) {
         tileTable(kElevationTable, "2d-gridded-coverage", "Lacet elevation pyramid: z_m (m) at cell centres", info.elevationSize);
-        db_.exec(
-            "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
-            "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+        extensionsTable();
         db_.exec(
             "CREATE TABLE IF NOT EXISTS gpkg_2d_gridded_coverage_ancillary (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
             "tile_matrix_set_name TEXT NOT NULL UNIQUE, datatype TEXT NOT NULL DEFAULT 'integer', scale REAL NOT NULL DEFAULT 1.0, "

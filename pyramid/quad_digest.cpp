@@ -4,7 +4,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "pyramid/digest.h"
+#include "io/digest.h"
 
 namespace lacet {
 namespace {

@@ -34,7 +34,7 @@ namespace lacet {
 // The version of what a digest covers: a pyramid's inputs digest (pyramid/pyramid_build.h) includes
 // it, so that an update by a program that digests differently remakes everything instead of
 // remaking whatever happens to differ. Raise it with every change of the formula below.
-inline constexpr int kQuadDigestVersion = 2;
+inline constexpr int kQuadDigestVersion = 3;
 
 class QuadDigests {
 public:

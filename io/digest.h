@@ -1,12 +1,17 @@
 #pragma once
-// A 64-bit digest of values fed to it in order, for finding what changed between two runs (the
-// pyramid's quads, pyramid/quad_digest.h). Doubles and floats count by their bits (-0.0 differs
-// from 0.0). The same values give the same digest on any host. Not cryptographic.
+// A 64-bit digest of values fed to it in order: xxHash64-style rounds over 64-bit words, then a
+// final avalanche. Doubles and floats count by their bits (-0.0 differs from 0.0, NaN payloads
+// count). The same values give the same digest on any host. Not cryptographic: it detects damage
+// and change, not tampering. The scene file's checksum (io/scene_checksum.h) and the pyramid's
+// quad digests (pyramid/quad_digest.h) are made with it.
 
 #include <bit>
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <vector>
+
+#include "model/types.h"
 
 namespace lacet {
 
@@ -42,13 +47,16 @@ public:
         for (double x : v) real(x);
         return *this;
     }
+    Digest& ids(const std::vector<ElementId>& v) {
+        word(v.size());
+        for (ElementId id : v) word(id);
+        return *this;
+    }
     std::uint64_t value() const {
         std::uint64_t h = h_;
         h ^= h >> 33;
         h *= 0xC2B2AE3D27D4EB4FULL;
         h ^= h >> 29;
-        h *= 0x165667B19E3779F9ULL;
-        h ^= h >> 32;
         return h;
     }
 
