@@ -77,6 +77,11 @@ void addEditCommand(CLI::App& app) {
     cmd->add_option("--pyramid", o->editor.pyramid,
                     "Pyramid file (lacet pyramid build) for the coarse quads' appearance; default: the scene's NAME.pyramid.gpkg when it exists");
     cmd->add_flag("--no-pyramid", o->editor.noPyramid, "Make every tile live, even when the scene has a pyramid");
+    cmd->add_option("--adaptive", o->editor.adaptiveMs,
+                    "Lower K while frames take longer than this, raise it back when there is room (ms; 0: K fixed; "
+                    "scripted sessions keep K fixed)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--dem-budget", o->editor.demBudgetMiB, "Memory for the blocks of a streamed DEM (MiB)")->check(CLI::PositiveNumber);
     cmd->add_option("--cache-tiles", o->editor.cacheTiles,
                     "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
         ->check(CLI::PositiveNumber);

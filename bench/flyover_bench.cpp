@@ -13,14 +13,17 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
 
 #include "bench/bench_util.h"
 #include "bench/tasks.h"
+#include "editor/adaptive_quality.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
+#include "io/scene_file.h"
 #include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
@@ -68,8 +71,15 @@ FlightPath paperFlight(int frames, double startAltitude, double endAltitude) {
 nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     if (o.frames < 2) throw std::invalid_argument("bench flyover: --frames must be 2 or more");
     SceneDocument doc;
-    doc.scene = makeSyntheticScene({o.seed, o.curves});
-    doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
+    if (!o.scene.empty()) {
+        doc = loadScene(o.scene);
+        if (doc.scene.layers.size() <= kRoadsLayer || !doc.dem)
+            throw std::invalid_argument("bench flyover: " + o.scene + " has no DEM or no roads layer " + std::to_string(kRoadsLayer));
+    } else {
+        doc.scene = makeSyntheticScene({o.seed, o.curves});
+        doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
+    }
+    const double loadedRss = peakRssMiB();
     const FlightPath path = paperFlight(o.frames, o.startAltitude, o.endAltitude);
     const double length = path.along.back();
     // From above the centre to a road point the path's length away.
@@ -77,6 +87,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     Vec2 end = start;
     double best = 1e300;
     for (const Curve& c : doc.scene.layers[kRoadsLayer].curves) {
+        if (!c.alive || c.vertices.empty()) continue;
         const Vec2 p = c.vertices[c.vertices.size() / 2].p;
         const double d = std::abs(glm::length(p - start) - length);
         if (d < best) best = d, end = p;
@@ -92,13 +103,16 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     // The camera looks ahead along the path, steeply from high up, nearly level near the ground.
     const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
     const double aspect = 1280.0 / 800.0;
-    auto cameraAt = [&](int f) {
+    const std::size_t curveCount = count(doc.scene).curves;
+    // The ground under the camera: the DEM in memory of the session's document (the last run takes
+    // the document itself, so a large scene is not held twice).
+    auto cameraAt = [&](int f, const Dem& ground) {
         const glm::dvec3 v = viewerAt(f);
         const double span = std::log(o.startAltitude / o.endAltitude);
         const double high = span > 0.0 ? std::clamp(std::log(v.z / o.endAltitude) / span, 0.0, 1.0) : 1.0;
         Camera c;
         c.fly = true;
-        c.flyPosition = glm::dvec3(v.x, v.y, doc.dem->sample({v.x, v.y}) + v.z);
+        c.flyPosition = glm::dvec3(v.x, v.y, ground.sample({v.x, v.y}) + v.z);
         c.yaw = std::atan2(direction.x, direction.y);
         c.pitch = 0.2 + (1.0 - 0.2) * high;  // radians below the horizon
         return c;
@@ -142,12 +156,14 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         pyramidJson["encoding"] = pyramid->encoding();
     }
     std::vector<Run> plan;
-    if (pyramid)  // each budget without and with the pyramid, nothing else
+    if (!o.scene.empty())  // a scene file (its DEM streamed, if it is a tree): each budget once
+        for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0});
+    else if (pyramid)  // each budget without and with the pyramid, nothing else
         for (double budget : o.budgetsMs)
             for (const bool with : {false, true}) plan.push_back({budget, false, true, 0.0, SessionParams{}.cacheTiles, with});
-    for (double budget : pyramid ? std::vector<double>{} : o.budgetsMs)
+    for (double budget : pyramid || !o.scene.empty() ? std::vector<double>{} : o.budgetsMs)
         for (const bool prefetch : {false, true}) plan.push_back({budget, prefetch, true, 0.0});
-    if (!pyramid) {
+    if (!pyramid && o.scene.empty()) {
         for (double budget : o.budgetsMs)  // half of the budget for subdivisions, the rest deferred
             if (budget > 0.0) plan.push_back({budget, false, true, 0.5 * budget});
         // The paper's 784 tiles: fewer than the flight's views need, so the farthest quads stand in
@@ -163,20 +179,36 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         params.view = view;
         params.refineBudgetMs = run.refineBudget;
         params.cacheTiles = run.cacheTiles;
-        EditSession session(SceneDocument(doc), params);
+        params.demStream.budgetMiB = o.demBudgetMiB;
+        EditSession session(&run == &plan.back() ? std::move(doc) : SceneDocument(doc), params);
+        const Dem& ground = *session.document().dem;
+        std::optional<AdaptiveQuality> adaptive;
+        if (o.adaptiveTargetMs > 0.0) adaptive.emplace(view.K, AdaptiveQualityParams{.targetMs = o.adaptiveTargetMs});
+        std::size_t demFallbackFrames = 0, demFallbackTiles = 0, demRemade = 0, demHeldPeak = 0;
+        double kMin = view.K, kSum = 0.0;
         if (run.pyramid) session.setPyramid(pyramid);
         std::vector<double> ms, tiles, refine, produce;
         std::size_t fromPyramid = 0, pyramidFailed = 0;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0, replacedFrames = 0, replacedMax = 0;
         double replacedSum = 0.0, viewSum = 0.0;
         for (int f = 0; f < o.frames; ++f) {
-            const Camera cam = cameraAt(f);
+            const Camera cam = cameraAt(f, ground);
             const QuadVisibility visible =
                 run.cull ? frustumVisibility(cam, aspect, Camera::clipRange(viewerAt(f).z), zRange) : QuadVisibility{};
             const auto t0 = Clock::now();
             const FrameReport r = session.frame(viewerAt(f), budget, visible,
                                                 prefetch ? std::optional<glm::dvec3>(viewerAt(f + o.prefetchFrames)) : std::nullopt);
             ms.push_back(msSince(t0));
+            if (adaptive) {
+                kSum += adaptive->K();
+                const double k = adaptive->onFrame(ms.back(), r.pending == 0);
+                if (k != session.params().view.K) session.setK(k);
+                kMin = std::min(kMin, k);
+            }
+            demFallbackFrames += r.demFallbacks > 0;
+            demFallbackTiles += r.demFallbacks;
+            demRemade += r.demRemade;
+            if (const DemStream* d = session.demStream()) demHeldPeak = std::max(demHeldPeak, d->stats().held);
             tiles.push_back(double(r.produced));
             refine.push_back(r.refineMs);
             produce.push_back(r.produceMs);
@@ -208,7 +240,37 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             const std::size_t f = order[i];
             worst.push_back({{"frame", f}, {"ms", ms[f]}, {"refine_ms", refine[f]}, {"produce_ms", produce[f]}, {"tiles", tiles[f]}});
         }
+        nlohmann::json dem;
+        if (const DemStream* d = session.demStream()) {
+            const DemStreamStats st = d->stats();
+            const DemLodLayout& L = d->layout();
+            dem = {{"budget_mib", o.demBudgetMiB},
+                   {"grid", {L.width, L.height}},
+                   {"cell_m", L.cell},
+                   {"levels", L.levels},
+                   {"block_side", L.blockSide},
+                   {"blocks_loaded", st.loaded},
+                   {"blocks_loaded_sync_for_profiles", st.loadedSync},
+                   {"blocks_evicted", st.evicted},
+                   {"requests_refused_by_budget", st.refused},
+                   {"blocks_failed", st.failed},
+                   {"blocks_held_peak", demHeldPeak},
+                   {"blocks_held_peak_mib", double(demHeldPeak) * double(L.blockSide) * double(L.blockSide) * 4.0 / 1048576.0},
+                   {"load_ms", st.loadMs},
+                   {"windows", st.windows},
+                   {"windows_from_coarser_block", st.fallbacks},
+                   {"frames_with_tiles_from_coarser_block", demFallbackFrames},
+                   {"tiles_from_coarser_block", demFallbackTiles},
+                   {"tiles_remade_when_finer_blocks_arrived", demRemade}};
+        }
+        nlohmann::json adaptiveJson;
+        if (adaptive)
+            adaptiveJson = {{"target_ms", o.adaptiveTargetMs}, {"K_min", kMin}, {"K_mean", kSum / double(ms.size())},
+                            {"lowered", adaptive->lowered()}, {"raised", adaptive->raised()}};
         runs.push_back({{"budget_ms", budget},
+                        {"dem_stream", dem},
+                        {"adaptive_K", adaptiveJson},
+                        {"peak_rss_mib_so_far", peakRssMiB()},
                         {"pyramid", run.pyramid},
                         {"pyramid_tiles_read", fromPyramid},
                         {"pyramid_tiles_failed", pyramidFailed},
@@ -239,7 +301,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"frames_with_pending_tiles", pendingFrames},
                         {"frames_with_deferred_subdivisions", deferredFrames}});
     }
-    return {{"curves", count(doc.scene).curves},
+    return {{"curves", curveCount},
             {"K", view.K},
             {"appearance_resolution", RefineParams{}.resolution},
             {"path", {{"from_altitude_m", o.startAltitude}, {"to_altitude_m", o.endAltitude}, {"length_m", length * scale},
@@ -248,6 +310,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             {"prefetch_frames_ahead", o.prefetchFrames},
             {"runs", runs},
             {"pyramid", pyramidJson},
+            {"scene", o.scene.empty() ? std::string("(synthetic)") : o.scene},
+            {"peak_rss_mib_after_loading", loadedRss},
             {"peak_rss_mib", peakRssMiB()}};
 }
 

@@ -76,6 +76,14 @@ struct FlyoverBenchOptions {
     // (L = that level: the editor reads the levels above it).
     std::string pyramid;
     double pyramidQuadM = 2000.0;  // m, > 0
+    // A scene file to fly over instead of the synthetic scene (issue 16): with a streamed DEM
+    // (a scene whose DEM is a LOD tree, io/dem_lod.h) the session streams it within
+    // `demBudgetMiB`, and each budget is flown once, nothing else.
+    std::string scene;
+    double demBudgetMiB = 512.0;
+    // Frame-rate-adaptive K (editor/adaptive_quality.h) aiming at this update time per frame (ms;
+    // 0: K fixed).
+    double adaptiveTargetMs = 0.0;
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -50,7 +51,13 @@ EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(st
     params_.view.validate();
     params_.objects.deckThickness = params_.graph.deckThickness;
     params_.objects.validate();
-    heights_ = std::make_unique<DemHeightField>(*doc_.dem);
+    if (doc_.demLod) {
+        demStream_ = std::make_unique<DemStream>(doc_.demLod, params_.demStream);
+        heights_ = &demStream_->heights();
+    } else {
+        demHeights_ = std::make_unique<DemHeightField>(*doc_.dem);
+        heights_ = demHeights_.get();
+    }
     graphStep_ = std::make_unique<GraphStep>(doc_.scene, params_.graph);
     quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine, graphStep_.get());
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
@@ -258,7 +265,8 @@ void EditSession::setLayerVisible(LayerId layer, bool visible) {
     }
 }
 
-std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double budgetMs, Clock::time_point t0, FrameReport& r) {
+std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dvec3 viewer, double budgetMs, Clock::time_point t0,
+                                 FrameReport& r) {
     // A work queue in nearest-first order, one job per producer and quad (so the two threads
     // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
     // with a budget, a job whose estimated time (editor/production_estimate.h) would overrun it
@@ -279,6 +287,15 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
     }
     PyramidReader* pyramid = pyramid_.get();
     const int border = params_.refine.appearanceBorder;
+    // With a streamed DEM, each quad's window (a copy of a few thousand samples), cut by the first
+    // of its two jobs to run, so that both read the same one.
+    std::vector<DemWindow> windows(demStream_ ? quads.size() : 0);
+    const std::unique_ptr<std::once_flag[]> cutOnce(demStream_ ? new std::once_flag[quads.size()] : nullptr);
+    auto demOf = [&](std::size_t i) -> const Dem& {
+        if (windows.empty()) return *doc_.dem;
+        std::call_once(cutOnce[i], [&] { windows[i] = demWindow(*quads[i], viewer); });
+        return *windows[i].dem;
+    };
     std::atomic<std::size_t> next{0};
     std::atomic<bool> stop{false};
     const int workers = std::max(1, std::min(tbb::this_task_arena::max_concurrency(), int(jobs)));
@@ -311,12 +328,12 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
                 source[i] = kFailed;  // made live below
                 j0 = Clock::now();
             }
-            if (appearance) made[i].appearance = produceAppearance(q, *quadtree_, *data_, *doc_.dem, params_.appearance);
+            if (appearance) made[i].appearance = produceAppearance(q, *quadtree_, *data_, demOf(i), params_.appearance);
             else {
                 // The quad's objects stand on its displayed ground: made right after its z_m.
                 CachedTile& t = made[i];
-                t.elevation = produceElevation(q, *quadtree_, *data_, *doc_.dem, params_.elevation);
-                t.objects = produceObjects(q, *quadtree_, *data_, *doc_.dem, &t.elevation, params_.objects, &objectCounters_);
+                t.elevation = produceElevation(q, *quadtree_, *data_, demOf(i), params_.elevation);
+                t.objects = produceObjects(q, *quadtree_, *data_, demOf(i), &t.elevation, params_.objects, &objectCounters_);
             }
             estimates_[appearance ? 0 : 1].add(elements, msSince(j0));
             done[j] = 1;
@@ -335,6 +352,11 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, double b
         r.pyramidFailed += source[i] == kFailed;
         CachedTile& t = cache_[keyOf(*quads[i])];
         t = std::move(made[i]);
+        if (!windows.empty() && windows[i].dem) {
+            t.demLevel = windows[i].level;
+            t.demWanted = windows[i].wanted;
+            r.demFallbacks += !windows[i].complete();
+        }
         t.lastUsed = clock_;
         t.version = ++version_;
         ++count;
@@ -355,11 +377,12 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     const CacheFit fit = fitToCache(leaves.view, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
     r.shown = fit.shown.size();
     r.replaced = fit.replaced.size();
+    if (demStream_) followDemStream(fit, viewer, r);
     std::vector<const Quad*> needed = keepShown(fit);
     if (predicted) keepMadeAhead(std::move(leaves.madeAhead), fit.kept, *predicted);
     std::stable_sort(needed.begin(), needed.end(), nearestFirst(viewer));
     const auto t0 = Clock::now();
-    r.produced = produce(needed, budgetMs, t0, r);
+    r.produced = produce(needed, viewer, budgetMs, t0, r);
     r.pending = needed.size() - r.produced;
     if (predicted && r.pending == 0) r.prefetched = prefetch(std::move(leaves.ahead), *predicted, budgetMs, t0, r);
     r.produceMs = msSince(t0);
@@ -456,7 +479,7 @@ std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 pre
     const std::size_t first = elementsOf(*ahead.front());
     const double appearance = readsPyramid(*ahead.front()) ? estimates_[2].predict(0) : estimates_[0].predict(first);
     if (budgetMs > 0.0 && msSince(t0) + appearance + estimates_[1].predict(first) >= budgetMs) return 0;
-    return produce(ahead, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now(), r);
+    return produce(ahead, predicted, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now(), r);
 }
 
 void EditSession::evict() {

@@ -53,6 +53,7 @@
 
 #include "editor/cache_fit.h"
 #include "editor/command.h"
+#include "editor/dem_stream.h"
 #include "model/graph_step.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
@@ -87,6 +88,12 @@ struct SessionParams {
     // deckThickness is taken from `graph` (the deck the z-profiles make room for).
     ObjectParams objects;
     ZProfileParams profiles;   // z-profiles (model/curve_data.h)
+    // A streamed DEM (the document's demLod, editor/dem_stream.h): the memory budget, and the DEM
+    // samples a quad's tiles need across its side (the level each window is cut from: the
+    // coarsest whose spacing is at most the quad's size over this). The elevation tile has 24
+    // intervals a side; the appearance's ground shading reads the slope between them.
+    DemStreamParams demStream;
+    double demSamplesPerQuad = 64.0;
 };
 
 struct CommandReport {
@@ -109,6 +116,8 @@ struct FrameReport {
     double refineMs = 0.0, produceMs = 0.0;
     std::size_t fromPyramid = 0;     // appearance tiles read from the pyramid (of `produced` and `prefetched`)
     std::size_t pyramidFailed = 0;   // tiles the pyramid could not give (corrupt, missing, locked), made live
+    std::size_t demFallbacks = 0;    // tiles made this frame from a coarser DEM block than they want (streamed DEM)
+    std::size_t demRemade = 0;       // cached tiles marked dirty because their finer DEM blocks arrived
 };
 
 // What the pyramid saved the session so far (appearance tiles).
@@ -205,6 +214,8 @@ public:
     // Whether quad `q`'s appearance would be read from the pyramid now.
     bool readsPyramid(const Quad& q) const;
     const PyramidUse& pyramidUse() const { return pyramidUse_; }
+    // The streamed DEM (nullptr when the document's DEM is in memory whole).
+    DemStream* demStream() const { return demStream_.get(); }
 
 private:
     struct Done {
@@ -237,12 +248,19 @@ private:
     // Whether cached `q` holds one of `dropped`'s curves (its tile used a dropped z-profile).
     bool holdsDropped(const Quad& q, const std::vector<ElementRef>& dropped) const;
     // Makes the tiles of `quads` in order within the budget; returns how many were made.
-    std::size_t produce(const std::vector<const Quad*>& quads, double budgetMs, std::chrono::steady_clock::time_point t0,
+    std::size_t produce(const std::vector<const Quad*>& quads, glm::dvec3 viewer, double budgetMs, std::chrono::steady_clock::time_point t0,
                         FrameReport& r);
 
     SceneDocument doc_;
     SessionParams params_;
-    std::unique_ptr<DemHeightField> heights_;
+    std::unique_ptr<DemHeightField> demHeights_;  // the DEM in memory as a height field, or
+    std::unique_ptr<DemStream> demStream_;       // the streamed DEM
+    const HeightField* heights_ = nullptr;       // what the z-profiles sample: one of the two
+    // Dirty the cached tiles made from a coarser DEM level than the blocks that arrived; renew
+    // the requests of those shown.
+    void followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r);
+    // The DEM window of quad `q` (streamed DEM only), requested with the K rule's ratio for `viewer`.
+    DemWindow demWindow(const Quad& q, glm::dvec3 viewer);
     std::unique_ptr<GraphStep> graphStep_;  // before the quadtree that calls it
     std::unique_ptr<Quadtree> quadtree_;
     std::unique_ptr<CurveDataCache> data_;

@@ -146,7 +146,11 @@ void EditorApp::resetSession(SceneDocument doc) {
     sessionParams_.objects.hiddenLayers.clear();
     controller_.reset();
     session_.reset();
+    sessionParams_.demStream.budgetMiB = options_.demBudgetMiB;
     session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
+    adaptive_.reset();
+    if (options_.adaptiveMs > 0.0 && options_.script.empty())
+        adaptive_.emplace(sessionParams_.view.K, AdaptiveQualityParams{.targetMs = options_.adaptiveMs});
     ++sessionSerial_;
     lastPyramidUpdate_.reset();
     openPyramid();
@@ -492,6 +496,10 @@ int EditorApp::run() {
         for (const Screenshot& s : shots)
             if (s.panels) writeScreenshot(s);
         lastRenderMs_ = msSince(t0);
+        if (adaptive_) {
+            const double k = adaptive_->onFrame(lastUpdateMs_ + lastRenderMs_, lastFrame_.pending == 0);
+            if (k != session_->params().view.K) session_->setK(k);
+        }
         if (script_) {
             const TerrainStats& ts = terrain_->stats();
             log_["frames"].push_back({{"frame", frames_}, {"update_ms", lastUpdateMs_}, {"refine_ms", lastFrame_.refineMs},

@@ -37,6 +37,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/adaptive_quality.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "editor/editing_controller.h"
@@ -64,6 +65,10 @@ struct EditorOptions {
     // gets its default pyramid (defaultPyramidPath) when that exists, unless `noPyramid`.
     std::string pyramid;
     bool noPyramid = false;
+    // Frame-rate-adaptive K (editor/adaptive_quality.h): the frame time aimed at (ms; 0: K fixed).
+    // Off in scripted sessions, which must draw the same frames on every machine.
+    double adaptiveMs = 1000.0 / 30.0;
+    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (editor/dem_stream.h)
 };
 
 // The document the editor opens: the scene, the file it saves to (empty: none yet, a save goes to
@@ -151,6 +156,7 @@ private:
     glm::dvec2 lastMouse_{0.0}, mouse_{0.0};
     // Figures.
     FrameReport lastFrame_;
+    std::optional<AdaptiveQuality> adaptive_;  // null: K fixed
     double lastUpdateMs_ = 0.0, lastRenderMs_ = 0.0;
     std::size_t tilesProduced_ = 0, frames_ = 0;
     glm::dvec3 lastEye_{0.0}, velocity_{0.0};

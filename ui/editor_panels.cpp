@@ -131,10 +131,26 @@ void EditorApp::drawPanels() {
                         static_cast<unsigned long long>(lastPyramidUpdate_->madeAt), f.quadsChanged, f.quads, f.tilesMade,
                         f.tilesWritten, f.wallSeconds, f.rebuilt ? " (rebuilt)" : "");
     }
+    if (const DemStream* dem = session_->demStream()) {
+        const DemStreamStats st = dem->stats();
+        const DemLodLayout& L = dem->layout();
+        ImGui::Separator();
+        ImGui::Text("DEM: streamed, %d x %d samples of %.1f m, %d levels", L.width, L.height, L.cell, L.levels);
+        ImGui::Text("  blocks: %zu held (%.0f of %.0f MiB), %zu pending, %llu loaded, %llu evicted", st.held, st.heldMiB,
+                    dem->params().budgetMiB, st.pending, static_cast<unsigned long long>(st.loaded),
+                    static_cast<unsigned long long>(st.evicted));
+        ImGui::Text("  tiles from a coarser block this frame: %zu; remade finer: %zu", lastFrame_.demFallbacks, lastFrame_.demRemade);
+    }
     ImGui::Separator();
     ImGui::TextUnformatted("Accuracy");
-    float K = float(session_->params().view.K);
-    if (ImGui::SliderFloat("K", &K, 1.0f, 8.0f)) session_->setK(K);
+    float K = float(adaptive_ ? adaptive_->userK() : session_->params().view.K);
+    if (ImGui::SliderFloat(adaptive_ ? "K (at most)" : "K", &K, 1.0f, 8.0f)) {
+        session_->setK(K);
+        if (adaptive_) adaptive_->setUserK(K);
+    }
+    if (adaptive_)
+        ImGui::Text("  adaptive: K %.2f for frames of %.0f ms (%d lowered, %d raised)", adaptive_->K(), options_.adaptiveMs,
+                    adaptive_->lowered(), adaptive_->raised());
     float tol = float(session_->params().refine.toleranceTexels);
     ImGui::SliderFloat("tolerance (texels)", &tol, 0.1f, 4.0f);
     if (ImGui::IsItemDeactivatedAfterEdit()) {

@@ -1,0 +1,348 @@
+#include "editor/dem_stream.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace lacet {
+namespace {
+
+// Samples of margin around a window, beyond the box: the Catmull-Rom stencil reads one sample
+// before and two after the cell holding a point, plus one for rounding at the border.
+constexpr int kWindowMargin = 3;
+
+using Clock = std::chrono::steady_clock;
+
+DemBlockKey parentOf(const DemBlockKey& k) {
+    const auto [l, c, r] = k;
+    return {l - 1, c / 2, r / 2};
+}
+
+}  // namespace
+
+DemStream::DemStream(std::shared_ptr<const DemLodFile> file, DemStreamParams params)
+    : file_(std::move(file)), params_(params) {
+    if (!file_) throw std::invalid_argument("DemStream: no DEM file");
+    setBudget(params.budgetMiB);
+    const auto t0 = Clock::now();
+    std::vector<float> root = file_->readBlock(0, 0, 0, {});
+    stats_.loadMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    ++stats_.loaded;
+    blocks_[{0, 0, 0}] = Block{std::make_shared<const std::vector<float>>(std::move(root)), 0, 0.0};
+    if (params_.background) loader_ = std::thread([this] { loaderLoop(); });
+}
+
+DemStream::~DemStream() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    if (loader_.joinable()) loader_.join();
+}
+
+void DemStream::setBudget(double budgetMiB) {
+    if (!std::isfinite(budgetMiB) || budgetMiB <= 0.0)
+        throw std::invalid_argument("DemStream: the budget must be a positive number of MiB, got " + std::to_string(budgetMiB));
+    const double blockBytes = double(layout().blockSide) * double(layout().blockSide) * sizeof(float);
+    std::lock_guard lock(mutex_);
+    params_.budgetMiB = budgetMiB;
+    maxBlocks_ = std::max<std::size_t>(1, std::size_t(budgetMiB * 1048576.0 / blockBytes));
+    makeRoom(0, 0.0, true);
+}
+
+void DemStream::beginFrame() {
+    std::lock_guard lock(mutex_);
+    ++frame_;
+    requests_.clear();
+}
+
+std::array<int, 4> DemStream::range(const Box& box, int level) const {
+    const DemLodLayout& L = layout();
+    const double cell = L.levelCell(level);
+    const int w = L.levelWidth(level), h = L.levelHeight(level);
+    auto clampRange = [](double lo, double hi, int n) {
+        // Beyond the grid a Dem continues its border (it clamps the point to its extent): the
+        // window there is the border's samples, with the stencil's margin inside.
+        lo = std::clamp(lo, -0.5, double(n) - 0.5);
+        hi = std::clamp(hi, -0.5, double(n) - 0.5);
+        const double a = std::clamp(std::floor(lo) - kWindowMargin, 0.0, double(n - 1));
+        const double b = std::clamp(std::ceil(hi) + kWindowMargin + 1, a + 1.0, double(n));
+        return std::pair<int, int>(int(a), int(b));
+    };
+    const auto [k0, k1] = clampRange((box.min.x - L.origin.x) / cell, (box.max.x - L.origin.x) / cell, w);
+    const auto [r0, r1] = clampRange((L.origin.y - box.max.y) / cell, (L.origin.y - box.min.y) / cell, h);
+    return {k0, k1, r0, r1};
+}
+
+Box DemStream::blockBox(const DemBlockKey& key) const {
+    const auto [l, c, r] = key;
+    const DemLodLayout& L = layout();
+    const double cell = L.levelCell(l);
+    const int b = L.blockSide;
+    const int k1 = std::min((c + 1) * b, L.levelWidth(l)), r1 = std::min((r + 1) * b, L.levelHeight(l));
+    return Box{{L.origin.x + (c * b - 0.5) * cell, L.origin.y - (r1 - 0.5) * cell},
+               {L.origin.x + (k1 - 0.5) * cell, L.origin.y - (r * b - 0.5) * cell}};
+}
+
+Dem DemStream::cut(int level, const std::array<int, 4>& rg, const std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>>& blocks) const {
+    const DemLodLayout& L = layout();
+    const auto [k0, k1, r0, r1] = rg;
+    const int w = k1 - k0, h = r1 - r0, b = L.blockSide;
+    std::vector<float> heights(std::size_t(w) * std::size_t(h));
+    for (int j = 0; j < h; ++j) {
+        const int rr = r1 - 1 - j;  // Dem rows grow with y, the tree's rows from the top
+        const std::vector<float>* block = nullptr;
+        int blockCol = -1;
+        for (int i = 0; i < w; ++i) {
+            const int k = k0 + i;
+            if (k / b != blockCol) {
+                blockCol = k / b;
+                block = blocks.at({level, blockCol, rr / b}).get();
+            }
+            heights[std::size_t(j) * std::size_t(w) + std::size_t(i)] = (*block)[std::size_t(rr % b) * std::size_t(b) + std::size_t(k % b)];
+        }
+    }
+    const double cell = L.levelCell(level);
+    const Box extent{{L.origin.x + (k0 - 0.5) * cell, L.origin.y - (r1 - 0.5) * cell},
+                     {L.origin.x + (k1 - 0.5) * cell, L.origin.y - (r0 - 0.5) * cell}};
+    return Dem(extent, w, h, std::move(heights));
+}
+
+int DemStream::availableLevel(const Box& box, double spacing) const {
+    const int wanted = layout().levelFor(spacing);
+    const int b = layout().blockSide;
+    std::lock_guard lock(mutex_);
+    for (int level = wanted; level > 0; --level) {
+        const auto [k0, k1, r0, r1] = range(box, level);
+        bool all = true;
+        for (int r = r0 / b; all && r <= (r1 - 1) / b; ++r)
+            for (int c = k0 / b; all && c <= (k1 - 1) / b; ++c) all = blocks_.count({level, c, r}) > 0;
+        if (all) return level;
+    }
+    return 0;
+}
+
+DemWindow DemStream::window(const Box& box, double spacing, double priority) {
+    const int wanted = layout().levelFor(spacing);
+    const int b = layout().blockSide;
+    std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
+    int level = wanted;
+    std::array<int, 4> rg{};
+    {
+        std::lock_guard lock(mutex_);
+        for (;; --level) {
+            rg = range(box, level);
+            const auto [k0, k1, r0, r1] = rg;
+            use.clear();
+            bool all = true;
+            for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
+                for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
+                    const DemBlockKey key{level, c, r};
+                    const auto it = blocks_.find(key);
+                    if (it == blocks_.end()) {
+                        all = false;
+                        if (level == wanted) {
+                            auto [q, fresh] = requests_.try_emplace(key, priority);
+                            if (!fresh) q->second = std::min(q->second, priority);
+                        }
+                    } else {
+                        use[key] = it->second.samples;
+                    }
+                }
+            if (all || level == 0) break;
+        }
+        for (const auto& [key, samples] : use) {
+            Block& blk = blocks_.at(key);
+            if (blk.lastUsed != frame_ || priority < blk.priority) blk.priority = priority;
+            blk.lastUsed = frame_;
+        }
+        ++stats_.windows;
+        stats_.fallbacks += level < wanted;
+    }
+    if (level < wanted) wake_.notify_one();
+    DemWindow w;
+    w.dem = std::make_shared<const Dem>(cut(level, rg, use));
+    w.level = level;
+    w.wanted = wanted;
+    return w;
+}
+
+void DemStream::request(const Box& box, double spacing, double priority) {
+    const int wanted = layout().levelFor(spacing);
+    const int b = layout().blockSide;
+    const auto [k0, k1, r0, r1] = range(box, wanted);
+    bool any = false;
+    {
+        std::lock_guard lock(mutex_);
+        for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
+            for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
+                const DemBlockKey key{wanted, c, r};
+                if (blocks_.count(key) > 0) continue;
+                auto [q, fresh] = requests_.try_emplace(key, priority);
+                if (!fresh) q->second = std::min(q->second, priority);
+                any = true;
+            }
+    }
+    if (any) wake_.notify_one();
+}
+
+bool DemStream::makeRoom(std::size_t count, double priority, bool force) {
+    while (blocks_.size() + count > maxBlocks_) {
+        auto victim = blocks_.end();
+        for (auto it = blocks_.begin(); it != blocks_.end(); ++it) {
+            if (std::get<0>(it->first) == 0) continue;  // the root stays
+            if (victim == blocks_.end() || it->second.lastUsed < victim->second.lastUsed ||
+                (it->second.lastUsed == victim->second.lastUsed && std::get<0>(it->first) > std::get<0>(victim->first)))
+                victim = it;
+        }
+        if (victim == blocks_.end()) return false;
+        if (!force && victim->second.lastUsed == frame_ && victim->second.priority <= priority) return false;
+        blocks_.erase(victim);
+        ++stats_.evicted;
+    }
+    return true;
+}
+
+std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& key, double priority, bool sync) {
+    // The missing chain: the block and its ancestors up to one held (the root always is).
+    std::vector<DemBlockKey> chain;
+    std::shared_ptr<const std::vector<float>> parent;
+    {
+        std::lock_guard lock(mutex_);
+        for (DemBlockKey k = key;; k = parentOf(k)) {
+            const auto it = blocks_.find(k);
+            if (it != blocks_.end()) {
+                parent = it->second.samples;
+                break;
+            }
+            chain.push_back(k);
+        }
+        if (chain.empty()) return parent;
+        if (!sync && !makeRoom(chain.size(), priority, false)) {
+            ++stats_.refused;
+            return nullptr;
+        }
+    }
+    const auto t0 = Clock::now();
+    std::vector<std::pair<DemBlockKey, std::shared_ptr<const std::vector<float>>>> read;
+    for (auto k = chain.rbegin(); k != chain.rend(); ++k) {
+        const auto [l, c, r] = *k;
+        parent = std::make_shared<const std::vector<float>>(file_->readBlock(l, c, r, *parent));
+        read.emplace_back(*k, parent);
+    }
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    {
+        std::lock_guard lock(mutex_);
+        stats_.loadMs += ms;
+        stats_.loaded += read.size();
+        if (sync) stats_.loadedSync += read.size();
+        makeRoom(read.size(), priority, sync);
+        for (auto& [k, samples] : read) {
+            auto [it, fresh] = blocks_.try_emplace(k, Block{samples, frame_, priority});
+            if (!fresh) continue;
+            if (!sync) arrived_.emplace_back(blockBox(k), std::get<0>(k));
+        }
+        // Keep within the budget even when a synchronous read had to exceed it for a moment.
+        makeRoom(0, priority, true);
+    }
+    return parent;
+}
+
+bool DemStream::loadOne() {
+    DemBlockKey key;
+    double priority = 0.0;
+    {
+        std::lock_guard lock(mutex_);
+        if (requests_.empty()) return false;
+        auto best = std::min_element(requests_.begin(), requests_.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+        key = best->first;
+        priority = best->second;
+        requests_.erase(best);
+        if (blocks_.count(key) > 0) return true;
+        ++inFlight_;
+    }
+    try {
+        fetch(key, priority, false);
+    } catch (...) {
+        std::lock_guard lock(mutex_);
+        --inFlight_;
+        ++stats_.failed;
+        idle_.notify_all();
+        return true;
+    }
+    std::lock_guard lock(mutex_);
+    --inFlight_;
+    idle_.notify_all();
+    return true;
+}
+
+void DemStream::loaderLoop() {
+    for (;;) {
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stop_ || !requests_.empty(); });
+            if (stop_) return;
+        }
+        loadOne();
+    }
+}
+
+std::size_t DemStream::load(std::size_t count) {
+    if (params_.background) {
+        std::unique_lock lock(mutex_);
+        idle_.wait(lock, [&] { return stop_ || (requests_.empty() && inFlight_ == 0); });
+        return 0;
+    }
+    std::size_t n = 0;
+    while (n < count && loadOne()) ++n;
+    return n;
+}
+
+std::vector<std::pair<Box, int>> DemStream::takeArrived() {
+    std::lock_guard lock(mutex_);
+    std::vector<std::pair<Box, int>> out;
+    out.swap(arrived_);
+    return out;
+}
+
+DemStreamStats DemStream::stats() const {
+    std::lock_guard lock(mutex_);
+    DemStreamStats s = stats_;
+    s.held = blocks_.size();
+    const double blockBytes = double(layout().blockSide) * double(layout().blockSide) * sizeof(float);
+    s.heldMiB = double(s.held) * blockBytes / 1048576.0;
+    s.pending = requests_.size() + inFlight_;
+    return s;
+}
+
+double DemStream::FinestHeights::height(Vec2 p) const {
+    if (std::isnan(p.x) || std::isnan(p.y)) return std::numeric_limits<double>::quiet_NaN();
+    const int level = s_.layout().levels - 1;
+    const int b = s_.layout().blockSide;
+    const auto rg = s_.range(Box{p, p}, level);
+    const auto [k0, k1, r0, r1] = rg;
+    std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
+    for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
+        for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
+            const DemBlockKey key{level, c, r};
+            std::shared_ptr<const std::vector<float>> samples;
+            {
+                std::lock_guard lock(s_.mutex_);
+                const auto it = s_.blocks_.find(key);
+                if (it != s_.blocks_.end()) {
+                    it->second.lastUsed = s_.frame_;
+                    samples = it->second.samples;
+                }
+            }
+            if (!samples) samples = s_.fetch(key, -1.0, true);
+            use[key] = std::move(samples);
+        }
+    return s_.cut(level, rg, use).sample(p);
+}
+
+}  // namespace lacet

@@ -1,0 +1,156 @@
+#pragma once
+// The DEM streamed from the scene file within a memory budget (issue 16; Lerbour, Marvie & Gautron,
+// §6-§9): the blocks of the non-redundant LOD tree (io/dem_lod.h) that the view needs are loaded
+// by a background thread, most important first, and the least useful are dropped when the blocks
+// held pass the budget.
+//
+// Order of calls, each frame: beginFrame() (requests not renewed since the last frame are dropped:
+// the queue follows the view), then window() for every quad whose tiles are made, then
+// takeArrived() to learn which blocks came in since (the tiles made from a coarser block where
+// they wanted these are remade). Any thread may call window() and heights(); one thread calls
+// beginFrame() and takeArrived().
+//
+// Windows. A producer asks for the DEM under a quad's box at the sample spacing it needs; it gets
+// an in-memory Dem (raster/dem.h) of the box plus a margin of kWindowMargin samples, cut from
+// the blocks of the level whose spacing is at most that (DemLodLayout::levelFor), or, while some
+// of those blocks are not loaded, from the finest coarser level whose blocks are all there (the
+// root block is always held, so every window is served). A window of the finest level is the same
+// grid of samples as the whole DEM in memory (same values, the same cells).
+//
+// Importance: the caller gives each window a priority (lower is more important; the session uses
+// the quad's distance to the viewer over its size, the K rule's ratio); a block missing from a
+// window is requested with it, and its missing ancestors before it (a block is rebuilt from its
+// parent). The loader takes the most important request first. When the blocks held would pass
+// the budget it drops the block used longest ago, the finer first among equals; it never drops
+// the root, and it does not drop a block used in this frame for a request less important than
+// that block's last use (the request waits: the view keeps the coarser level there).
+//
+// heights(): a HeightField (model/curve_data.h) of the finest level for the z-profiles of curves,
+// which must not change with the view: a block it needs and that is not held is read at once
+// (synchronously) and counted.
+//
+// Units: positions in scene metres, heights in metres, the budget in MiB (2^20 bytes of samples).
+
+#include <array>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "io/dem_lod.h"
+#include "model/curve_data.h"
+#include "raster/dem.h"
+
+namespace lacet {
+
+struct DemStreamParams {
+    // Memory of the blocks held (MiB): blockSide^2 floats a block (256 KiB for 256^2). At least the
+    // root is held, whatever the budget.
+    double budgetMiB = 512.0;
+    // Whether a background thread loads the blocks; without it, load() loads them when called
+    // (tests and benchmarks that want a deterministic order).
+    bool background = true;
+};
+
+// A block of the tree: (level, column, row from the top).
+using DemBlockKey = std::tuple<int, int, int>;
+
+struct DemWindow {
+    std::shared_ptr<const Dem> dem;
+    int level = 0;   // the level it was cut from
+    int wanted = 0;  // the level asked for
+    bool complete() const { return level >= wanted; }
+};
+
+struct DemStreamStats {
+    std::size_t held = 0;          // blocks in memory now
+    double heldMiB = 0.0;
+    std::size_t pending = 0;       // requests waiting
+    std::uint64_t loaded = 0;      // blocks read in all (by the loader and synchronously)
+    std::uint64_t loadedSync = 0;  // of which read at once for heights()
+    std::uint64_t evicted = 0;
+    std::uint64_t refused = 0;     // requests dropped because the budget holds more important blocks
+    std::uint64_t failed = 0;      // blocks that could not be read (corrupt tile): their windows stay coarser
+    std::uint64_t windows = 0, fallbacks = 0;  // windows cut, and those from a coarser level than wanted
+    double loadMs = 0.0;           // time reading and rebuilding blocks
+};
+
+class DemStream {
+public:
+    // Reads the root block at once (throws what DemLodFile throws). Throws std::invalid_argument for
+    // a budget that is not a positive finite number.
+    DemStream(std::shared_ptr<const DemLodFile> file, DemStreamParams params = {});
+    ~DemStream();
+    DemStream(const DemStream&) = delete;
+    DemStream& operator=(const DemStream&) = delete;
+
+    const DemLodLayout& layout() const { return file_->layout(); }
+    const DemStreamParams& params() const { return params_; }
+    void setBudget(double budgetMiB);
+
+    void beginFrame();
+    // The DEM under `box` for samples `spacing` metres apart (see the header); requests what is
+    // missing with `priority`.
+    DemWindow window(const Box& box, double spacing, double priority);
+    // Renews the requests of the blocks window() would want for `box` (for a tile made from a
+    // coarser level, still shown, that waits for them).
+    void request(const Box& box, double spacing, double priority);
+    // Which level window() would cut now for `box` and `spacing` (no request).
+    int availableLevel(const Box& box, double spacing) const;
+    // Boxes (scene metres) and levels of the blocks that came in since the last call.
+    std::vector<std::pair<Box, int>> takeArrived();
+    // Without a background thread: loads up to `count` requests, most important first; returns
+    // how many were loaded. With one, waits until the queue is empty or `count` were loaded.
+    std::size_t load(std::size_t count = SIZE_MAX);
+    DemStreamStats stats() const;
+
+    const HeightField& heights() const { return heights_; }
+    // The box (scene metres) a block's samples cover, cells centred on them.
+    Box blockBox(const DemBlockKey& key) const;
+
+private:
+    struct Block {
+        std::shared_ptr<const std::vector<float>> samples;
+        std::uint64_t lastUsed = 0;
+        double priority = 0.0;  // of its last use
+    };
+    class FinestHeights : public HeightField {
+    public:
+        explicit FinestHeights(DemStream& s) : s_(s) {}
+        double height(Vec2 p) const override;
+    private:
+        DemStream& s_;
+    };
+    // The level-l sample range covering `box` with the margin: [k0, k1) x [r0, r1), clamped.
+    std::array<int, 4> range(const Box& box, int level) const;
+    // Reads a block and its missing ancestors (outside the lock) and inserts them, evicting to fit;
+    // nullptr when the budget refuses them (never with `sync`, which reads them even so).
+    std::shared_ptr<const std::vector<float>> fetch(const DemBlockKey& key, double priority, bool sync);
+    // Under mutex_: evicts until `count` more blocks fit; false when the victims are more important
+    // (unless `force`) or only the root is left.
+    bool makeRoom(std::size_t count, double priority, bool force);
+    Dem cut(int level, const std::array<int, 4>& r, const std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>>& blocks) const;
+    void loaderLoop();
+    bool loadOne();
+
+    std::shared_ptr<const DemLodFile> file_;
+    DemStreamParams params_;
+    FinestHeights heights_{*this};
+    mutable std::mutex mutex_;
+    std::condition_variable wake_, idle_;
+    std::map<DemBlockKey, Block> blocks_;
+    std::map<DemBlockKey, double> requests_;  // block -> priority (lowest wins)
+    std::vector<std::pair<Box, int>> arrived_;
+    std::uint64_t frame_ = 1;
+    std::size_t maxBlocks_ = 1;
+    std::size_t inFlight_ = 0;
+    DemStreamStats stats_;
+    bool stop_ = false;
+    std::thread loader_;
+};
+
+}  // namespace lacet

@@ -1,0 +1,271 @@
+// The streamed DEM (editor/dem_stream.h): windows equal the DEM in memory, the budget holds, the
+// root always serves, heights() equals the DEM, and the session's tiles once every block is loaded
+// equal those made with the whole DEM in memory.
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "editor/dem_stream.h"
+#include "editor/edit_session.h"
+#include "io/dem_lod.h"
+#include "io/gpkg_dem.h"
+#include "io/sqlite_db.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+
+namespace lacet {
+namespace {
+
+std::string tempPath(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("lacet_dem_stream_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+// A DEM with detail at every scale: each level of its tree differs from the others.
+Dem roughDem(int w, int h, double cell) {
+    std::vector<float> z(std::size_t(w) * std::size_t(h));
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<float> noise(-1.0f, 1.0f);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i)
+            z[std::size_t(j) * std::size_t(w) + std::size_t(i)] =
+                float(800.0 + 120.0 * std::sin(i * 0.031) * std::cos(j * 0.017) + 0.05 * i - 0.08 * j) + 3.0f * noise(rng);
+    return Dem(Box{{1000.0, -2000.0}, {1000.0 + w * cell, -2000.0 + h * cell}}, w, h, std::move(z));
+}
+
+// The tree of `dem` in a new GeoPackage at `path`.
+std::shared_ptr<const DemLodFile> lodOf(const Dem& dem, const std::string& path, int blockSide) {
+    std::filesystem::remove(path);
+    createEmptyGpkg(path);
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        writeDemLod(db, dem, blockSide, 0);
+        db.close();
+    }
+    return std::make_shared<const DemLodFile>(path);
+}
+
+struct Removed {
+    std::string path;
+    ~Removed() { std::filesystem::remove(path); }
+};
+
+TEST(DemStream, FinestWindowsAreTheDemsSamplesAndFallBackUntilLoaded) {
+    const Dem dem = roughDem(301, 177, 10.0);
+    Removed file{tempPath("finest.gpkg")};
+    DemStream stream(lodOf(dem, file.path, 32), {.budgetMiB = 64.0, .background = false});
+    const DemLodLayout& L = stream.layout();
+    ASSERT_EQ(L.levels, 5);  // 32 * 2^4 = 512 >= 301
+    const Box box{{1800.0, -1500.0}, {2100.0, -1300.0}};
+    // Only the root is held: the window is cut from it, and the finest blocks are requested.
+    DemWindow w = stream.window(box, 5.0, 1.0);
+    EXPECT_EQ(w.level, 0);
+    EXPECT_EQ(w.wanted, L.levels - 1);
+    EXPECT_FALSE(w.complete());
+    EXPECT_GT(stream.stats().pending, 0u);
+    EXPECT_GT(stream.load(), 0u);
+    w = stream.window(box, 5.0, 1.0);
+    ASSERT_TRUE(w.complete());
+    ASSERT_EQ(w.level, L.levels - 1);
+    // The same cells as the whole DEM, and the same values.
+    const Dem& d = *w.dem;
+    EXPECT_NEAR(d.cellSize().x, 10.0, 1e-9);
+    const int i0 = int(std::lround((d.extent().min.x - dem.extent().min.x) / 10.0));
+    const int j0 = int(std::lround((d.extent().min.y - dem.extent().min.y) / 10.0));
+    EXPECT_NEAR(d.extent().min.x, dem.extent().min.x + 10.0 * i0, 1e-6);
+    for (int j = 0; j < d.height(); ++j)
+        for (int i = 0; i < d.width(); ++i) ASSERT_EQ(d.at(i, j), dem.at(i0 + i, j0 + j)) << i << " " << j;
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> ux(box.min.x, box.max.x), uy(box.min.y, box.max.y);
+    for (int k = 0; k < 500; ++k) {
+        const Vec2 p(ux(rng), uy(rng));
+        EXPECT_NEAR(d.sample(p), dem.sample(p), 1e-6);
+    }
+}
+
+TEST(DemStream, ACoarserLevelKeepsEveryStepthSampleFromTheTop) {
+    const Dem dem = roughDem(250, 190, 4.0);
+    Removed file{tempPath("coarse.gpkg")};
+    DemStream stream(lodOf(dem, file.path, 16), {.budgetMiB = 64.0, .background = false});
+    const DemLodLayout& L = stream.layout();
+    const Box box = dem.extent();
+    stream.window(box, 16.0, 1.0);  // level n - 3: every fourth sample
+    stream.load();
+    const DemWindow w = stream.window(box, 16.0, 1.0);
+    ASSERT_TRUE(w.complete());
+    ASSERT_EQ(L.step(w.level), 4);
+    const Dem& d = *w.dem;
+    ASSERT_EQ(d.width(), L.levelWidth(w.level));
+    ASSERT_EQ(d.height(), L.levelHeight(w.level));
+    for (int j = 0; j < d.height(); ++j) {
+        const int r = d.height() - 1 - j;           // the level's row from the top
+        const int jf = dem.height() - 1 - 4 * r;    // the DEM's row
+        for (int i = 0; i < d.width(); ++i) ASSERT_EQ(d.at(i, j), dem.at(4 * i, jf)) << i << " " << j;
+    }
+    // Its samples stand where the DEM's do.
+    EXPECT_NEAR(d.samplePosition(0, d.height() - 1).x, dem.samplePosition(0, dem.height() - 1).x, 1e-6);
+    EXPECT_NEAR(d.samplePosition(0, d.height() - 1).y, dem.samplePosition(0, dem.height() - 1).y, 1e-6);
+}
+
+TEST(DemStream, HeightsEqualTheDemEvenWithATinyBudget) {
+    const Dem dem = roughDem(200, 140, 7.5);
+    Removed file{tempPath("heights.gpkg")};
+    DemStream stream(lodOf(dem, file.path, 16), {.budgetMiB = 0.001, .background = false});
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> ux(dem.extent().min.x - 50.0, dem.extent().max.x + 50.0),
+        uy(dem.extent().min.y - 50.0, dem.extent().max.y + 50.0);
+    for (int k = 0; k < 2000; ++k) {
+        const Vec2 p(ux(rng), uy(rng));
+        ASSERT_NEAR(stream.heights().height(p), dem.sample(p), 1e-4) << p.x << " " << p.y;
+    }
+    EXPECT_TRUE(std::isnan(stream.heights().height(Vec2(std::nan(""), 0.0))));
+    const DemStreamStats s = stream.stats();
+    EXPECT_GT(s.loadedSync, 0u);
+    EXPECT_EQ(s.held, 1u);  // the budget holds one block: the root, always
+}
+
+TEST(DemStream, TheBudgetHoldsAndTheRootAlwaysServes) {
+    const Dem dem = roughDem(400, 400, 5.0);
+    Removed file{tempPath("budget.gpkg")};
+    const double blockMiB = 16.0 * 16.0 * 4.0 / 1048576.0;
+    DemStream stream(lodOf(dem, file.path, 16), {.budgetMiB = 40.5 * blockMiB, .background = false});
+    std::mt19937_64 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const Box e = dem.extent();
+    std::size_t fallbacks = 0, complete = 0;
+    for (int frame = 0; frame < 60; ++frame) {
+        stream.beginFrame();
+        for (int q = 0; q < 6; ++q) {
+            const Vec2 c(e.min.x + u(rng) * e.size().x, e.min.y + u(rng) * e.size().y);
+            const double side = 5.0 + 30.0 * u(rng);
+            const DemWindow w = stream.window(Box{c - side, c + side}, side / 20.0, u(rng));
+            ASSERT_TRUE(w.dem);
+            ASSERT_GE(w.dem->width(), 1);
+            fallbacks += !w.complete();
+            complete += w.complete();
+        }
+        stream.load();
+        const DemStreamStats s = stream.stats();
+        ASSERT_LE(s.held, 40u);
+        ASSERT_GE(s.held, 1u);
+    }
+    const DemStreamStats s = stream.stats();
+    EXPECT_GT(s.evicted, 0u);
+    EXPECT_GT(fallbacks, 0u);
+    EXPECT_GT(complete, 0u);
+    // A budget of less than a block: every window comes from the root, none fails.
+    stream.setBudget(1e-6);
+    stream.beginFrame();
+    stream.load();
+    const DemWindow w = stream.window(Box{e.center() - 10.0, e.center() + 10.0}, 1.0, 0.0);
+    stream.load();
+    EXPECT_EQ(stream.stats().held, 1u);
+    EXPECT_TRUE(w.dem);
+}
+
+TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarser) {
+    const Dem dem = roughDem(120, 120, 10.0);
+    Removed file{tempPath("corrupt.gpkg")};
+    auto lod = lodOf(dem, file.path, 16);
+    const int finest = lod->layout().levels - 1;
+    {
+        SqliteDb db(file.path, SqliteDb::Mode::ReadWrite);
+        db.exec("UPDATE " + std::string(kDemLodTable) + " SET tile_data = x'00010203' WHERE zoom_level = " + std::to_string(finest));
+        db.close();
+    }
+    lod = std::make_shared<const DemLodFile>(file.path);
+    DemStream stream(lod, {.budgetMiB = 64.0, .background = true});
+    const Box box{dem.extent().center() - 30.0, dem.extent().center() + 30.0};
+    stream.window(box, 1.0, 0.0);
+    stream.load();
+    const DemWindow w = stream.window(box, 1.0, 0.0);
+    EXPECT_LT(w.level, finest);
+    EXPECT_GT(stream.stats().failed, 0u);
+}
+
+// The session with a streamed DEM: once every block is loaded, the tiles are those made with the
+// whole DEM in memory; before, tiles made from coarser blocks are remade when the finer arrive.
+SceneDocument sceneWithDem(std::uint64_t seed) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({seed, 1500});
+    doc.dem = makeSyntheticDem(doc.scene, {seed, 5000});
+    return doc;
+}
+
+TEST(EditSessionDemStream, TilesEqualTheInMemoryDemsOnceEveryBlockIsLoaded) {
+    SceneDocument memory = sceneWithDem(31);
+    Removed file{tempPath("session.gpkg")};
+    SceneDocument streamed = memory;
+    streamed.demLod = lodOf(*memory.dem, file.path, 32);
+    SessionParams params;
+    params.refine.resolution = 64;
+    params.view.maxLevel = 9;
+    params.demSamplesPerQuad = 1e9;  // every quad wants the finest level: the DEM in memory's samples
+    params.demStream.background = false;
+    EditSession a(std::move(memory), params), b(std::move(streamed), params);
+    const Box ext = a.document().scene.extent;
+    const glm::dvec3 viewer(ext.min.x + 0.3 * ext.size().x, ext.min.y + 0.6 * ext.size().y, 80.0);
+    a.frame(viewer, 0.0);
+    std::size_t fallbacks = 0, remade = 0;
+    for (int f = 0; f < 20; ++f) {
+        const FrameReport r = b.frame(viewer, 0.0);
+        fallbacks += r.demFallbacks;
+        remade += r.demRemade;
+        if (b.demStream()->load() == 0 && r.pending == 0 && r.demRemade == 0 && f > 0) break;
+    }
+    EXPECT_GT(fallbacks, 0u);  // the first frame drew from the root
+    EXPECT_GT(remade, 0u);
+    std::size_t compared = 0;
+    for (const auto& [key, ta] : a.tiles()) {
+        const CachedTile* tb = b.tile(key);
+        if (!tb) continue;
+        ASSERT_FALSE(tb->dirty);
+        ASSERT_EQ(tb->demLevel, tb->demWanted);
+        ASSERT_EQ(ta.elevation.zm.size(), tb->elevation.zm.size());
+        for (std::size_t k = 0; k < ta.elevation.zm.size(); ++k) ASSERT_NEAR(ta.elevation.zm[k], tb->elevation.zm[k], 1e-3);
+        ASSERT_EQ(ta.appearance.rgbm.size(), tb->appearance.rgbm.size());
+        int worst = 0;
+        for (std::size_t k = 0; k < ta.appearance.rgbm.size(); ++k) worst = std::max(worst, std::abs(int(ta.appearance.rgbm[k]) - int(tb->appearance.rgbm[k])));
+        EXPECT_LE(worst, 1);
+        ++compared;
+    }
+    EXPECT_GE(compared, a.tiles().size() * 9 / 10);
+}
+
+TEST(EditSessionDemStream, AFarTooSmallBudgetStillDrawsTheTerrainCoarser) {
+    SceneDocument doc = sceneWithDem(32);
+    Removed file{tempPath("small.gpkg")};
+    doc.demLod = lodOf(*doc.dem, file.path, 32);
+    const auto [lo, hi] = std::minmax_element(doc.dem->heights().begin(), doc.dem->heights().end());
+    SessionParams params;
+    params.refine.resolution = 64;
+    params.view.maxLevel = 9;
+    params.demStream.budgetMiB = 0.001;  // less than one block: the root alone
+    EditSession s(std::move(doc), params);
+    const Box ext = s.document().scene.extent;
+    for (int f = 0; f < 5; ++f) {
+        const FrameReport r = s.frame({ext.center().x + 40.0 * f, ext.center().y, 30.0}, 0.0);
+        s.demStream()->load();
+        EXPECT_EQ(r.pending, 0u);
+    }
+    std::size_t coarser = 0;
+    for (const auto& [key, t] : s.tiles()) {
+        EXPECT_EQ(t.demLevel, 0);
+        coarser += t.demWanted > 0;
+        for (float z : t.elevation.zm) {
+            ASSERT_TRUE(std::isfinite(z));
+            EXPECT_GT(z, *lo - 50.0f);
+            EXPECT_LT(z, *hi + 50.0f);
+        }
+    }
+    EXPECT_GT(coarser, 0u);
+    EXPECT_LE(s.demStream()->stats().held, 1u);
+}
+
+}  // namespace
+}  // namespace lacet
