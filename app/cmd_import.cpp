@@ -2,6 +2,7 @@
 // stderr (app/progress_bar.h) and the report at the end; `lacet info`: what a scene file holds.
 // The import checks every path before any work (io/import_paths.h) and fails, writing nothing,
 // when an input cannot be read or nothing would be kept (io/scene_import.h).
+#include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -18,6 +19,7 @@ namespace {
 
 struct ImportCli {
     ImportOptions options;
+    std::string demStorage = "auto";
     std::string out;
     bool force = false;
     bool json = false;
@@ -55,6 +57,9 @@ void addImportCommand(CLI::App& app) {
     cmd->add_option("--tolerance", o->options.fitTolerance,
                     "Spline fitting tolerance: the Hausdorff distance between each curve and its source (m, 0 to 100)");
     cmd->add_option("--dem-cell", o->options.demCell, "Scene DEM cell (m, 0.1 to 10000; default: the source's resolution)");
+    cmd->add_option("--dem-storage", o->demStorage,
+                    "How the DEM is stored: grid (in memory), lod (a tree of blocks written out of core, for DEMs larger than "
+                    "memory), auto (lod above " + std::to_string(kInMemoryDemSide) + " samples a side; the default)");
     cmd->add_option("--flat-height", o->options.flatHeight, "Height of the flat ground when no DEM is given (m)");
     cmd->add_option("--min-kept", o->options.minKept, "Fail unless the vectors give at least this many curves and areas (default 1)");
     cmd->add_flag("--allow-empty", o->options.allowEmpty, "Accept an import that keeps fewer than --min-kept features");
@@ -62,12 +67,24 @@ void addImportCommand(CLI::App& app) {
     cmd->add_flag("--force", o->force, "Replace --out even when it is not a Lacet scene");
     cmd->add_flag("--json", o->json, "Print the report as JSON");
     cmd->callback([o] {
+        o->options.demStorage = demStorageFromString(o->demStorage);
+        o->options.demLodPath = o->out + ".dem.tmp";  // beside the output: the save copies it from there
         checkImportOptions(o->options);
         checkImportPaths({o->options.dem, o->options.vectors, o->options.mapping, o->out, o->force});
         ImportReport report;
         TerminalProgress progress;
-        const SceneDocument doc = importScene(o->options, report, &progress);
-        saveScene(o->out, doc);
+        {
+            // The lod DEM's file is removed after the save, and when it fails.
+            struct RemoveAfter {
+                std::string path;
+                ~RemoveAfter() {
+                    std::error_code ec;
+                    std::filesystem::remove(path, ec);
+                }
+            } lodFile{o->options.demLodPath};
+            const SceneDocument doc = importScene(o->options, report, &progress);
+            saveScene(o->out, doc);
+        }
         for (const std::string& w : report.warnings) std::cerr << "lacet import: warning: " << w << "\n";
         if (o->json) std::cout << report.json().dump(2) << "\n";
         else printImportSummary(std::cout, report, o->out);

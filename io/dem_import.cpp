@@ -20,13 +20,13 @@
 #include <gdal_utils.h>
 #include <ogr_spatialref.h>
 
+#include "io/dem_import_internal.h"
+
 namespace lacet {
 namespace {
 
-struct GdalClose {
-    void operator()(GDALDataset* d) const { GDALClose(d); }
-};
-using Dataset = std::unique_ptr<GDALDataset, GdalClose>;
+using dem_detail::Dataset;
+using dem_detail::number;
 
 // The most seam points compared per pair of rasters (a large overlap is sampled more sparsely).
 constexpr double kMaxSeamPoints = 1 << 20;
@@ -35,12 +35,6 @@ constexpr double kMaxSeamPoints = 1 << 20;
 constexpr double kSeamSlack = 1e-3;
 // The largest source window read, samples (4 GiB of heights).
 constexpr double kMaxWindowSamples = double(1u << 30);
-
-std::string number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
 
 std::string describe(const Box& lonLat) {
     return "lon " + number(lonLat.min.x) + " to " + number(lonLat.max.x) + ", lat " + number(lonLat.min.y) + " to " + number(lonLat.max.y);
@@ -173,52 +167,6 @@ std::string buildMosaic(std::vector<Raster>& rasters, int& width, int& height, d
     return xml[0];
 }
 
-// Fills the open cells of a grid from the known ones, layer by layer (see the header: each layer
-// takes the mean of its known 8-neighbours, then becomes known); no-data cells are neither read nor
-// filled. Returns how many were filled; open cells that no layer reaches stay open.
-enum CellState : std::uint8_t { kNoData = 0, kKnown = 1, kOpen = 2, kQueued = 3 };
-std::size_t fillFromNeighbours(std::vector<float>& v, std::vector<std::uint8_t>& state, int width, int height) {
-    const std::size_t w = std::size_t(width);
-    auto forNeighbours = [&](std::size_t k, auto&& f) {
-        const int i = int(k % w), j = int(k / w);
-        for (int dj = -1; dj <= 1; ++dj)
-            for (int di = -1; di <= 1; ++di) {
-                const int x = i + di, y = j + dj;
-                if ((di != 0 || dj != 0) && x >= 0 && y >= 0 && x < width && y < height) f(std::size_t(y) * w + std::size_t(x));
-            }
-    };
-    std::vector<std::size_t> layer, next;
-    for (std::size_t k = 0; k < state.size(); ++k) {
-        if (state[k] != kOpen) continue;
-        bool touches = false;
-        forNeighbours(k, [&](std::size_t q) { touches = touches || state[q] == kKnown; });
-        if (touches) layer.push_back(k);
-    }
-    for (std::size_t k : layer) state[k] = kQueued;
-    std::size_t filled = 0;
-    std::vector<float> values;
-    while (!layer.empty()) {
-        values.clear();
-        for (std::size_t k : layer) {
-            double sum = 0.0;
-            int n = 0;
-            forNeighbours(k, [&](std::size_t q) {
-                if (state[q] == kKnown) sum += v[q], ++n;
-            });
-            values.push_back(float(sum / n));
-        }
-        for (std::size_t m = 0; m < layer.size(); ++m) v[layer[m]] = values[m], state[layer[m]] = kKnown;
-        filled += layer.size();
-        next.clear();
-        for (std::size_t k : layer)
-            forNeighbours(k, [&](std::size_t q) {
-                if (state[q] == kOpen) state[q] = kQueued, next.push_back(q);
-            });
-        layer.swap(next);
-    }
-    return filled;
-}
-
 // Scene points to the source CRS, in place; ok[k] false where the transformation fails.
 void toSource(const DemSourceInfo& src, std::vector<double>& xs, std::vector<double>& ys, std::vector<int>& ok) {
     ok.assign(xs.size(), 1);
@@ -276,6 +224,224 @@ double seamHeight(const Block& b, double fi, double fj) {
     }
     return sum;
 }
+
+}  // namespace
+
+namespace dem_detail {
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+SceneGrid makeSceneGrid(const std::string& name, const Box& extent, double cellSize, double maxSide) {
+    if (!(extent.size().x > 0.0) || !(extent.size().y > 0.0))
+        throw DemImportError(name + ": the scene extent must have a positive size");
+    const double longSide = std::max(extent.size().x, extent.size().y), shortSide = std::min(extent.size().x, extent.size().y);
+    const std::string range = "the DEM cell must be between " + number(longSide / maxSide) + " and " + number(shortSide / 1.5) +
+                              " m over this " + number(extent.size().x) + " x " + number(extent.size().y) + " m extent";
+    if (!std::isfinite(cellSize) || !(cellSize > 0.0)) throw DemImportError(name + ": " + range);
+    const std::string aCell = name + ": a " + number(cellSize) + " m cell over this extent would make ";
+    if (longSide / cellSize > maxSide)
+        throw DemImportError(aCell + "more than " + number(maxSide) + " samples a side (" + range + ")");
+    SceneGrid g;
+    g.extent = extent;
+    g.width = int(std::lround(extent.size().x / cellSize));
+    g.height = int(std::lround(extent.size().y / cellSize));
+    // round(side / cell) >= 2 for cell <= side / 1.5: the range's upper bound.
+    if (g.width < 2 || g.height < 2) throw DemImportError(aCell + "fewer than 2 samples a side (" + range + ")");
+    g.cell = extent.size() / Vec2(g.width, g.height);
+    return g;
+}
+
+DemImportError notCovered(const std::string& name, const SceneFrame& frame, const Box& extent, const DemSourceInfo& src) {
+    Box lonLat{{1e300, 1e300}, {-1e300, -1e300}};
+    for (const Vec2 corner : {extent.min, extent.max, Vec2(extent.min.x, extent.max.y), Vec2(extent.max.x, extent.min.y)}) {
+        const glm::dvec2 ll = frame.reverse(corner);
+        lonLat = {glm::min(lonLat.min, ll), glm::max(lonLat.max, ll)};
+    }
+    return DemImportError(name + ": the DEM does not cover the scene: no scene cell centre falls inside its rasters (the scene spans " +
+                          "about " + describe(lonLat) + "; the DEM " + describe(src.lonLat) + ")");
+}
+
+SourceWindow borderWindow(const DemSourceInfo& src, const SceneFrame& frame, const SceneGrid& grid, int j0, int j1, int coveredBorder[4]) {
+    const double* gt = src.geoTransform;
+    std::vector<double> xs, ys;
+    std::vector<int> ok, side;
+    for (int i = 0; i < grid.width; ++i)
+        for (int j : {j0, j1}) {
+            const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
+            xs.push_back(ll.x), ys.push_back(ll.y), side.push_back(j == j0 ? 0 : 1);
+        }
+    for (int j = j0 + 1; j < j1; ++j)
+        for (int i : {0, grid.width - 1}) {
+            const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
+            xs.push_back(ll.x), ys.push_back(ll.y), side.push_back(i == 0 ? 2 : 3);
+        }
+    toSource(src, xs, ys, ok);
+    if (coveredBorder)
+        for (int k = 0; k < 4; ++k) coveredBorder[k] = 0;
+    glm::dvec2 lo(1e300), hi(-1e300);
+    for (std::size_t k = 0; k < xs.size(); ++k)
+        if (ok[k]) {
+            const glm::dvec2 px((xs[k] - gt[0]) / gt[1], (ys[k] - gt[3]) / gt[5]);  // pixel edges at integers
+            lo = glm::min(lo, px), hi = glm::max(hi, px);
+            if (coveredBorder && inFootprints(src, xs[k], ys[k])) {
+                ++coveredBorder[side[k]];
+                // A corner is on two sides.
+                const int i = int(k / 2);
+                if (side[k] < 2 && (i == 0 || i == grid.width - 1)) ++coveredBorder[i == 0 ? 2 : 3];
+            }
+        }
+    SourceWindow w;
+    if (!(lo.x <= hi.x)) return w;
+    const double wx0 = std::max(0.0, std::floor(lo.x) - kWindowMargin), wy0 = std::max(0.0, std::floor(lo.y) - kWindowMargin);
+    const double wx1 = std::min(src.width - 1.0, std::floor(hi.x) + kWindowMargin);
+    const double wy1 = std::min(src.height - 1.0, std::floor(hi.y) + kWindowMargin);
+    if (!(wx0 <= wx1 && wy0 <= wy1)) return w;
+    return {int(wx0), int(wy0), int(wx1), int(wy1)};
+}
+
+Box windowBox(const DemSourceInfo& src, const SourceWindow& w) {
+    const double* gt = src.geoTransform;
+    const double xa = gt[0] + w.x0 * gt[1], xb = gt[0] + (w.x1 + 1) * gt[1];
+    const double ya = gt[3] + w.y0 * gt[5], yb = gt[3] + (w.y1 + 1) * gt[5];
+    return {{std::min(xa, xb), std::min(ya, yb)}, {std::max(xa, xb), std::max(ya, yb)}};
+}
+
+std::size_t fillFromNeighbours(std::vector<float>& v, std::vector<std::uint8_t>& state, int width, int height, std::vector<int>* layerOf) {
+    const std::size_t w = std::size_t(width);
+    auto forNeighbours = [&](std::size_t k, auto&& f) {
+        const int i = int(k % w), j = int(k / w);
+        for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+                const int x = i + di, y = j + dj;
+                if ((di != 0 || dj != 0) && x >= 0 && y >= 0 && x < width && y < height) f(std::size_t(y) * w + std::size_t(x));
+            }
+    };
+    if (layerOf) layerOf->assign(state.size(), 0);
+    std::vector<std::size_t> layer, next;
+    for (std::size_t k = 0; k < state.size(); ++k) {
+        if (state[k] != kOpen) continue;
+        bool touches = false;
+        forNeighbours(k, [&](std::size_t q) { touches = touches || state[q] == kKnown; });
+        if (touches) layer.push_back(k);
+    }
+    for (std::size_t k : layer) state[k] = kQueued;
+    std::size_t filled = 0;
+    int depth = 0;
+    std::vector<float> values;
+    while (!layer.empty()) {
+        ++depth;
+        values.clear();
+        for (std::size_t k : layer) {
+            double sum = 0.0;
+            int n = 0;
+            forNeighbours(k, [&](std::size_t q) {
+                if (state[q] == kKnown) sum += v[q], ++n;
+            });
+            values.push_back(float(sum / n));
+        }
+        for (std::size_t m = 0; m < layer.size(); ++m) v[layer[m]] = values[m], state[layer[m]] = kKnown;
+        if (layerOf)
+            for (std::size_t k : layer) (*layerOf)[k] = depth;
+        filled += layer.size();
+        next.clear();
+        for (std::size_t k : layer)
+            forNeighbours(k, [&](std::size_t q) {
+                if (state[q] == kOpen) state[q] = kQueued, next.push_back(q);
+            });
+        layer.swap(next);
+    }
+    return filled;
+}
+
+Dataset openSource(const DemSourceInfo& src, const std::string& name) {
+    CPLErrorReset();
+    CPLPushErrorHandler(CPLQuietErrorHandler);
+    Dataset ds(GDALDataset::Open(src.dataset.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    CPLPopErrorHandler();
+    if (!ds) throw DemImportError(name + ": cannot open as a raster (" + std::string(CPLGetLastErrorMsg()) + ")");
+    return ds;
+}
+
+WindowSamples readWindow(GDALDataset& ds, const DemSourceInfo& src, const std::string& name, const SourceWindow& w) {
+    const double* gt = src.geoTransform;
+    Block block = readBlock(ds, name, w.x0, w.y0, w.width(), w.height());
+    WindowSamples out{w, std::move(block.values), std::vector<std::uint8_t>(block.valid.size(), kNoData)};
+    const int ww = w.width(), wh = w.height();
+    for (const Box& f : src.footprints) {
+        // The window samples whose centres are inside f.
+        const double ax = (f.min.x - gt[0]) / gt[1], bx = (f.max.x - gt[0]) / gt[1];
+        const double ay = (f.min.y - gt[3]) / gt[5], by = (f.max.y - gt[3]) / gt[5];
+        const int i0 = std::max(0, int(std::ceil(std::min(ax, bx) - 0.5)) - w.x0);
+        const int i1 = std::min(ww - 1, int(std::floor(std::max(ax, bx) - 0.5)) - w.x0);
+        const int j0 = std::max(0, int(std::ceil(std::min(ay, by) - 0.5)) - w.y0);
+        const int j1 = std::min(wh - 1, int(std::floor(std::max(ay, by) - 0.5)) - w.y0);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+                const std::size_t k = std::size_t(j) * std::size_t(ww) + std::size_t(i);
+                out.state[k] = block.valid[k] ? kKnown : kOpen;
+            }
+    }
+    return out;
+}
+
+void resampleRow(const DemSourceInfo& src, const SceneFrame& frame, const SceneGrid& grid, const WindowSamples& window, int j, int i0,
+                 int i1, float* heights, std::uint8_t* covered) {
+    const double* gt = src.geoTransform;
+    const int ww = window.at.width(), wh = window.at.height();
+    const std::size_t n = std::size_t(i1 - i0 + 1);
+    std::vector<double> xs(n), ys(n);
+    std::vector<int> ok;
+    for (int i = i0; i <= i1; ++i) {
+        const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
+        xs[std::size_t(i - i0)] = ll.x, ys[std::size_t(i - i0)] = ll.y;
+    }
+    toSource(src, xs, ys, ok);
+    for (std::size_t m = 0; m < n; ++m) {
+        covered[m] = 0;
+        if (!ok[m] || !inFootprints(src, xs[m], ys[m])) continue;
+        // Sample coordinates in the window (centres at integers), clamped to it: beyond the
+        // outermost samples of the source the edge continues.
+        const double fi = std::clamp((xs[m] - gt[0]) / gt[1] - 0.5 - window.at.x0, 0.0, ww - 1.0);
+        const double fj = std::clamp((ys[m] - gt[3]) / gt[5] - 0.5 - window.at.y0, 0.0, wh - 1.0);
+        const int x0 = std::min(int(fi), ww - 1), y0 = std::min(int(fj), wh - 1);
+        const int x1 = std::min(x0 + 1, ww - 1), y1 = std::min(y0 + 1, wh - 1);
+        const double a = fi - x0, b = fj - y0;
+        // Bilinear over the samples with data: at a footprint's border inside the mosaic (a
+        // missing tile) the weights of the others are renormalised, continuing the edge.
+        double sum = 0.0, weight = 0.0;
+        for (const auto& [x, y, wgt] : {std::tuple{x0, y0, (1 - a) * (1 - b)}, std::tuple{x1, y0, a * (1 - b)},
+                                        std::tuple{x0, y1, (1 - a) * b}, std::tuple{x1, y1, a * b}}) {
+            const std::size_t k = std::size_t(y) * std::size_t(ww) + std::size_t(x);
+            if (window.state[k] == kKnown && wgt > 0.0) sum += wgt * window.values[k], weight += wgt;
+        }
+        if (!(weight > 0.0)) continue;
+        heights[m] = float(sum / weight);
+        covered[m] = 1;
+    }
+}
+
+void coveredCells(const DemSourceInfo& src, const SceneFrame& frame, const SceneGrid& grid, int j, int i0, int i1, std::uint8_t* covered) {
+    const std::size_t n = std::size_t(i1 - i0 + 1);
+    std::vector<double> xs(n), ys(n);
+    std::vector<int> ok;
+    for (int i = i0; i <= i1; ++i) {
+        const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
+        xs[std::size_t(i - i0)] = ll.x, ys[std::size_t(i - i0)] = ll.y;
+    }
+    toSource(src, xs, ys, ok);
+    for (std::size_t m = 0; m < n; ++m) covered[m] = ok[m] && inFootprints(src, xs[m], ys[m]);
+}
+
+std::size_t filesMeeting(const DemSourceInfo& src, const Box& window) {
+    std::size_t n = 0;
+    for (const Box& f : src.footprints) n += f.intersects(window);
+    return n;
+}
+
 
 // Compares every pair of rasters touching inside `window` (source CRS) along their shared border.
 void checkSeams(const DemSourceInfo& src, const Box& window, DemImportReport& report) {
@@ -340,7 +506,11 @@ void checkSeams(const DemSourceInfo& src, const Box& window, DemImportReport& re
         }
 }
 
-}  // namespace
+
+}  // namespace dem_detail
+
+using namespace dem_detail;
+
 
 bool DemSourceInfo::covers(glm::dvec2 p) const {
     double x = p.x, y = p.y;
@@ -422,136 +592,48 @@ Dem importDem(const DemSourceInfo& src, const SceneFrame& frame, const Box& exte
     report.sourceResolution = src.resolution;
 
     // The scene grid.
-    if (!(extent.size().x > 0.0) || !(extent.size().y > 0.0))
-        throw DemImportError(name + ": the scene extent must have a positive size");
-    const double longSide = std::max(extent.size().x, extent.size().y), shortSide = std::min(extent.size().x, extent.size().y);
-    const std::string range = "the DEM cell must be between " + number(longSide / kMaxDemSide) + " and " + number(shortSide / 1.5) +
-                              " m over this " + number(extent.size().x) + " x " + number(extent.size().y) + " m extent";
-    if (!std::isfinite(cellSize) || !(cellSize > 0.0)) throw DemImportError(name + ": " + range);
-    const std::string aCell = name + ": a " + number(cellSize) + " m cell over this extent would make ";
-    if (longSide / cellSize > kMaxDemSide)
-        throw DemImportError(aCell + "more than " + std::to_string(kMaxDemSide) + " samples a side (" + range + ")");
-    const int width = int(std::lround(extent.size().x / cellSize)), height = int(std::lround(extent.size().y / cellSize));
-    // round(side / cell) >= 2 for cell <= side / 1.5: the range's upper bound.
-    if (width < 2 || height < 2)
-        throw DemImportError(aCell + "fewer than 2 samples a side (" + range + ")");
-    const Vec2 cell = extent.size() / Vec2(width, height);
+    const SceneGrid grid = makeSceneGrid(name, extent, cellSize, kMaxDemSide);
+    const int width = grid.width, height = grid.height;
+    const Vec2 cell = grid.cell;
     report.cellSize = cell.x;
     report.sceneWidth = width;
     report.sceneHeight = height;
-    auto cellCentre = [&](int i, int j) { return extent.min + (Vec2(i, j) + 0.5) * cell; };
-    auto notCovered = [&]() {
-        Box lonLat{{1e300, 1e300}, {-1e300, -1e300}};
-        for (const Vec2 corner : {extent.min, extent.max, Vec2(extent.min.x, extent.max.y), Vec2(extent.max.x, extent.min.y)}) {
-            const glm::dvec2 ll = frame.reverse(corner);
-            lonLat = {glm::min(lonLat.min, ll), glm::max(lonLat.max, ll)};
-        }
-        return DemImportError(name + ": the DEM does not cover the scene: no scene cell centre falls inside its rasters (the scene spans " +
-                              "about " + describe(lonLat) + "; the DEM " + describe(src.lonLat) + ")");
-    };
 
     // The source window under the scene: its border cell centres' bounding box, in source samples.
-    const double* gt = src.geoTransform;
-    std::vector<double> xs, ys;
-    std::vector<int> ok;
-    for (int i = 0; i < width; ++i)
-        for (int j : {0, height - 1}) {
-            const glm::dvec2 ll = frame.reverse(cellCentre(i, j));
-            xs.push_back(ll.x), ys.push_back(ll.y);
-        }
-    for (int j = 1; j + 1 < height; ++j)
-        for (int i : {0, width - 1}) {
-            const glm::dvec2 ll = frame.reverse(cellCentre(i, j));
-            xs.push_back(ll.x), ys.push_back(ll.y);
-        }
-    toSource(src, xs, ys, ok);
-    glm::dvec2 lo(1e300), hi(-1e300);
-    for (std::size_t k = 0; k < xs.size(); ++k)
-        if (ok[k]) {
-            const glm::dvec2 px((xs[k] - gt[0]) / gt[1], (ys[k] - gt[3]) / gt[5]);  // pixel edges at integers
-            lo = glm::min(lo, px), hi = glm::max(hi, px);
-        }
-    if (!(lo.x <= hi.x)) throw notCovered();
-    const double wx0 = std::max(0.0, std::floor(lo.x) - kWindowMargin), wy0 = std::max(0.0, std::floor(lo.y) - kWindowMargin);
-    const double wx1 = std::min(src.width - 1.0, std::floor(hi.x) + kWindowMargin);
-    const double wy1 = std::min(src.height - 1.0, std::floor(hi.y) + kWindowMargin);
-    if (!(wx0 <= wx1 && wy0 <= wy1)) throw notCovered();
-    if ((wx1 - wx0 + 1) * (wy1 - wy0 + 1) > kMaxWindowSamples)
-        throw DemImportError(name + ": the scene extent covers " + number(wx1 - wx0 + 1) + " x " + number(wy1 - wy0 + 1) +
+    const SourceWindow win = borderWindow(src, frame, grid, 0, height - 1);
+    if (win.empty()) throw notCovered(name, frame, extent, src);
+    if (double(win.width()) * double(win.height()) > kMaxWindowSamples)
+        throw DemImportError(name + ": the scene extent covers " + std::to_string(win.width()) + " x " + std::to_string(win.height()) +
                              " source samples, more than can be read at once: make a coarser copy of the DEM (gdal_translate -tr)");
-    report.windowX = int(wx0), report.windowY = int(wy0);
-    report.windowWidth = int(wx1 - wx0) + 1, report.windowHeight = int(wy1 - wy0) + 1;
-    const int ww = report.windowWidth, wh = report.windowHeight;
+    report.windowX = win.x0, report.windowY = win.y0;
+    report.windowWidth = win.width(), report.windowHeight = win.height();
 
     // Read the window; voids are the invalid samples inside a footprint, filled.
-    Block window;
-    {
-        CPLErrorReset();
-        CPLPushErrorHandler(CPLQuietErrorHandler);
-        Dataset ds(GDALDataset::Open(src.dataset.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
-        CPLPopErrorHandler();
-        if (!ds) throw DemImportError(name + ": cannot open as a raster (" + std::string(CPLGetLastErrorMsg()) + ")");
-        window = readBlock(*ds, name, report.windowX, report.windowY, ww, wh);
-    }
-    std::vector<std::uint8_t> state(window.values.size(), kNoData);
-    for (const Box& f : src.footprints) {
-        // The window samples whose centres are inside f.
-        const double ax = (f.min.x - gt[0]) / gt[1], bx = (f.max.x - gt[0]) / gt[1];
-        const double ay = (f.min.y - gt[3]) / gt[5], by = (f.max.y - gt[3]) / gt[5];
-        const int i0 = std::max(0, int(std::ceil(std::min(ax, bx) - 0.5)) - report.windowX);
-        const int i1 = std::min(ww - 1, int(std::floor(std::max(ax, bx) - 0.5)) - report.windowX);
-        const int j0 = std::max(0, int(std::ceil(std::min(ay, by) - 0.5)) - report.windowY);
-        const int j1 = std::min(wh - 1, int(std::floor(std::max(ay, by) - 0.5)) - report.windowY);
-        for (int j = j0; j <= j1; ++j)
-            for (int i = i0; i <= i1; ++i) {
-                const std::size_t k = std::size_t(j) * std::size_t(ww) + std::size_t(i);
-                state[k] = window.valid[k] ? kKnown : kOpen;
-            }
-    }
+    WindowSamples window = readWindow(*openSource(src, name), src, name, win);
+    std::vector<std::uint8_t>& state = window.state;
     if (std::find(state.begin(), state.end(), std::uint8_t(kKnown)) == state.end()) {
-        if (std::find(state.begin(), state.end(), std::uint8_t(kOpen)) == state.end()) throw notCovered();
+        if (std::find(state.begin(), state.end(), std::uint8_t(kOpen)) == state.end()) throw notCovered(name, frame, extent, src);
         throw DemImportError(name + ": every sample under the scene extent is void (nodata)");
     }
-    report.voids = fillFromNeighbours(window.values, state, ww, wh);
+    report.voids = fillFromNeighbours(window.values, state, win.width(), win.height());
     for (std::uint8_t& s : state)
         if (s == kOpen) s = kNoData;  // voids cut off from every valid sample in the window: no data
+    report.filesRead = filesMeeting(src, windowBox(src, win));
+    report.strips = 1;
+    report.peakStripSamples = window.values.size() + std::size_t(width) * std::size_t(height);
 
     // Resample the scene grid; a cell is covered when its centre is inside a footprint.
     std::vector<float> heights(std::size_t(width) * std::size_t(height));
     std::vector<std::uint8_t> covered(heights.size(), 0);
     int ci0 = width, ci1 = -1, cj0 = height, cj1 = -1;
-    xs.resize(std::size_t(width)), ys.resize(std::size_t(width));
     for (int j = 0; j < height; ++j) {
-        for (int i = 0; i < width; ++i) {
-            const glm::dvec2 ll = frame.reverse(cellCentre(i, j));
-            xs[std::size_t(i)] = ll.x, ys[std::size_t(i)] = ll.y;
-        }
-        toSource(src, xs, ys, ok);
-        for (int i = 0; i < width; ++i) {
-            if (!ok[std::size_t(i)] || !inFootprints(src, xs[std::size_t(i)], ys[std::size_t(i)])) continue;
-            // Sample coordinates in the window (centres at integers), clamped to it: beyond the
-            // outermost samples of the source the edge continues.
-            const double fi = std::clamp((xs[std::size_t(i)] - gt[0]) / gt[1] - 0.5 - report.windowX, 0.0, ww - 1.0);
-            const double fj = std::clamp((ys[std::size_t(i)] - gt[3]) / gt[5] - 0.5 - report.windowY, 0.0, wh - 1.0);
-            const int i0 = std::min(int(fi), ww - 1), j0 = std::min(int(fj), wh - 1);
-            const int i1 = std::min(i0 + 1, ww - 1), j1 = std::min(j0 + 1, wh - 1);
-            const double a = fi - i0, b = fj - j0;
-            // Bilinear over the samples with data: at a footprint's border inside the mosaic (a
-            // missing tile) the weights of the others are renormalised, continuing the edge.
-            double sum = 0.0, weight = 0.0;
-            for (const auto& [x, y, wgt] : {std::tuple{i0, j0, (1 - a) * (1 - b)}, std::tuple{i1, j0, a * (1 - b)},
-                                            std::tuple{i0, j1, (1 - a) * b}, std::tuple{i1, j1, a * b}}) {
-                const std::size_t k = std::size_t(y) * std::size_t(ww) + std::size_t(x);
-                if (state[k] == kKnown && wgt > 0.0) sum += wgt * window.values[k], weight += wgt;
-            }
-            if (!(weight > 0.0)) continue;
-            const std::size_t k = std::size_t(j) * std::size_t(width) + std::size_t(i);
-            heights[k] = float(sum / weight);
-            covered[k] = 1;
-            ci0 = std::min(ci0, i), ci1 = std::max(ci1, i), cj0 = std::min(cj0, j), cj1 = std::max(cj1, j);
-        }
+        const std::size_t row = std::size_t(j) * std::size_t(width);
+        resampleRow(src, frame, grid, window, j, 0, width - 1, heights.data() + row, covered.data() + row);
+        for (int i = 0; i < width; ++i)
+            if (covered[row + std::size_t(i)]) ci0 = std::min(ci0, i), ci1 = std::max(ci1, i), cj0 = std::min(cj0, j), cj1 = std::max(cj1, j);
     }
-    if (ci1 < 0) throw notCovered();
+    if (ci1 < 0) throw notCovered(name, frame, extent, src);
+    window = {};
 
     // The Dem: the covered cells' bounding box, the uncovered cells inside it filled.
     const int dw = ci1 - ci0 + 1, dh = cj1 - cj0 + 1;
@@ -577,11 +659,7 @@ Dem importDem(const DemSourceInfo& src, const SceneFrame& frame, const Box& exte
     report.minHeight = *lowest;
     report.maxHeight = *highest;
 
-    if (src.files.size() > 1) {
-        const double xa = gt[0] + report.windowX * gt[1], xb = gt[0] + (report.windowX + ww) * gt[1];
-        const double ya = gt[3] + report.windowY * gt[5], yb = gt[3] + (report.windowY + wh) * gt[5];
-        checkSeams(src, {{std::min(xa, xb), std::min(ya, yb)}, {std::max(xa, xb), std::max(ya, yb)}}, report);
-    }
+    if (src.files.size() > 1) checkSeams(src, windowBox(src, win), report);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return Dem(report.demExtent, dw, dh, std::move(demHeights));
 }

@@ -112,6 +112,13 @@ struct DemImportReport {
     std::size_t seamsChecked = 0;        // seams with at least one point compared
     double largestSeamStep = 0.0;        // metres, over every seam
     glm::dvec2 largestSeamStepAt{0.0};   // lon/lat, degrees
+    std::size_t filesRead = 0;           // rasters whose footprint meets the window read
+    // How the grid was made: "grid" (importDem, in memory) or "lod" (importDemLod, in strips of rows).
+    std::string storage = "grid";
+    int strips = 0;                      // strips of scene rows resampled (1 for importDem)
+    std::size_t peakStripSamples = 0;    // the most source and scene samples held at once (window read + scene rows)
+    std::size_t voidsBeyondMargin = 0;   // lod: void samples filled whose fill may differ from importDem's (see io/dem_import_lod.h)
+    std::size_t uncoveredBeyondMargin = 0;  // lod: the same for uncovered cells
     double ms = 0.0;
 };
 

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <sstream>
 
+#include "io/dem_import_lod.h"
 #include "model/validate.h"
 
 namespace lacet {
@@ -117,6 +119,21 @@ void checkRivers(const Scene& s, const Dem& dem, ImportReport& r) {
 
 }  // namespace
 
+const char* toString(DemStorage s) {
+    switch (s) {
+    case DemStorage::Auto: return "auto";
+    case DemStorage::Grid: return "grid";
+    case DemStorage::Lod: return "lod";
+    }
+    return "?";
+}
+
+DemStorage demStorageFromString(const std::string& s) {
+    for (DemStorage d : {DemStorage::Auto, DemStorage::Grid, DemStorage::Lod})
+        if (s == toString(d)) return d;
+    throw ImportError("the DEM storage (--dem-storage) must be auto, grid or lod, not '" + s + "'");
+}
+
 void checkImportOptions(const ImportOptions& o) {
     auto range = [](double v, double lo, double hi, const char* what) {
         if (!(v >= lo && v <= hi))  // NaN fails too
@@ -195,13 +212,36 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
                           numberText(report.largestScaleError * 100.0) + " % (the limit is " + numberText(kMaxScaleError * 100.0) +
                           " %); import a smaller region");
 
+    // A lod DEM's file is removed when the import fails after writing it (after the document, which reads it).
+    struct RemoveOnFailure {
+        std::string path;
+        ~RemoveOnFailure() {
+            std::error_code ec;
+            if (!path.empty()) std::filesystem::remove(path, ec);
+        }
+    } lodFile;
     SceneDocument doc;
     if (demInfo) {
-        progressBegin(progress, "reading the DEM", demInfo->files.size(), "files");
         const double cell = o.demCell > 0.0 ? o.demCell : std::max(1.0, std::min(demInfo->resolution.x, demInfo->resolution.y));
-        doc.dem = importDem(*demInfo, frame, report.extent, cell, report.dem);
-        progressAdvance(progress, demInfo->files.size());
-        progressEnd(progress);
+        const double side = std::max(report.extent.size().x, report.extent.size().y) / cell;
+        const bool lod = o.demStorage == DemStorage::Lod || (o.demStorage == DemStorage::Auto && std::lround(side) > kInMemoryDemSide);
+        if (lod) {
+            if (o.demLodPath.empty()) throw ImportError("a DEM stored as lod needs a file to write it to (ImportOptions::demLodPath)");
+            std::filesystem::remove(o.demLodPath);  // a stale one of an interrupted import
+            lodFile.path = o.demLodPath;
+            DemLodOutput out = importDemLod(*demInfo, frame, report.extent, cell, o.demLodPath, report.dem, {}, progress);
+            report.demLodLayout = out.layout;
+            report.demLodTiles = out.tiles;
+            report.demLodBytes = out.bytes;
+            report.demLodCoarseLevel = out.coarseLevel;
+            doc.dem = std::move(out.coarse);
+            doc.demLod = std::make_shared<const DemLodFile>(o.demLodPath);
+        } else {
+            progressBegin(progress, "reading the DEM", demInfo->files.size(), "files");
+            doc.dem = importDem(*demInfo, frame, report.extent, cell, report.dem);
+            progressAdvance(progress, demInfo->files.size());
+            progressEnd(progress);
+        }
         if (report.dem.outsideFraction > 0.0)
             report.warnings.push_back(numberText(report.dem.outsideFraction * 100.0) + " % of the scene lies outside the DEM (which covers " +
                                       boxText(report.dem.demExtent) + " m of " + boxText(report.extent) +
@@ -238,16 +278,18 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     doc.georeference = frame.georeference();
     checkRivers(doc.scene, *doc.dem, report);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    lodFile.path.clear();  // the caller's now
     return doc;
 }
 
 namespace {
 
-nlohmann::json demJson(const DemImportReport& dem) {
+nlohmann::json demJson(const ImportReport& r) {
+    const DemImportReport& dem = r.dem;
     nlohmann::json seams = nlohmann::json::array();
     for (const DemSeam& s : dem.seams)
         seams.push_back({{"files", {s.fileA, s.fileB}}, {"points", s.points}, {"largest_step_m", s.largestStep}, {"at_lon_lat", {s.where.x, s.where.y}}});
-    return {{"path", dem.path},
+    nlohmann::json j = {{"path", dem.path},
             {"files", dem.files},
             {"source_size", {dem.sourceWidth, dem.sourceHeight}},
             {"window_read", {dem.windowX, dem.windowY, dem.windowWidth, dem.windowHeight}},
@@ -262,7 +304,20 @@ nlohmann::json demJson(const DemImportReport& dem) {
             {"seams_checked", dem.seamsChecked},
             {"largest_seam_step_m", dem.largestSeamStep},
             {"seams", seams},
+            {"files_read", dem.filesRead},
+            {"storage", dem.storage},
+            {"strips", dem.strips},
+            {"peak_strip_samples", dem.peakStripSamples},
+            {"voids_beyond_margin", dem.voidsBeyondMargin},
+            {"uncovered_beyond_margin", dem.uncoveredBeyondMargin},
             {"ms", dem.ms}};
+    if (dem.storage == "lod") {
+        const DemLodLayout& l = r.demLodLayout;
+        j["lod"] = {{"levels", l.levels}, {"block_side", l.blockSide}, {"grid", {l.width, l.height}}, {"cell_m", l.cell},
+                    {"tiles", r.demLodTiles}, {"bytes", r.demLodBytes}, {"in_memory_level", r.demLodCoarseLevel},
+                    {"in_memory_grid", {l.levelWidth(r.demLodCoarseLevel), l.levelHeight(r.demLodCoarseLevel)}}};
+    }
+    return j;
 }
 
 }  // namespace
@@ -300,7 +355,7 @@ nlohmann::json ImportReport::json() const {
                             {"lines_skipped", network.duplicateLines},
                             {"line_segments_removed", network.duplicateLineSegments},
                             {"areas_skipped", network.duplicateAreas}}},
-            {"dem", flatGround ? nlohmann::json{{"flat_ground_m", flatHeight}} : demJson(dem)},
+            {"dem", flatGround ? nlohmann::json{{"flat_ground_m", flatHeight}} : demJson(*this)},
             {"warnings", warnings},
             {"crs", {{"projection", "transverse Mercator (WGS84), scale 1 on the central meridian"}, {"lon0", lon0}, {"lat0", lat0},
                      {"largest_scale_error", largestScaleError}}},

@@ -19,11 +19,14 @@
 // Mercator frame, or vectors that keep fewer than `minKept` features (by default: nothing kept)
 // unless `allowEmpty`.
 
+#include <cstdint>
 #include <functional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "io/dem_import.h"
+#include "io/dem_lod.h"
 #include "io/network_builder.h"
 #include "io/document.h"
 #include "model/progress.h"
@@ -35,6 +38,14 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// How the imported DEM is held (--dem-storage): in memory (importDem), as a LOD tree written out of
+// core (importDemLod, io/dem_import_lod.h), or lod when the scene grid would be more than
+// kInMemoryDemSide samples a side (io/dem_lod.h).
+enum class DemStorage { Auto, Grid, Lod };
+const char* toString(DemStorage s);
+// "auto", "grid" or "lod"; throws ImportError naming the valid values otherwise.
+DemStorage demStorageFromString(const std::string& s);
+
 struct ImportOptions {
     std::vector<std::string> dem;      // rasters, VRTs or directories; empty: flat ground
     std::vector<std::string> vectors;  // empty: a DEM-only scene
@@ -45,6 +56,11 @@ struct ImportOptions {
     double flatHeight = 0.0;           // metres: the ground's height when no DEM is given, in [kMinFlatHeight, kMaxFlatHeight]
     std::size_t minKept = 1;           // features (curves and areas) the vectors must give, or the import fails
     bool allowEmpty = false;           // accept fewer than minKept (an explicit choice)
+    DemStorage demStorage = DemStorage::Auto;
+    // Where a lod DEM is written (a GeoPackage of its own, beside the output: the caller's
+    // out + ".dem.tmp"); required when the DEM is stored as lod. importScene replaces a file there,
+    // removes it when it fails; the caller removes it after saving the document.
+    std::string demLodPath;
 };
 
 inline constexpr double kMaxFitTolerance = 100.0;  // metres
@@ -61,6 +77,10 @@ inline constexpr double kFlatGroundCell = 100.0;
 
 struct ImportReport {
     DemImportReport dem;
+    // A lod DEM (dem.storage == "lod"): the tree written to ImportOptions::demLodPath.
+    DemLodLayout demLodLayout;
+    std::uint64_t demLodTiles = 0, demLodBytes = 0;
+    int demLodCoarseLevel = 0;  // the level held in SceneDocument::dem
     bool flatGround = false;  // no DEM given: flat at flatHeight
     double flatHeight = 0.0;
     NetworkReport network;
@@ -80,6 +100,8 @@ struct ImportReport {
 // Checks the knobs of `options` (ImportError with the valid range).
 void checkImportOptions(const ImportOptions& options);
 
+// With a lod DEM (see DemStorage) the document's demLod reads ImportOptions::demLodPath and its dem
+// is the tree's level levelAtMost(layout, kInMemoryDemSide) (the river check and the report use it).
 // Throws ImportError (see the header), DemImportError, VectorImportError, MappingError or
 // ValidationError; per-feature problems go to the report.
 SceneDocument importScene(const ImportOptions& options, ImportReport& report, Progress* progress = nullptr);
