@@ -175,13 +175,17 @@ void lzwBlock(std::span<const std::uint8_t> in, std::span<std::uint8_t> out) {
 
 }  // namespace
 
-std::vector<std::uint8_t> encodeFloatTiff(std::span<const float> values, int width, int height) {
-    checkImageArgs("encodeFloatTiff()", values.size(), width, height, 1);
-    // Header, one IFD of kEntries, then the strip at a 4-byte boundary.
-    constexpr std::uint32_t kEntries = 11, kIfd = 8, kData = (kIfd + 2 + kEntries * 12 + 4 + 3) / 4 * 4;
-    const auto dataBytes = std::uint32_t(values.size() * 4);
+namespace {
+
+// The one-strip TIFF of a float32 band whose strip holds `data` (already compressed when
+// `compression` is not 1), with a Predictor tag unless `predictor` is 1.
+std::vector<std::uint8_t> floatTiff(std::span<const std::uint8_t> data, int width, int height, std::uint16_t compression,
+                                    std::uint16_t predictor) {
+    // Header, one IFD of `entries`, then the strip at a 4-byte boundary.
+    const std::uint32_t entries = predictor == 1 ? 11 : 12, kIfd = 8, dataAt = (kIfd + 2 + entries * 12 + 4 + 3) / 4 * 4;
+    const auto dataBytes = std::uint32_t(data.size());
     std::vector<std::uint8_t> out;
-    out.reserve(kData + dataBytes);
+    out.reserve(dataAt + dataBytes);
     auto u16 = [&](std::uint32_t v) {
         out.push_back(std::uint8_t(v));
         out.push_back(std::uint8_t(v >> 8));
@@ -205,22 +209,68 @@ std::vector<std::uint8_t> encodeFloatTiff(std::span<const float> values, int wid
     out.push_back('I');
     u16(42);
     u32(kIfd);
-    u16(kEntries);
+    u16(entries);
     entry(kTagWidth, kTypeLong, std::uint32_t(width));
     entry(kTagHeight, kTypeLong, std::uint32_t(height));
     entry(kTagBitsPerSample, kTypeShort, 32);
-    entry(kTagCompression, kTypeShort, 1);
+    entry(kTagCompression, kTypeShort, compression);
     entry(kTagPhotometric, kTypeShort, 1);  // BlackIsZero
-    entry(kTagStripOffsets, kTypeLong, kData);
+    entry(kTagStripOffsets, kTypeLong, dataAt);
     entry(kTagSamplesPerPixel, kTypeShort, 1);
     entry(kTagRowsPerStrip, kTypeLong, std::uint32_t(height));
     entry(kTagStripByteCounts, kTypeLong, dataBytes);
     entry(kTagPlanarConfig, kTypeShort, 1);
+    if (predictor != 1) entry(kTagPredictor, kTypeShort, predictor);
     entry(kTagSampleFormat, kTypeShort, 3);  // IEEE floating point
     u32(0);                                  // no next IFD
-    out.resize(kData, 0);
-    for (float v : values) u32(std::bit_cast<std::uint32_t>(v));
+    out.resize(dataAt, 0);
+    out.insert(out.end(), data.begin(), data.end());
     return out;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> encodeFloatTiff(std::span<const float> values, int width, int height) {
+    checkImageArgs("encodeFloatTiff()", values.size(), width, height, 1);
+    std::vector<std::uint8_t> data;
+    data.reserve(values.size() * 4);
+    for (float v : values) {
+        const std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+        for (int k = 0; k < 4; ++k) data.push_back(std::uint8_t(b >> (8 * k)));
+    }
+    return floatTiff(data, width, height, 1, 1);
+}
+
+std::vector<std::uint8_t> encodeFloatTiffDeflate(std::span<const float> values, int width, int height, int level,
+                                                 bool floatPredictor) {
+    checkImageArgs("encodeFloatTiffDeflate()", values.size(), width, height, 1);
+    if (level < 1 || level > 9)
+        throw std::invalid_argument("encodeFloatTiffDeflate(): zlib level " + std::to_string(level) + " not in 1..9");
+    const std::size_t w = std::size_t(width), rowBytes = w * 4;
+    std::vector<std::uint8_t> raw(values.size() * 4);
+    for (std::size_t y = 0; y < std::size_t(height); ++y) {
+        std::uint8_t* r = raw.data() + y * rowBytes;
+        const float* v = values.data() + y * w;
+        if (floatPredictor) {
+            // TIFF's floating point predictor (Adobe technical note 3): the row's bytes as planes, most
+            // significant first, then each byte minus the one before it.
+            for (std::size_t i = 0; i < w; ++i) {
+                const std::uint32_t b = std::bit_cast<std::uint32_t>(v[i]);
+                for (std::size_t k = 0; k < 4; ++k) r[k * w + i] = std::uint8_t(b >> (8 * (3 - k)));
+            }
+            for (std::size_t i = rowBytes; i-- > 1;) r[i] = std::uint8_t(r[i] - r[i - 1]);
+        } else {
+            for (std::size_t i = 0; i < w; ++i) {
+                const std::uint32_t b = std::bit_cast<std::uint32_t>(v[i]);
+                for (std::size_t k = 0; k < 4; ++k) r[4 * i + k] = std::uint8_t(b >> (8 * k));
+            }
+        }
+    }
+    uLongf packedSize = compressBound(uLong(raw.size()));
+    std::vector<std::uint8_t> packed(packedSize);
+    if (compress2(packed.data(), &packedSize, raw.data(), uLong(raw.size()), level) != Z_OK) throw std::bad_alloc();
+    packed.resize(packedSize);
+    return floatTiff(packed, width, height, 8, floatPredictor ? 3 : 1);
 }
 
 DecodedFloats decodeFloatTiff(std::span<const std::uint8_t> bytes) {

@@ -79,6 +79,12 @@ std::vector<std::uint8_t> encodeWebp(std::span<const std::uint8_t> rgb, int widt
 // uncompressed. values: width * height, rows from the top; written bit for bit (NaN payloads too).
 std::vector<std::uint8_t> encodeFloatTiff(std::span<const float> values, int width, int height);
 
+// The same TIFF with its strip deflated (Compression 8, zlib `level` 1..9), and with TIFF's
+// floating-point predictor (Predictor 3) when `floatPredictor`; decodeFloatTiff and GDAL read both.
+// Throws std::invalid_argument as encodeFloatTiff does and for a level outside 1..9.
+std::vector<std::uint8_t> encodeFloatTiffDeflate(std::span<const float> values, int width, int height, int level,
+                                                 bool floatPredictor);
+
 struct DecodedImage {
     int width = 0, height = 0, channels = 0;  // channels: 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA
     std::vector<std::uint8_t> pixels;         // width * height * channels, rows from the top
