@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <string_view>
 
+#include "io/dem_lod.h"
 #include "io/digest.h"
 #include "io/scene_file.h"
 
@@ -68,8 +69,19 @@ std::string sceneChecksumText(const SceneDocument& doc) {
     c.word(g.valid);
     for (double v : {g.lon0, g.lat0, g.originShift.x, g.originShift.y}) c.real(v);
     c.text(g.crsWkt);
-    c.word(doc.dem.has_value());
-    if (doc.dem) {
+    if (doc.demLod) {
+        // A streamed DEM: its layout and the digest of its samples; doc.dem is derived from it. The
+        // word 2 is neither of the words below (0 no DEM, 1 an in-memory DEM), whose sums are kept.
+        const DemLodLayout& l = doc.demLod->layout();
+        c.word(2);
+        c.word(std::uint64_t(std::uint32_t(l.width)) << 32 | std::uint64_t(std::uint32_t(l.height)));
+        c.real(l.cell).real(l.origin.x).real(l.origin.y);
+        c.word(std::uint64_t(std::uint32_t(l.blockSide)) << 32 | std::uint64_t(std::uint32_t(l.levels)));
+        c.text(doc.demLod->digest());
+    } else {
+        c.word(doc.dem.has_value());
+    }
+    if (doc.dem && !doc.demLod) {
         const Box& e = doc.dem->extent();
         for (double v : {e.min.x, e.min.y, e.max.x, e.max.y}) c.real(v);
         c.word(std::uint64_t(doc.dem->width()) << 32 | std::uint64_t(doc.dem->height()));

@@ -8,9 +8,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <vector>
 
 #include "io/atomic_file.h"
+#include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/scene_checksum.h"
 #include "io/scene_format.h"
@@ -46,6 +48,30 @@ void checkDemTiles(SqliteDb& db, std::int64_t width, std::int64_t height) {
                           std::to_string(expected) + " tiles");
 }
 
+// A streamed DEM's tree must hold every tile its layout says exists (a missing one would be read as
+// damage only when the view reaches it): the tiles of each level inside its blocks, and no others.
+void checkDemLodTiles(SqliteDb& db, const DemLodLayout& layout) {
+    const std::string table = kDemLodTable;
+    if (!db.hasTable(table)) throw FormatError("no DEM LOD table '" + table + "'");
+    const std::int64_t total = db.queryInteger("SELECT count(*) FROM \"" + table + "\"");
+    auto s = db.prepare("SELECT count(*) FROM \"" + table +
+                        "\" WHERE zoom_level = ? AND tile_column >= 0 AND tile_column < ? AND tile_row >= 0 AND tile_row < ?");
+    for (int l = 0; l < layout.levels; ++l) {
+        const std::int64_t expected = std::int64_t(layout.blockColumns(l)) * std::int64_t(layout.blockRows(l));
+        s.bind(1, std::int64_t(l));
+        s.bind(2, std::int64_t(layout.blockColumns(l)));
+        s.bind(3, std::int64_t(layout.blockRows(l)));
+        s.step();
+        if (s.integer(0) != expected)
+            throw FormatError("corrupt DEM: table '" + table + "' holds " + std::to_string(s.integer(0)) + " of the " +
+                              std::to_string(expected) + " tiles of level " + std::to_string(l));
+        s.reset();
+    }
+    if (total != layout.tileCount())
+        throw FormatError("corrupt DEM: table '" + table + "' holds " + std::to_string(total) + " tiles, " +
+                          std::to_string(layout.tileCount()) + " expected");
+}
+
 }  // namespace
 
 void saveScene(const std::string& path, const SceneDocument& doc) {
@@ -55,10 +81,18 @@ void saveScene(const std::string& path, const SceneDocument& doc) {
         throw SceneFileError(path + ": cannot save more than " + std::to_string(kMaxLayers) + " layers");
     try {
         replaceFileAtomically(path, [&](const std::string& tmp) {
-            if (doc.dem)
-                createGpkgWithDem(tmp, *doc.dem, doc.georeference.valid ? doc.georeference.crsWkt : std::string());
-            else
+            if (doc.demLod) {
+                // The tree's tiles, copied from the file it is read from (which may be `path`: it is
+                // replaced only after this), not the derived doc.dem.
                 createEmptyGpkg(tmp);
+                SqliteDb db(tmp, SqliteDb::Mode::ReadWrite);
+                copyDemLod(db, doc.demLod->path());
+                db.close();
+            } else if (doc.dem) {
+                createGpkgWithDem(tmp, *doc.dem, doc.georeference.valid ? doc.georeference.crsWkt : std::string());
+            } else {
+                createEmptyGpkg(tmp);
+            }
             writeSceneTables(tmp, doc);
         });
     } catch (const std::exception& e) {
@@ -100,13 +134,26 @@ SceneDocument loadScene(const std::string& path) {
         readElementTables(db, doc);
         const std::string& dem = metaValue(meta, "dem");
         std::int64_t demWidth = 0, demHeight = 0;
-        if (dem == kDemRasterTable) {
+        if (dem == kDemRasterTable || dem == kDemLodTable) {
             demWidth = metaInteger(meta, "dem_width", 1, INT32_MAX);
             demHeight = metaInteger(meta, "dem_height", 1, INT32_MAX);
-            checkDemTiles(db, demWidth, demHeight);
+        }
+        if (dem == kDemRasterTable) checkDemTiles(db, demWidth, demHeight);
+        if (dem == kDemLodTable) {
+            if (!db.hasTable(kDemLodTable)) throw FormatError(std::string("no DEM LOD table '") + kDemLodTable + "'");
+            auto lod = std::make_shared<const DemLodFile>(path);
+            const DemLodLayout& layout = lod->layout();
+            if (layout.width != demWidth || layout.height != demHeight)
+                throw FormatError("corrupt DEM: the LOD tree is " + std::to_string(layout.width) + " x " +
+                                  std::to_string(layout.height) + ", lacet_meta says " + std::to_string(demWidth) + " x " +
+                                  std::to_string(demHeight));
+            checkDemLodTiles(db, layout);
+            doc.demLod = std::move(lod);
         }
         db.close();
-        if (dem == kDemRasterTable) {
+        if (doc.demLod) {
+            doc.dem = readDemLevel(*doc.demLod, levelAtMost(doc.demLod->layout(), kInMemoryDemSide));
+        } else if (dem == kDemRasterTable) {
             const Box extent = metaBox(meta, "dem_extent");
             std::vector<float> heights = readGpkgDem(path, int(demWidth), int(demHeight));
             try {
@@ -119,6 +166,8 @@ SceneDocument loadScene(const std::string& path) {
         }
     } catch (const FormatError& e) {
         throw SceneFileError(path + ": " + e.what());
+    } catch (const DemLodError& e) {
+        throw SceneFileError(e.what());  // names the file (`path`) and the block
     } catch (const SqliteError& e) {
         throw SceneFileError(path + ": not a GeoPackage, or corrupt: " + e.what());
     } catch (const std::bad_alloc&) {

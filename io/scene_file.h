@@ -7,6 +7,13 @@
 //                 through GDAL (io/gpkg_dem.h). Absent when the document has no DEM: the file is then
 //                 a vector-only GeoPackage, which `gdalinfo` refuses ("not recognized") though
 //                 `ogrinfo` opens it.
+//   dem_lod, lacet_dem_lod  instead of dem, when the document's DEM is streamed (doc.demLod): the
+//                 non-redundant LOD block tree of io/dem_lod.h (a 2D gridded coverage, one tile matrix
+//                 per level) and its layout, copied from the file doc.demLod reads; lacet_meta 'dem'
+//                 is then 'dem_lod' and dem_width, dem_height, dem_extent_* give its finest grid.
+//                 Loading checks that every tile the layout needs is there, opens the tree
+//                 (doc.demLod) and reads the level levelAtMost(layout, kInMemoryDemSide) into doc.dem;
+//                 the checksum covers the tree's layout and digest instead of doc.dem.
 //   lacet_meta    key/value text: format, format_version, the extent, the georeference, crs_wkt and the
 //                 DEM's grid (dem, dem_width, dem_height, dem_extent_*), and a 64-bit checksum of
 //                 the whole document's values (checksum, 16 hex digits). Doubles are C hex floats

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/scene_checksum.h"
 #include "io/scene_features.h"
@@ -109,10 +110,20 @@ void writeMeta(SqliteDb& db, const SceneDocument& doc) {
         {"georeference_origin_shift_x", doubleText(doc.georeference.originShift.x)},
         {"georeference_origin_shift_y", doubleText(doc.georeference.originShift.y)},
         {"crs_wkt", doc.georeference.crsWkt},
-        {"dem", doc.dem ? kDemRasterTable : "none"},
+        {"dem", doc.demLod ? kDemLodTable : doc.dem ? kDemRasterTable : "none"},
         {"checksum", sceneChecksumText(doc)},
     };
-    if (doc.dem) {
+    if (doc.demLod) {
+        // The finest grid of the tree (its layout itself is in kDemLodMetaTable, io/dem_lod.h).
+        const DemLodLayout& l = doc.demLod->layout();
+        const Box e = l.extent();
+        meta.insert(meta.end(), {{"dem_width", std::to_string(l.width)},
+                                 {"dem_height", std::to_string(l.height)},
+                                 {"dem_extent_min_x", doubleText(e.min.x)},
+                                 {"dem_extent_min_y", doubleText(e.min.y)},
+                                 {"dem_extent_max_x", doubleText(e.max.x)},
+                                 {"dem_extent_max_y", doubleText(e.max.y)}});
+    } else if (doc.dem) {
         const Box& e = doc.dem->extent();
         meta.insert(meta.end(), {{"dem_width", std::to_string(doc.dem->width())},
                                  {"dem_height", std::to_string(doc.dem->height())},
