@@ -1,17 +1,23 @@
 // `lacet synth`: generates a synthetic scene, optionally its view-refined quadtree, and prints
 // a summary (text, or JSON with --json).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <thread>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
+#include "io/dem_import_lod.h"
+#include "io/dem_lod.h"
 #include "io/scene_file.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "model/validate.h"
+#include "synth/fine_synthetic_dem.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -24,6 +30,7 @@ struct SynthOptions {
     bool json = false;
     std::string out;         // a scene file to write (with the synthetic DEM)
     int demResolution = 5000;
+    int demSide = 0;        // > 0: a DEM of this many samples a side, written out of core (FineSyntheticDem)
     double altitude = 0.0;  // > 0: build the quadtree for a viewer this high above the centre
     ViewParams view;
 };
@@ -84,7 +91,52 @@ void run(const SynthOptions& o) {
         doc.scene = s;
         t0 = Clock::now();
         doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});
-        const double demMs = msSince(t0);
+        double demMs = msSince(t0);
+        // The lod DEM's file, beside the output, removed after the save (also when it fails).
+        struct RemoveAfter {
+            std::string path;
+            ~RemoveAfter() {
+                std::error_code ec;
+                if (!path.empty()) std::filesystem::remove(path, ec);
+            }
+        } lodFile;
+        nlohmann::json lodJson;
+        if (o.demSide > 0) {
+            t0 = Clock::now();
+            const Dem base = std::move(*doc.dem);
+            doc.dem.reset();
+            const FineSyntheticDem fine(s, base, {.side = o.demSide, .seed = o.seed});
+            const DemLodLayout layout = DemLodLayout::make(o.demSide, o.demSide, fine.cell(), fine.topLeft());
+            lodFile.path = o.out + ".dem.tmp";
+            std::filesystem::remove(lodFile.path);
+            // Rows made in batches on every core, written in order.
+            constexpr int kBatch = 32;
+            const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+            std::vector<float> batch(std::size_t(kBatch) * std::size_t(o.demSide));
+            int first = -kBatch;
+            DemLodOutput lod = writeDemLodFile(lodFile.path, layout, [&](int t, std::span<float> row) {
+                if (t >= first + kBatch) {
+                    first = t;
+                    const int rows = std::min(kBatch, o.demSide - first);
+                    std::vector<std::thread> workers;
+                    for (int w = 0; w < threads; ++w)
+                        workers.emplace_back([&, w] {
+                            for (int k = w; k < rows; k += threads)
+                                fine.row(first + k, std::span<float>(batch).subspan(std::size_t(k) * std::size_t(o.demSide), std::size_t(o.demSide)));
+                        });
+                    for (std::thread& w : workers) w.join();
+                }
+                const auto from = batch.begin() + std::ptrdiff_t(std::size_t(t - first) * std::size_t(o.demSide));
+                std::copy(from, from + o.demSide, row.begin());
+            });
+            demMs = msSince(t0);
+            doc.dem = std::move(lod.coarse);
+            doc.demLod = std::make_shared<const DemLodFile>(lodFile.path);
+            lodJson = {{"dem_side", o.demSide}, {"cell_m", layout.cell}, {"levels", layout.levels}, {"block_side", layout.blockSide},
+                       {"tiles", lod.tiles}, {"tile_bytes", lod.bytes}, {"lod_file_bytes", std::filesystem::file_size(lodFile.path)},
+                       {"in_memory_level", lod.coarseLevel}, {"in_memory_grid", {doc.dem->width(), doc.dem->height()}},
+                       {"write_s", lod.ms / 1000.0}, {"dem_s", demMs / 1000.0}};
+        }
         t0 = Clock::now();
         saveScene(o.out, doc);
         const double saveMs = msSince(t0);
@@ -94,6 +146,7 @@ void run(const SynthOptions& o) {
         out["scene_file"] = {{"path", o.out}, {"bytes", std::filesystem::file_size(o.out)}, {"dem_ms", demMs},
                              {"dem_samples", {doc.dem->width(), doc.dem->height()}}, {"save_ms", saveMs}, {"load_ms", loadMs},
                              {"curves_loaded", count(back.scene).curves}};
+        if (!lodJson.is_null()) out["scene_file"]["dem_lod"] = lodJson;
     }
     out["peak_rss_mib"] = peakRssMiB();
     if (o.json) {
@@ -130,6 +183,10 @@ void addSynthCommand(CLI::App& app) {
     cmd->add_flag("--json", o->json, "Print JSON");
     cmd->add_option("--out", o->out, "Also save the scene and its synthetic DEM as a scene file (GeoPackage), then load it back");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (with --out)");
+    cmd->add_option("--dem-side", o->demSide,
+                    "With --out: a DEM of this many samples a side over the scene (e.g. 20480: 5 m cells over 100 km), the "
+                    "--dem-resolution DEM plus fine detail, written out of core as a LOD tree")
+        ->check(CLI::Range(2, kMaxLodDemSide));
     cmd->callback([o] { run(*o); });
 }
 
