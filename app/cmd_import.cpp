@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "app/import_summary.h"
 #include "app/progress_bar.h"
+#include "io/dem_lod.h"
 #include "io/import_paths.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
@@ -41,6 +42,10 @@ nlohmann::json sceneInfo(const SceneDocument& doc, const std::string& path) {
                         {"layers", layers}};
     if (doc.georeference.valid) j["crs"] = {{"lon0", doc.georeference.lon0}, {"lat0", doc.georeference.lat0}, {"wkt", doc.georeference.crsWkt}};
     if (doc.dem) j["dem"] = {{"width", doc.dem->width()}, {"height", doc.dem->height()}, {"cell_m", doc.dem->cellSize().x}};
+    if (doc.demLod) {
+        const DemLodLayout& l = doc.demLod->layout();
+        j["dem_lod"] = {{"width", l.width}, {"height", l.height}, {"cell_m", l.cell}, {"levels", l.levels}, {"block_side", l.blockSide}};
+    }
     return j;
 }
 
