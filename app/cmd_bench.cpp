@@ -81,6 +81,9 @@ void addBenchCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     flyover->add_option("--scene", fo->scene, "A scene file to fly over instead of the synthetic scene (its DEM streamed when it is a LOD tree)");
     flyover->add_option("--dem-budget", fo->demBudgetMiB, "Memory of a streamed DEM's blocks (MiB)")->check(CLI::PositiveNumber);
+    flyover->add_option("--dem-profile-spacing", fo->demProfileSpacingM,
+                        "The streamed DEM level the z-profiles read: the coarsest with samples at most this far apart (m)")
+        ->check(CLI::PositiveNumber);
     flyover->add_option("--adaptive", fo->adaptiveTargetMs, "Adapt K to this update time per frame (ms; 0: K fixed)")->check(CLI::NonNegativeNumber);
     flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
     flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });

@@ -180,6 +180,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         params.refineBudgetMs = run.refineBudget;
         params.cacheTiles = run.cacheTiles;
         params.demStream.budgetMiB = o.demBudgetMiB;
+        params.demStream.profileSpacing = o.demProfileSpacingM;
         EditSession session(&run == &plan.back() ? std::move(doc) : SceneDocument(doc), params);
         const Dem& ground = *session.document().dem;
         std::optional<AdaptiveQuality> adaptive;
@@ -251,6 +252,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                    {"block_side", L.blockSide},
                    {"blocks_loaded", st.loaded},
                    {"blocks_loaded_sync_for_profiles", st.loadedSync},
+                   {"profile_level", d->profileLevel()},
+                   {"profile_level_cell_m", L.levelCell(d->profileLevel())},
                    {"blocks_evicted", st.evicted},
                    {"requests_refused_by_budget", st.refused},
                    {"blocks_failed", st.failed},

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/dem_stream.h"
 #include "model/view_params.h"
 
 namespace lacet::bench {
@@ -81,6 +82,7 @@ struct FlyoverBenchOptions {
     // `demBudgetMiB`, and each budget is flown once, nothing else.
     std::string scene;
     double demBudgetMiB = 512.0;
+    double demProfileSpacingM = DemStreamParams{}.profileSpacing;  // the DEM level the z-profiles read (m)
     // Frame-rate-adaptive K (editor/adaptive_quality.h) aiming at this update time per frame (ms;
     // 0: K fixed).
     double adaptiveTargetMs = 0.0;

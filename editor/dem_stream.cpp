@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -24,14 +25,17 @@ DemBlockKey parentOf(const DemBlockKey& k) {
 }  // namespace
 
 DemStream::DemStream(std::shared_ptr<const DemLodFile> file, DemStreamParams params)
-    : file_(std::move(file)), params_(params) {
+    : file_(std::move(file)), params_(params), heights_(*this, 0) {
     if (!file_) throw std::invalid_argument("DemStream: no DEM file");
+    if (!std::isfinite(params.profileSpacing) || params.profileSpacing <= 0.0)
+        throw std::invalid_argument("DemStream: profileSpacing must be > 0 metres");
+    heights_ = ProfileHeights(*this, layout().levelFor(params.profileSpacing));
     setBudget(params.budgetMiB);
     const auto t0 = Clock::now();
     std::vector<float> root = file_->readBlock(0, 0, 0, {});
     stats_.loadMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     ++stats_.loaded;
-    blocks_[{0, 0, 0}] = Block{std::make_shared<const std::vector<float>>(std::move(root)), 0, 0.0};
+    blocks_[{0, 0, 0}] = Block{std::make_shared<const std::vector<float>>(std::move(root)), 0, 0, 0.0};
     if (params_.background) loader_ = std::thread([this] { loaderLoop(); });
 }
 
@@ -145,7 +149,7 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
                     const auto it = blocks_.find(key);
                     if (it == blocks_.end()) {
                         all = false;
-                        if (level == wanted) {
+                        if (level == wanted && failed_.count(key) == 0) {
                             auto [q, fresh] = requests_.try_emplace(key, priority);
                             if (!fresh) q->second = std::min(q->second, priority);
                         }
@@ -159,6 +163,7 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
             Block& blk = blocks_.at(key);
             if (blk.lastUsed != frame_ || priority < blk.priority) blk.priority = priority;
             blk.lastUsed = frame_;
+            blk.tick = ++tick_;
         }
         ++stats_.windows;
         stats_.fallbacks += level < wanted;
@@ -181,7 +186,7 @@ void DemStream::request(const Box& box, double spacing, double priority) {
         for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
             for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
                 const DemBlockKey key{wanted, c, r};
-                if (blocks_.count(key) > 0) continue;
+                if (blocks_.count(key) > 0 || failed_.count(key) > 0) continue;
                 auto [q, fresh] = requests_.try_emplace(key, priority);
                 if (!fresh) q->second = std::min(q->second, priority);
                 any = true;
@@ -191,20 +196,32 @@ void DemStream::request(const Box& box, double spacing, double priority) {
 }
 
 bool DemStream::makeRoom(std::size_t count, double priority, bool force) {
-    while (blocks_.size() + count > maxBlocks_) {
-        auto victim = blocks_.end();
-        for (auto it = blocks_.begin(); it != blocks_.end(); ++it) {
-            if (std::get<0>(it->first) == 0) continue;  // the root stays
-            if (victim == blocks_.end() || it->second.lastUsed < victim->second.lastUsed ||
-                (it->second.lastUsed == victim->second.lastUsed && std::get<0>(it->first) > std::get<0>(victim->first)))
-                victim = it;
-        }
-        if (victim == blocks_.end()) return false;
-        if (!force && victim->second.lastUsed == frame_ && victim->second.priority <= priority) return false;
-        blocks_.erase(victim);
-        ++stats_.evicted;
+    if (blocks_.size() + count <= maxBlocks_) return true;
+    const std::size_t excess = blocks_.size() + count - maxBlocks_;
+    // The victims, least useful first: the blocks this frame has not used, longest unused first,
+    // then those it used, least important first. Chosen before any is dropped, so that a refusal
+    // leaves the cache as it was.
+    std::vector<std::map<DemBlockKey, Block>::iterator> order;
+    order.reserve(blocks_.size());
+    for (auto it = blocks_.begin(); it != blocks_.end(); ++it)
+        if (std::get<0>(it->first) != 0) order.push_back(it);  // the root stays
+    if (order.size() < excess) {
+        if (!force) return false;
     }
-    return true;
+    const std::size_t take = std::min(excess, order.size());
+    auto lessUseful = [&](const auto& a, const auto& b) {
+        const bool usedA = a->second.lastUsed == frame_, usedB = b->second.lastUsed == frame_;
+        if (usedA != usedB) return !usedA;
+        if (usedA && a->second.priority != b->second.priority) return a->second.priority > b->second.priority;
+        return a->second.tick < b->second.tick;
+    };
+    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(take), order.end(), lessUseful);
+    if (!force)
+        for (std::size_t i = 0; i < take; ++i)
+            if (order[i]->second.lastUsed == frame_ && order[i]->second.priority <= priority) return false;
+    for (std::size_t i = 0; i < take; ++i) blocks_.erase(order[i]);
+    stats_.evicted += take;
+    return take == excess;
 }
 
 std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& key, double priority, bool sync) {
@@ -214,6 +231,7 @@ std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& ke
     {
         std::lock_guard lock(mutex_);
         for (DemBlockKey k = key;; k = parentOf(k)) {
+            if (failed_.count(k) > 0) throw std::runtime_error("DEM block not readable");
             const auto it = blocks_.find(k);
             if (it != blocks_.end()) {
                 parent = it->second.samples;
@@ -222,17 +240,23 @@ std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& ke
             chain.push_back(k);
         }
         if (chain.empty()) return parent;
-        if (!sync && !makeRoom(chain.size(), priority, false)) {
+        // A chain that cannot fit beside the root is refused at once (it would empty the cache).
+        if (!sync && (chain.size() >= maxBlocks_ || !makeRoom(chain.size(), priority, false))) {
             ++stats_.refused;
             return nullptr;
         }
     }
     const auto t0 = Clock::now();
     std::vector<std::pair<DemBlockKey, std::shared_ptr<const std::vector<float>>>> read;
-    for (auto k = chain.rbegin(); k != chain.rend(); ++k) {
+    std::optional<DemBlockKey> failed;
+    for (auto k = chain.rbegin(); k != chain.rend() && !failed; ++k) {
         const auto [l, c, r] = *k;
-        parent = std::make_shared<const std::vector<float>>(file_->readBlock(l, c, r, *parent));
-        read.emplace_back(*k, parent);
+        try {
+            parent = std::make_shared<const std::vector<float>>(file_->readBlock(l, c, r, *parent));
+            read.emplace_back(*k, parent);
+        } catch (const std::exception&) {
+            failed = *k;  // the ancestors read before it are kept: windows there are cut from them
+        }
     }
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     {
@@ -241,14 +265,12 @@ std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& ke
         stats_.loaded += read.size();
         if (sync) stats_.loadedSync += read.size();
         makeRoom(read.size(), priority, sync);
-        for (auto& [k, samples] : read) {
-            auto [it, fresh] = blocks_.try_emplace(k, Block{samples, frame_, priority});
-            if (!fresh) continue;
-            if (!sync) arrived_.emplace_back(blockBox(k), std::get<0>(k));
-        }
+        for (auto& [k, samples] : read) blocks_.try_emplace(k, Block{samples, frame_, ++tick_, priority});
         // Keep within the budget even when a synchronous read had to exceed it for a moment.
         makeRoom(0, priority, true);
+        if (failed) failed_.insert(*failed);
     }
+    if (failed) throw std::runtime_error("DEM block not readable");
     return parent;
 }
 
@@ -263,19 +285,19 @@ bool DemStream::loadOne() {
         key = best->first;
         priority = best->second;
         requests_.erase(best);
-        if (blocks_.count(key) > 0) return true;
-        ++inFlight_;
+        ++inFlight_;  // even when held already: the one exit below tells load() it is done
     }
+    bool failed = false;
     try {
-        fetch(key, priority, false);
-    } catch (...) {
-        std::lock_guard lock(mutex_);
-        --inFlight_;
-        ++stats_.failed;
-        idle_.notify_all();
-        return true;
+        fetch(key, priority, false);  // returns at once when the block is held
+    } catch (const std::exception&) {
+        failed = true;
     }
     std::lock_guard lock(mutex_);
+    if (failed) {
+        ++stats_.failed;
+        failed_.insert(key);  // not asked again: its windows stay coarser
+    }
     --inFlight_;
     idle_.notify_all();
     return true;
@@ -303,13 +325,6 @@ std::size_t DemStream::load(std::size_t count) {
     return n;
 }
 
-std::vector<std::pair<Box, int>> DemStream::takeArrived() {
-    std::lock_guard lock(mutex_);
-    std::vector<std::pair<Box, int>> out;
-    out.swap(arrived_);
-    return out;
-}
-
 DemStreamStats DemStream::stats() const {
     std::lock_guard lock(mutex_);
     DemStreamStats s = stats_;
@@ -320,11 +335,24 @@ DemStreamStats DemStream::stats() const {
     return s;
 }
 
-double DemStream::FinestHeights::height(Vec2 p) const {
+double DemStream::ProfileHeights::height(Vec2 p) const {
     if (std::isnan(p.x) || std::isnan(p.y)) return std::numeric_limits<double>::quiet_NaN();
-    const int level = s_.layout().levels - 1;
-    const int b = s_.layout().blockSide;
-    const auto rg = s_.range(Box{p, p}, level);
+    // A block that cannot be read (a corrupt tile) leaves these heights to the next coarser level,
+    // the same for every call: the profiles stay a function of the file.
+    for (int level = level_;; --level) {
+        try {
+            return s_->sampleLevel(level, p);
+        } catch (const std::exception&) {
+            if (level == 0) throw;
+            std::lock_guard lock(s_->mutex_);
+            ++s_->stats_.failed;
+        }
+    }
+}
+
+double DemStream::sampleLevel(int level, Vec2 p) {
+    const int b = layout().blockSide;
+    const auto rg = range(Box{p, p}, level);
     const auto [k0, k1, r0, r1] = rg;
     std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
     for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
@@ -332,17 +360,19 @@ double DemStream::FinestHeights::height(Vec2 p) const {
             const DemBlockKey key{level, c, r};
             std::shared_ptr<const std::vector<float>> samples;
             {
-                std::lock_guard lock(s_.mutex_);
-                const auto it = s_.blocks_.find(key);
-                if (it != s_.blocks_.end()) {
-                    it->second.lastUsed = s_.frame_;
+                std::lock_guard lock(mutex_);
+                if (failed_.count(key) > 0) throw std::runtime_error("DEM block not readable");
+                const auto it = blocks_.find(key);
+                if (it != blocks_.end()) {
+                    it->second.lastUsed = frame_;
+                    it->second.tick = ++tick_;
                     samples = it->second.samples;
                 }
             }
-            if (!samples) samples = s_.fetch(key, -1.0, true);
+            if (!samples) samples = fetch(key, -1.0, true);
             use[key] = std::move(samples);
         }
-    return s_.cut(level, rg, use).sample(p);
+    return cut(level, rg, use).sample(p);
 }
 
 }  // namespace lacet

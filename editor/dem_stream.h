@@ -5,10 +5,10 @@
 // held pass the budget.
 //
 // Order of calls, each frame: beginFrame() (requests not renewed since the last frame are dropped:
-// the queue follows the view), then window() for every quad whose tiles are made, then
-// takeArrived() to learn which blocks came in since (the tiles made from a coarser block where
-// they wanted these are remade). Any thread may call window() and heights(); one thread calls
-// beginFrame() and takeArrived().
+// the queue follows the view), availableLevel() for the tiles made from a coarser level than they
+// wanted (remade when it rose) and request() for those still waiting, then window() for every
+// quad whose tiles are made. Any thread may call window(), request(), availableLevel() and
+// heights(); one thread calls beginFrame() and setBudget().
 //
 // Windows. A producer asks for the DEM under a quad's box at the sample spacing it needs; it gets
 // an in-memory Dem (raster/dem.h) of the box plus a margin of kWindowMargin samples, cut from
@@ -21,13 +21,14 @@
 // the quad's distance to the viewer over its size, the K rule's ratio); a block missing from a
 // window is requested with it, and its missing ancestors before it (a block is rebuilt from its
 // parent). The loader takes the most important request first. When the blocks held would pass
-// the budget it drops the block used longest ago, the finer first among equals; it never drops
-// the root, and it does not drop a block used in this frame for a request less important than
+// the budget it drops the block used longest ago (uses are counted one by one, so a z-profile
+// walking a long curve drops the blocks it left behind first); it never drops the root, and it does not drop a block used in this frame for a request less important than
 // that block's last use (the request waits: the view keeps the coarser level there).
 //
-// heights(): a HeightField (model/curve_data.h) of the finest level for the z-profiles of curves,
-// which must not change with the view: a block it needs and that is not held is read at once
-// (synchronously) and counted.
+// heights(): a HeightField (model/curve_data.h) for the z-profiles of curves, which must not change
+// with the view: one fixed level, the coarsest whose spacing is at most `profileSpacing` (the
+// z-profiles' own sample spacing, 10 m: finer samples would be smoothed away by their kernel); a
+// block it needs and that is not held is read at once (synchronously) and counted.
 //
 // Units: positions in scene metres, heights in metres, the budget in MiB (2^20 bytes of samples).
 
@@ -37,6 +38,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -54,6 +56,9 @@ struct DemStreamParams {
     // Whether a background thread loads the blocks; without it, load() loads them when called
     // (tests and benchmarks that want a deterministic order).
     bool background = true;
+    // Metres between the DEM samples the z-profiles read (ZProfileParams::sampleSpacing, > 0): the
+    // level heights() samples. Coarser reads fewer blocks synchronously, and follows the terrain less.
+    double profileSpacing = 10.0;
 };
 
 // A block of the tree: (level, column, row from the top).
@@ -74,7 +79,7 @@ struct DemStreamStats {
     std::uint64_t loadedSync = 0;  // of which read at once for heights()
     std::uint64_t evicted = 0;
     std::uint64_t refused = 0;     // requests dropped because the budget holds more important blocks
-    std::uint64_t failed = 0;      // blocks that could not be read (corrupt tile): their windows stay coarser
+    std::uint64_t failed = 0;      // block reads that failed (corrupt tile): their windows and heights stay coarser
     std::uint64_t windows = 0, fallbacks = 0;  // windows cut, and those from a coarser level than wanted
     double loadMs = 0.0;           // time reading and rebuilding blocks
 };
@@ -101,51 +106,59 @@ public:
     void request(const Box& box, double spacing, double priority);
     // Which level window() would cut now for `box` and `spacing` (no request).
     int availableLevel(const Box& box, double spacing) const;
-    // Boxes (scene metres) and levels of the blocks that came in since the last call.
-    std::vector<std::pair<Box, int>> takeArrived();
-    // Without a background thread: loads up to `count` requests, most important first; returns
-    // how many were loaded. With one, waits until the queue is empty or `count` were loaded.
+    // Without a background thread: takes up to `count` requests, most important first (loading
+    // them, or refusing them for the budget); returns how many it took. With one, waits until the
+    // queue is empty and nothing is being read (`count` is ignored), and returns 0.
     std::size_t load(std::size_t count = SIZE_MAX);
     DemStreamStats stats() const;
 
     const HeightField& heights() const { return heights_; }
+    int profileLevel() const { return heights_.level(); }
     // The box (scene metres) a block's samples cover, cells centred on them.
     Box blockBox(const DemBlockKey& key) const;
 
 private:
     struct Block {
         std::shared_ptr<const std::vector<float>> samples;
-        std::uint64_t lastUsed = 0;
+        std::uint64_t lastUsed = 0;  // the frame of its last use
+        std::uint64_t tick = 0;      // the order of its last use (the LRU's clock: finer than frames)
         double priority = 0.0;  // of its last use
     };
-    class FinestHeights : public HeightField {
+    class ProfileHeights : public HeightField {
     public:
-        explicit FinestHeights(DemStream& s) : s_(s) {}
+        ProfileHeights(DemStream& s, int level) : s_(&s), level_(level) {}
         double height(Vec2 p) const override;
+        int level() const { return level_; }
     private:
-        DemStream& s_;
+        DemStream* s_;
+        int level_;
     };
     // The level-l sample range covering `box` with the margin: [k0, k1) x [r0, r1), clamped.
     std::array<int, 4> range(const Box& box, int level) const;
     // Reads a block and its missing ancestors (outside the lock) and inserts them, evicting to fit;
-    // nullptr when the budget refuses them (never with `sync`, which reads them even so).
+    // nullptr when the budget refuses them (never with `sync`, which reads them even so). Throws
+    // what DemLodFile throws, and for a block that failed before (the failing one is remembered).
     std::shared_ptr<const std::vector<float>> fetch(const DemBlockKey& key, double priority, bool sync);
-    // Under mutex_: evicts until `count` more blocks fit; false when the victims are more important
-    // (unless `force`) or only the root is left.
+    // Under mutex_: evicts until `count` more blocks fit, the least useful first (see the header);
+    // without `force`, evicts nothing and returns false when a victim would be a block this frame
+    // used for a request at least as important as `priority`. False when only the root is left.
     bool makeRoom(std::size_t count, double priority, bool force);
     Dem cut(int level, const std::array<int, 4>& r, const std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>>& blocks) const;
     void loaderLoop();
     bool loadOne();
+    // The height at p from the blocks of `level` (read at once when not held); throws when one
+    // cannot be read.
+    double sampleLevel(int level, Vec2 p);
 
     std::shared_ptr<const DemLodFile> file_;
     DemStreamParams params_;
-    FinestHeights heights_{*this};
+    ProfileHeights heights_;
     mutable std::mutex mutex_;
     std::condition_variable wake_, idle_;
     std::map<DemBlockKey, Block> blocks_;
     std::map<DemBlockKey, double> requests_;  // block -> priority (lowest wins)
-    std::vector<std::pair<Box, int>> arrived_;
-    std::uint64_t frame_ = 1;
+    std::set<DemBlockKey> failed_;            // blocks that could not be read: never asked again
+    std::uint64_t frame_ = 1, tick_ = 0;
     std::size_t maxBlocks_ = 1;
     std::size_t inFlight_ = 0;
     DemStreamStats stats_;

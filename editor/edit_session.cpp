@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <climits>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -291,6 +292,7 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
     // of its two jobs to run, so that both read the same one.
     std::vector<DemWindow> windows(demStream_ ? quads.size() : 0);
     const std::unique_ptr<std::once_flag[]> cutOnce(demStream_ ? new std::once_flag[quads.size()] : nullptr);
+    std::vector<int> objectLevel(windows.size(), INT_MAX);  // the level the objects' window was cut from
     auto demOf = [&](std::size_t i) -> const Dem& {
         if (windows.empty()) return *doc_.dem;
         std::call_once(cutOnce[i], [&] { windows[i] = demWindow(*quads[i], viewer); });
@@ -333,7 +335,13 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
                 // The quad's objects stand on its displayed ground: made right after its z_m.
                 CachedTile& t = made[i];
                 t.elevation = produceElevation(q, *quadtree_, *data_, demOf(i), params_.elevation);
-                t.objects = produceObjects(q, *quadtree_, *data_, demOf(i), &t.elevation, params_.objects, &objectCounters_);
+                if (windows.empty()) {
+                    t.objects = produceObjects(q, *quadtree_, *data_, demOf(i), &t.elevation, params_.objects, &objectCounters_);
+                } else {
+                    const DemWindow w = objectWindow(q, viewer, windows[i]);
+                    t.objects = produceObjects(q, *quadtree_, *data_, *w.dem, &t.elevation, params_.objects, &objectCounters_);
+                    objectLevel[i] = w.level;
+                }
             }
             estimates_[appearance ? 0 : 1].add(elements, msSince(j0));
             done[j] = 1;
@@ -353,7 +361,7 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
         CachedTile& t = cache_[keyOf(*quads[i])];
         t = std::move(made[i]);
         if (!windows.empty() && windows[i].dem) {
-            t.demLevel = windows[i].level;
+            t.demLevel = std::min(windows[i].level, objectLevel[i]);
             t.demWanted = windows[i].wanted;
             r.demFallbacks += !windows[i].complete();
         }

@@ -117,7 +117,7 @@ struct FrameReport {
     std::size_t fromPyramid = 0;     // appearance tiles read from the pyramid (of `produced` and `prefetched`)
     std::size_t pyramidFailed = 0;   // tiles the pyramid could not give (corrupt, missing, locked), made live
     std::size_t demFallbacks = 0;    // tiles made this frame from a coarser DEM block than they want (streamed DEM)
-    std::size_t demRemade = 0;       // cached tiles marked dirty because their finer DEM blocks arrived
+    std::size_t demRemade = 0;       // shown tiles marked dirty because the finer DEM blocks they wanted arrived
 };
 
 // What the pyramid saved the session so far (appearance tiles).
@@ -256,11 +256,13 @@ private:
     std::unique_ptr<DemHeightField> demHeights_;  // the DEM in memory as a height field, or
     std::unique_ptr<DemStream> demStream_;       // the streamed DEM
     const HeightField* heights_ = nullptr;       // what the z-profiles sample: one of the two
-    // Dirty the cached tiles made from a coarser DEM level than the blocks that arrived; renew
+    // Dirty the shown tiles made from a coarser DEM level than is now loaded for them; renew
     // the requests of those shown.
     void followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r);
     // The DEM window of quad `q` (streamed DEM only), requested with the K rule's ratio for `viewer`.
     DemWindow demWindow(const Quad& q, glm::dvec3 viewer);
+    // The window its object meshes read: `quadWindow`, or a wider one over the bridges it makes.
+    DemWindow objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow);
     std::unique_ptr<GraphStep> graphStep_;  // before the quadtree that calls it
     std::unique_ptr<Quadtree> quadtree_;
     std::unique_ptr<CurveDataCache> data_;

@@ -12,16 +12,39 @@ DemWindow EditSession::demWindow(const Quad& q, glm::dvec3 viewer) {
     return demStream_->window(box, size / params_.demSamplesPerQuad, Quadtree::viewDistance(q, viewer) / size);
 }
 
+DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow) {
+    // A bridge is made whole in the quad holding its middle (raster/object_meshes.h), its pillars
+    // standing on the DEM anywhere along it: the window covers its ancestor curves too.
+    const double size = q.bounds.size().x;
+    Box box{q.bounds.min - size / 4.0, q.bounds.max + size / 4.0};
+    bool wider = false;
+    for (std::size_t l = 0; l < q.layers.size(); ++l)
+        for (const auto& [a, pieces] : q.layers[l].curves) {
+            const Curve& c = quadtree_->ancestorCurve(LayerId(l), a);
+            if (!(c.flags & kBridge)) continue;
+            const double reach = double(c.w) + double(c.wf) + 10.0;  // the deck's and the pillars' half-widths, and more
+            for (const Vertex& v : c.vertices) {
+                const Box around{v.p - reach, v.p + reach};
+                if (around.min.x < box.min.x || around.min.y < box.min.y || around.max.x > box.max.x || around.max.y > box.max.y) {
+                    box.min = glm::min(box.min, around.min);
+                    box.max = glm::max(box.max, around.max);
+                    wider = true;
+                }
+            }
+        }
+    if (!wider) return quadWindow;
+    return demStream_->window(box, size / params_.demSamplesPerQuad, Quadtree::viewDistance(q, viewer) / size);
+}
+
 void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r) {
     demStream_->beginFrame();
-    const bool arrived = !demStream_->takeArrived().empty();
     for (const Quad* q : fit.shown) {
         const auto it = cache_.find(keyOf(*q));
         if (it == cache_.end() || it->second.dirty || it->second.demLevel >= it->second.demWanted) continue;
         const double size = q->bounds.size().x;
         const Box box{q->bounds.min - size / 4.0, q->bounds.max + size / 4.0};
         const double spacing = size / params_.demSamplesPerQuad;
-        if (arrived && demStream_->availableLevel(box, spacing) > it->second.demLevel) {
+        if (demStream_->availableLevel(box, spacing) > it->second.demLevel) {
             it->second.dirty = true;
             ++r.demRemade;
         } else {

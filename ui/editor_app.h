@@ -104,7 +104,12 @@ public:
     void open(const std::string& path) override;
     void setBackground(glm::vec3 rgb) override { background_ = rgb; }
     void setBudget(double ms) override { options_.budgetMs = ms; }
-    std::size_t pendingTiles() const override { return lastFrame_.pending; }
+    // The view's tiles still to make, and a streamed DEM's blocks still to load (tiles made from a
+    // coarser block are remade when they arrive).
+    std::size_t pendingTiles() const override {
+        const DemStream* dem = session_ ? session_->demStream() : nullptr;
+        return lastFrame_.pending + (dem ? dem->stats().pending : 0);
+    }
     bool refineDeferred() const override { return lastFrame_.refineDeferred; }
     nlohmann::json& log() override { return log_; }
 

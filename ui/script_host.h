@@ -37,8 +37,8 @@ public:
     virtual void open(const std::string& path) = 0;
     virtual void setBackground(glm::vec3 rgb) = 0;
     virtual void setBudget(double ms) = 0;  // tile production per frame
-    // The view's tiles still missing or dirty after the last frame, and whether it left
-    // subdivisions for later.
+    // The view's tiles still missing or dirty after the last frame (with a streamed DEM, and its
+    // blocks still to load), and whether it left subdivisions for later.
     virtual std::size_t pendingTiles() const = 0;
     virtual bool refineDeferred() const = 0;
     virtual nlohmann::json& log() = 0;

@@ -168,7 +168,7 @@ TEST(DemStream, TheBudgetHoldsAndTheRootAlwaysServes) {
     EXPECT_TRUE(w.dem);
 }
 
-TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarser) {
+TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarserAndIsNotReadAgain) {
     const Dem dem = roughDem(120, 120, 10.0);
     Removed file{tempPath("corrupt.gpkg")};
     auto lod = lodOf(dem, file.path, 16);
@@ -179,13 +179,60 @@ TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarser) {
         db.close();
     }
     lod = std::make_shared<const DemLodFile>(file.path);
-    DemStream stream(lod, {.budgetMiB = 64.0, .background = true});
+    DemStream stream(lod, {.budgetMiB = 64.0, .background = true, .profileSpacing = 10.0});
     const Box box{dem.extent().center() - 30.0, dem.extent().center() + 30.0};
-    stream.window(box, 1.0, 0.0);
-    stream.load();
+    for (int frame = 0; frame < 3; ++frame) {
+        stream.beginFrame();
+        const DemWindow w = stream.window(box, 1.0, 0.0);
+        stream.load();
+        EXPECT_LT(w.level, finest);
+    }
     const DemWindow w = stream.window(box, 1.0, 0.0);
-    EXPECT_LT(w.level, finest);
-    EXPECT_GT(stream.stats().failed, 0u);
+    EXPECT_EQ(w.level, finest - 1);
+    const std::uint64_t failed = stream.stats().failed;
+    EXPECT_GT(failed, 0u);
+    // Asked again in later frames, it is not read again.
+    for (int frame = 0; frame < 3; ++frame) {
+        stream.beginFrame();
+        stream.window(box, 1.0, 0.0);
+        stream.load();
+    }
+    EXPECT_EQ(stream.stats().failed, failed);
+    EXPECT_EQ(stream.stats().pending, 0u);
+    // The z-profiles' heights there come from the next coarser level: no throw, the DEM's shape.
+    const Vec2 c = dem.extent().center();
+    const double h = stream.heights().height(c);
+    EXPECT_NEAR(h, dem.sample(c), 30.0);
+    EXPECT_EQ(h, stream.heights().height(c));  // the same every time
+}
+
+TEST(DemStream, ARequestLessImportantThanTheBlocksInUseIsRefused) {
+    const Dem dem = roughDem(256, 256, 5.0);
+    Removed file{tempPath("refuse.gpkg")};
+    const double blockMiB = 16.0 * 16.0 * 4.0 / 1048576.0;
+    DemStream stream(lodOf(dem, file.path, 16), {.budgetMiB = 5.5 * blockMiB, .background = false});
+    const Box e = dem.extent();
+    // A window near one corner, very important, fills the budget this frame.
+    stream.beginFrame();
+    const Box important{e.min + 10.0, e.min + 40.0};
+    stream.window(important, 1.0, 0.0);
+    stream.load();
+    ASSERT_TRUE(stream.window(important, 1.0, 0.0).complete());
+    const std::size_t held = stream.stats().held;
+    // In the same frame, a far window of little importance: refused, the important blocks stay.
+    const Box far{e.max - 40.0, e.max - 10.0};
+    stream.window(far, 1.0, 100.0);
+    stream.load();
+    EXPECT_GT(stream.stats().refused, 0u);
+    EXPECT_TRUE(stream.window(important, 1.0, 0.0).complete());
+    EXPECT_FALSE(stream.window(far, 1.0, 100.0).complete());
+    EXPECT_EQ(stream.stats().held, held);
+    // Next frame, with the important window no longer in view, the far one gets its blocks.
+    stream.beginFrame();
+    stream.window(far, 1.0, 100.0);
+    stream.load();
+    EXPECT_TRUE(stream.window(far, 1.0, 100.0).complete());
+    EXPECT_LE(stream.stats().held, 5u);
 }
 
 // The session with a streamed DEM: once every block is loaded, the tiles are those made with the
