@@ -121,7 +121,7 @@ DemLodOutput writeDemLodFile(const std::string& path, const DemLodLayout& layout
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);
         db.exec("PRAGMA synchronous = OFF");  // a file of its own, removed when the writing fails
         db.exec("BEGIN");
-        DemLodWriter writer(db, layout, 0);
+        DemLodWriter writer(db, layout, -1);  // undefined Cartesian: scene metres, the scene file gives its CRS
         const int step = layout.step(out.coarseLevel);
         const int cw = layout.levelWidth(out.coarseLevel), ch = layout.levelHeight(out.coarseLevel);
         std::vector<float> coarse(std::size_t(cw) * std::size_t(ch));

@@ -73,9 +73,10 @@ struct DemLodOutput {
 // into `heights` (layout.width finite values, metres, west to east).
 using DemRowSource = std::function<void(int t, std::span<float> heights)>;
 
-// Creates a GeoPackage at `path` (which must not exist) holding the tree of `layout` (srsId 0:
-// undefined Cartesian; the scene file gives it its CRS when it copies the tree), its rows from
-// `rowAt`, in one transaction, keeping level levelAtMost(layout, coarseSide) in memory as it goes.
+// Creates a GeoPackage at `path` (which must not exist) holding the tree of `layout` (srs_id -1,
+// GeoPackage's undefined Cartesian: scene metres; the scene file gives it the scene's CRS when it
+// copies the tree), its rows from `rowAt`, in one transaction, keeping level
+// levelAtMost(layout, coarseSide) in memory as it goes.
 // On failure the file is removed and the exception passed on (rowAt's, DemImportError, SqliteError,
 // std::invalid_argument from DemLodWriter).
 DemLodOutput writeDemLodFile(const std::string& path, const DemLodLayout& layout, const DemRowSource& rowAt,

@@ -197,11 +197,15 @@ Dem readDemLevel(const DemLodFile& file, int level);
 int levelAtMost(const DemLodLayout& layout, int maxSide);
 
 // Copies kDemLodTable, kDemLodMetaTable and their GeoPackage rows (contents, tile matrix set, tile
-// matrices, coverage and tile ancillary, extensions, and the CRS row when `db` has no row of that
-// definition) from the GeoPackage at `from` into the open `db` (a scene file being saved), out of
-// core (SQLite ATTACH), in its own transaction: call it outside one. Throws DemLodError naming
-// `from` when it holds no complete tree or `db` already has one, SqliteError on failure.
-void copyDemLod(SqliteDb& db, const std::string& from);
+// matrices, coverage and tile ancillary, extensions) from the GeoPackage at `from` into the open
+// `db` (a scene file being saved), out of core (SQLite ATTACH, read-only: a missing `from` is never
+// created), in its own transaction: call it outside one. The copied tree's gpkg_contents and
+// gpkg_tile_matrix_set rows get `srsId`, a row of `db`'s gpkg_spatial_ref_sys (the scene's CRS, or
+// -1, undefined Cartesian, for a scene without one), whatever the source's: a tree is written in
+// scene metres under -1 (io/dem_import_lod.h). Throws DemLodError naming `from` when it does not
+// exist, is not a regular file or holds no complete tree, and when `db` already has a tree or no
+// row of `srsId`; SqliteError on failure.
+void copyDemLod(SqliteDb& db, const std::string& from, std::int64_t srsId);
 
 // Writes an in-memory Dem as a tree into the open GeoPackage `db`, in its own transaction (for tests
 // and small DEMs): the finest grid is the Dem's samples, rows from the top (Dem row height - 1

@@ -2,7 +2,11 @@
 // SQLite ATTACH, the tables and their gpkg_* rows, out of core.
 #include <sqlite3.h>
 
+#include <cctype>
+#include <cstdint>
+#include <filesystem>
 #include <string>
+#include <system_error>
 
 #include "io/dem_lod.h"
 #include "io/dem_lod_internal.h"
@@ -16,13 +20,39 @@ namespace {
 
 constexpr const char* kSourceSchema = "lacet_dem_lod_source";  // the ATTACH name of copyDemLod's source
 
+// An SQLite URI that opens `path` read-only (never creating it): "file:" ("file://" before an
+// absolute path: an empty authority) and the path with every byte but the unreserved ones and '/'
+// percent-encoded.
+std::string readOnlyUri(const std::string& path) {
+    static const char* const kHex = "0123456789ABCDEF";
+    std::string uri = path.starts_with('/') ? "file://" : "file:";
+    for (const char ch : path) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (std::isalnum(c) || c == '/' || c == '-' || c == '.' || c == '_' || c == '~') {
+            uri += ch;
+        } else {
+            uri += '%';
+            uri += kHex[c >> 4];
+            uri += kHex[c & 15];
+        }
+    }
+    return uri + "?mode=ro";
+}
+
 }  // namespace
 
-void copyDemLod(SqliteDb& db, const std::string& from) {
+void copyDemLod(SqliteDb& db, const std::string& from, std::int64_t srsId) {
     const std::string src = kSourceSchema, table = kDemLodTable, meta = kDemLodMetaTable;
     {
+        // A missing source is refused before the ATTACH, which would create an empty file there;
+        // the ATTACH itself is read-only where SQLite takes URIs, so that a source removed in
+        // between is not created either.
+        std::error_code ec;
+        const auto status = std::filesystem::status(from, ec);
+        if (!std::filesystem::exists(status)) refuse(from, "no such file (the tree to copy)");
+        if (!std::filesystem::is_regular_file(status)) refuse(from, "not a regular file (the tree to copy)");
         auto attach = db.prepare("ATTACH DATABASE ? AS " + src);
-        attach.bindText(1, from);
+        attach.bindText(1, sqlite3_compileoption_used("USE_URI") ? readOnlyUri(from) : from);
         try {
             attach.step();
         } catch (const SqliteError& e) {
@@ -37,47 +67,21 @@ void copyDemLod(SqliteDb& db, const std::string& from) {
             if (db.hasTable(table) || db.hasTable(meta))
                 throw DemLodError(std::string("copyDemLod(): the target already has a table '") + kDemLodTable + "' or '" +
                                   kDemLodMetaTable + "'");
+            {
+                auto s = db.prepare("SELECT 1 FROM main.gpkg_spatial_ref_sys WHERE srs_id = ?");
+                s.bind(1, srsId);
+                if (!s.step())
+                    throw DemLodError("copyDemLod(): the target has no gpkg_spatial_ref_sys row of srs_id " + std::to_string(srsId));
+            }
+            {
+                auto s = db.prepare("SELECT 1 FROM " + src + ".gpkg_tile_matrix_set WHERE table_name = ?");
+                s.bindText(1, table);
+                if (!s.step()) refuse(from, "no gpkg_tile_matrix_set row");
+            }
             db.exec("BEGIN IMMEDIATE");
             inTransaction = true;
             ensureCoverageTables(db);
-            // The CRS: the target's row of the same id and definition, else its row of the same
-            // definition, else the source's row under its id (or a free one from 100000 up).
-            std::int64_t srs = -1;
-            {
-                auto s = db.prepare("SELECT srs_id FROM " + src + ".gpkg_tile_matrix_set WHERE table_name = ?");
-                s.bindText(1, table);
-                if (!s.step()) refuse(from, "no gpkg_tile_matrix_set row");
-                srs = s.integer(0);
-            }
-            auto def = db.prepare("SELECT srs_name, organization, organization_coordsys_id, definition, description FROM " + src +
-                                  ".gpkg_spatial_ref_sys WHERE srs_id = ?");
-            def.bind(1, srs);
-            if (!def.step()) refuse(from, "no gpkg_spatial_ref_sys row of srs_id " + std::to_string(srs));
-            const std::string definition = def.text(3);
-            auto same = db.prepare("SELECT srs_id FROM main.gpkg_spatial_ref_sys WHERE definition = ? ORDER BY srs_id = ? DESC, srs_id LIMIT 1");
-            same.bindText(1, definition);
-            same.bind(2, srs);
-            if (same.step()) {
-                srs = same.integer(0);
-            } else {
-                auto taken = db.prepare("SELECT 1 FROM main.gpkg_spatial_ref_sys WHERE srs_id = ?");
-                taken.bind(1, srs);
-                if (taken.step())
-                    srs = db.queryInteger("SELECT max(100000, coalesce(max(srs_id), 0) + 1) FROM main.gpkg_spatial_ref_sys");
-                auto insert = db.prepare(
-                    "INSERT INTO main.gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, definition, "
-                    "description) VALUES (?, ?, ?, ?, ?, ?)");
-                insert.bindText(1, def.text(0));
-                insert.bind(2, srs);
-                insert.bindText(3, def.text(1));
-                insert.bind(4, def.integer(2));
-                insert.bindText(5, definition);
-                if (def.type(4) == SQLITE_NULL) insert.bindNull(6);
-                else insert.bindText(6, def.text(4));
-                insert.step();
-            }
-            def.reset();
-            const std::string srsText = std::to_string(srs);
+            const std::string srsText = std::to_string(srsId);
             db.exec(createTileTableSql("main"));
             db.exec("INSERT INTO main.\"" + table + "\" (id, zoom_level, tile_column, tile_row, tile_data) SELECT id, zoom_level, "
                     "tile_column, tile_row, tile_data FROM " + src + ".\"" + table + "\"");

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/le_bytes.h"
 
@@ -179,28 +180,6 @@ Envelope polygonBlob(ByteWriter& w, const std::vector<std::vector<Vec2>>& rings,
     w.u32(std::uint32_t(rings.size()));
     for (const auto& ring : rings) wkbPoints(w, ring);
     return e;
-}
-
-// ---- the SRS ----
-
-std::int64_t featureSrsId(SqliteDb& db, const SceneDocument& doc) {
-    if (!doc.georeference.valid || doc.georeference.crsWkt.empty()) return kUndefinedCartesianSrsId;
-    if (doc.dem) {
-        auto s = db.prepare("SELECT srs_id FROM gpkg_contents WHERE table_name = ?");
-        s.bindText(1, kDemRasterTable);
-        // GDAL leaves the raster at -1 or 0 (undefined) when it could not read the WKT.
-        if (s.step() && s.type(0) == SQLITE_INTEGER && s.integer(0) > 0) return s.integer(0);
-    }
-    const std::int64_t srsId =
-        std::max(kFirstCustomSrsId, db.queryInteger("SELECT coalesce(max(srs_id), 0) + 1 FROM gpkg_spatial_ref_sys"));
-    auto s = db.prepare(
-        "INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, definition, "
-        "description) VALUES ('Lacet scene CRS', ?, 'NONE', ?, ?, 'Transverse Mercator of the scene (io/georeference.h)')");
-    s.bind(1, srsId);
-    s.bind(2, srsId);
-    s.bindText(3, doc.georeference.crsWkt);
-    s.step();
-    return srsId;
 }
 
 // ---- attributes ----
@@ -413,6 +392,30 @@ CREATE TABLE IF NOT EXISTS gpkg_extensions (
 )sql";
 
 }  // namespace
+
+// ---- the SRS ----
+
+std::int64_t featureSrsId(SqliteDb& db, const SceneDocument& doc) {
+    if (!doc.georeference.valid || doc.georeference.crsWkt.empty()) return kUndefinedCartesianSrsId;
+    // The DEM's row: GDAL's for the raster (which it leaves at -1 or 0, undefined, when it could
+    // not read the WKT), saveScene's for a streamed DEM's tree (made here before its copy).
+    for (const char* table : {doc.dem ? kDemRasterTable : nullptr, doc.demLod ? kDemLodTable : nullptr}) {
+        if (!table) continue;
+        auto s = db.prepare("SELECT srs_id FROM gpkg_contents WHERE table_name = ?");
+        s.bindText(1, table);
+        if (s.step() && s.type(0) == SQLITE_INTEGER && s.integer(0) > 0) return s.integer(0);
+    }
+    const std::int64_t srsId =
+        std::max(kFirstCustomSrsId, db.queryInteger("SELECT coalesce(max(srs_id), 0) + 1 FROM gpkg_spatial_ref_sys"));
+    auto s = db.prepare(
+        "INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, definition, "
+        "description) VALUES ('Lacet scene CRS', ?, 'NONE', ?, ?, 'Transverse Mercator of the scene (io/georeference.h)')");
+    s.bind(1, srsId);
+    s.bind(2, srsId);
+    s.bindText(3, doc.georeference.crsWkt);
+    s.step();
+    return srsId;
+}
 
 std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double tolerance) {
     if (!(tolerance > 0.0)) throw std::invalid_argument("flattenSpline: tolerance must be > 0 m");

@@ -32,7 +32,8 @@
 // "Lacet <kind> layer" (kind as toString(LayerKind)), so scripts can pick tables by kind.
 //
 // Coordinates are scene CRS metres. The SRS (gpkg_spatial_ref_sys) is the DEM raster's when the
-// georeference is valid and GDAL registered one for the DEM; else, with a valid georeference, its
+// georeference is valid and GDAL registered one for the DEM (or the streamed DEM tree's, which
+// saveScene gives the scene's CRS: featureSrsId below); else, with a valid georeference, its
 // WKT in a new row (srs_id 100000 or above, as GDAL numbers CRSs it cannot identify); without a
 // georeference, -1 ("undefined Cartesian coordinate reference system").
 //
@@ -41,6 +42,7 @@
 // gpkg_ogr_contents table, its feature count and GDAL's count triggers, as GDAL writes them.
 
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -74,6 +76,13 @@ std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std:
 // when SQLite fails and std::invalid_argument for a tolerance that is not > 0. Returns the tables.
 std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc,
                                              const FeatureTableParams& params = {});
+
+// The gpkg_spatial_ref_sys row of the scene's CRS in `db` (the SRS above): -1 without a valid
+// georeference; else the DEM raster's row when GDAL registered one (srs_id > 0), else the row of a
+// streamed DEM's tree (kDemLodTable's gpkg_contents srs_id > 0) when `doc.demLod`, else a new row
+// of the georeference's WKT. saveScene calls it before it copies a streamed DEM's tree (copyDemLod,
+// io/dem_lod.h) so that the tree and the feature tables share one row. Throws SqliteError.
+std::int64_t featureSrsId(SqliteDb& db, const SceneDocument& doc);
 
 // The polyline of a vertex chain (on-curve, 0..2 controls, on-curve...): its first point, then the
 // end of each flat sub-piece of each Bezier piece, halved until flatness() <= tolerance (metres,

@@ -15,6 +15,7 @@
 #include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/scene_checksum.h"
+#include "io/scene_features.h"
 #include "io/scene_format.h"
 #include "io/sqlite_db.h"
 #include "model/validate.h"
@@ -84,9 +85,10 @@ void saveScene(const std::string& path, const SceneDocument& doc) {
             if (doc.demLod) {
                 // The tree's tiles, copied from the file it is read from (which may be `path`: it is
                 // replaced only after this), not the derived doc.dem.
+                // Its CRS row is the one the feature tables get (-1 without a georeference).
                 createEmptyGpkg(tmp);
                 SqliteDb db(tmp, SqliteDb::Mode::ReadWrite);
-                copyDemLod(db, doc.demLod->path());
+                copyDemLod(db, doc.demLod->path(), featureSrsId(db, doc));
                 db.close();
             } else if (doc.dem) {
                 createGpkgWithDem(tmp, *doc.dem, doc.georeference.valid ? doc.georeference.crsWkt : std::string());

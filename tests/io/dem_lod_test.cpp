@@ -466,7 +466,9 @@ TEST_F(DemLod, TileEncodingSizes) {
 
 // ---- the scene file ----
 
-SceneDocument lodDocument(const std::string& treePath) {
+// A georeferenced document whose streamed DEM is a tree at `treePath` written under `srsId` (100000:
+// a row of the scene's own WKT; -1: undefined Cartesian, as writeDemLodFile writes an import's).
+SceneDocument lodDocument(const std::string& treePath, int srsId = 100000) {
     SceneDocument doc;
     doc.scene = makeSyntheticScene({1, 300});
     doc.georeference.valid = true;
@@ -475,7 +477,7 @@ SceneDocument lodDocument(const std::string& treePath) {
     doc.georeference.crsWkt = kWkt;
     const Box& e = doc.scene.extent;
     const double cell = (e.max.x - e.min.x) / 300.0;
-    writeTree(treePath, randomishDem(300, 177, cell, e.min), 16, 100000);
+    writeTree(treePath, randomishDem(300, 177, cell, e.min), 16, srsId);
     auto lod = std::make_shared<const DemLodFile>(treePath);
     doc.dem = readDemLevel(*lod, levelAtMost(lod->layout(), kInMemoryDemSide));
     doc.demLod = std::move(lod);
@@ -545,6 +547,88 @@ TEST_F(DemLod, SceneFileWithAMissingOrCorruptTileIsRefused) {
         db.exec("UPDATE lacet_meta SET value = '299' WHERE key = 'dem_width'");
     }
     expectError<SceneFileError>([&] { loadScene(missing); }, {missing, "300 x 177"});
+}
+
+// A tree written in scene metres (srs_id -1, as an import's and `lacet synth --dem-side`'s are) gets
+// the scene's CRS row when saved, the one the feature tables have: GIS tools see its coordinates in
+// the scene's Transverse Mercator, not as degrees of an undefined geographic CRS.
+TEST_F(DemLod, SavedTreeHasTheScenesCrsRowAsTheFeatureTablesDo) {
+    for (const bool georeferenced : {true, false}) {
+        SCOPED_TRACE(georeferenced ? "georeferenced" : "no georeference");
+        const std::string tree = file(georeferenced ? "tree_geo.gpkg" : "tree_plain.gpkg");
+        SceneDocument doc = lodDocument(tree, -1);
+        if (!georeferenced) doc.georeference = {};
+        const std::string path = file(georeferenced ? "geo.gpkg" : "plain.gpkg");
+        saveScene(path, doc);
+        std::int64_t treeSrs = 0;
+        {
+            SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+            treeSrs = db.queryInteger("SELECT srs_id FROM gpkg_tile_matrix_set WHERE table_name = 'dem_lod'");
+            EXPECT_EQ(db.queryInteger("SELECT srs_id FROM gpkg_contents WHERE table_name = 'dem_lod'"), treeSrs);
+            ASSERT_GT(db.queryInteger("SELECT count(*) FROM gpkg_geometry_columns"), 0);
+            EXPECT_EQ(db.queryInteger("SELECT count(*) FROM gpkg_geometry_columns WHERE srs_id <> " + std::to_string(treeSrs)), 0)
+                << "every feature table has the tree's CRS row";
+            EXPECT_EQ(db.queryInteger("SELECT count(*) FROM gpkg_contents WHERE srs_id IS NOT NULL AND srs_id <> " +
+                                      std::to_string(treeSrs)),
+                      0);
+            if (georeferenced) {
+                EXPECT_GT(treeSrs, 0);
+                EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = " + std::to_string(treeSrs)), kWkt);
+            } else {
+                EXPECT_EQ(treeSrs, -1) << "undefined Cartesian, not 0 (undefined geographic)";
+            }
+        }
+        const SceneDocument back = loadScene(path);
+        EXPECT_EQ(back.demLod->digest(), doc.demLod->digest());
+        if (!georeferenced) continue;
+        // Saved again from the saved file: the same row.
+        const std::string again = file("again.gpkg");
+        saveScene(again, back);
+        {
+            SqliteDb db(again, SqliteDb::Mode::ReadOnly);
+            const std::int64_t srs = db.queryInteger("SELECT srs_id FROM gpkg_tile_matrix_set WHERE table_name = 'dem_lod'");
+            EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = " + std::to_string(srs)), kWkt);
+            EXPECT_EQ(db.queryInteger("SELECT count(*) FROM gpkg_geometry_columns WHERE srs_id <> " + std::to_string(srs)), 0);
+        }
+        // GDAL reads the coverage in the projected CRS.
+        GDALAllRegister();
+        const char* drivers[] = {"GPKG", nullptr};
+        const char* options[] = {"TABLE=dem_lod", nullptr};
+        std::unique_ptr<GDALDataset> ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, drivers, options, nullptr));
+        ASSERT_TRUE(ds);
+        const OGRSpatialReference* srs = ds->GetSpatialRef();
+        ASSERT_TRUE(srs);
+        EXPECT_TRUE(srs->IsProjected());
+        EXPECT_FALSE(srs->IsGeographic());
+    }
+}
+
+// The tree is copied from its file read-only: a file that is gone is refused by name and not made
+// again (an empty SQLite file where it was).
+TEST_F(DemLod, SavingATreeWhoseFileIsGoneFailsAndCreatesNothing) {
+    const std::string tree = file("gone.gpkg");
+    const SceneDocument doc = lodDocument(tree, -1);
+    fs::remove(tree);
+    const std::string path = file("scene.gpkg");
+    expectError<SceneFileError>([&] { saveScene(path, doc); }, {path, tree, "no such file"});
+    EXPECT_FALSE(fs::exists(tree));
+    EXPECT_FALSE(fs::exists(path));
+    {
+        createEmptyGpkg(file("target.gpkg"));
+        SqliteDb db(file("target.gpkg"), SqliteDb::Mode::ReadWrite);
+        expectError<DemLodError>([&] { copyDemLod(db, tree, -1); }, {tree, "no such file"});
+        EXPECT_FALSE(fs::exists(tree));
+        expectError<DemLodError>([&] { copyDemLod(db, dir_.string(), -1); }, {dir_.string(), "not a regular file"});
+        // A target without the row asked for.
+        writeTree(file("t2.gpkg"), randomishDem(40, 30), 16);
+        expectError<DemLodError>([&] { copyDemLod(db, file("t2.gpkg"), 4242); }, {"srs_id 4242"});
+        EXPECT_FALSE(db.hasTable(kDemLodTable));
+        // A path that needs escaping in a URI is still the file it names.
+        const std::string odd = file("a?b#c%20 d.gpkg");
+        fs::copy_file(file("t2.gpkg"), odd);
+        copyDemLod(db, odd, -1);
+        EXPECT_EQ(db.queryInteger("SELECT count(*) FROM dem_lod"), DemLodFile(odd).layout().tileCount());
+    }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "io/dem_import_lod.h"
 #include "io/dem_lod.h"
+#include "io/sqlite_db.h"
 #include "model/bezier.h"
 #include "synth/fine_synthetic_dem.h"
 #include "synth/synthetic_dem.h"
@@ -138,6 +139,12 @@ TEST(FineSyntheticDem, RowsThroughALodTreeReadBackUnchanged) {
         EXPECT_NEAR(back.extent().max[axis], whole.extent().max[axis], 1e-6);
     }
     EXPECT_EQ(out.coarse->heights(), readDemLevel(DemLodFile(path.string()), out.coarseLevel).heights());
+    {
+        // Scene metres: GeoPackage's undefined Cartesian CRS (-1), not its undefined geographic (0).
+        SqliteDb db(path.string(), SqliteDb::Mode::ReadOnly);
+        EXPECT_EQ(db.queryInteger("SELECT srs_id FROM gpkg_tile_matrix_set WHERE table_name = 'dem_lod'"), -1);
+        EXPECT_EQ(db.queryInteger("SELECT srs_id FROM gpkg_contents WHERE table_name = 'dem_lod'"), -1);
+    }
     std::filesystem::remove(path);
 }
 
