@@ -2,7 +2,6 @@
 // stderr (app/progress_bar.h) and the report at the end; `lacet info`: what a scene file holds.
 // The import checks every path before any work (io/import_paths.h) and fails, writing nothing,
 // when an input cannot be read or nothing would be kept (io/scene_import.h).
-#include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -10,6 +9,7 @@
 #include "app/commands.h"
 #include "app/import_summary.h"
 #include "app/progress_bar.h"
+#include "io/dem_import_lod.h"
 #include "io/dem_lod.h"
 #include "io/import_paths.h"
 #include "io/scene_file.h"
@@ -73,21 +73,19 @@ void addImportCommand(CLI::App& app) {
     cmd->add_flag("--json", o->json, "Print the report as JSON");
     cmd->callback([o] {
         o->options.demStorage = demStorageFromString(o->demStorage);
-        o->options.demLodPath = o->out + ".dem.tmp";  // beside the output: the save copies it from there
         checkImportOptions(o->options);
         checkImportPaths({o->options.dem, o->options.vectors, o->options.mapping, o->out, o->force});
+        // A lod DEM's file: a new name beside the output (the save copies the tree from there).
+        if (o->options.demStorage != DemStorage::Grid && !o->options.dem.empty())
+            o->options.demLodPath = uniqueDemLodPath(o->out);
         ImportReport report;
         TerminalProgress progress;
         {
-            // The lod DEM's file is removed after the save, and when it fails.
-            struct RemoveAfter {
-                std::string path;
-                ~RemoveAfter() {
-                    std::error_code ec;
-                    std::filesystem::remove(path, ec);
-                }
-            } lodFile{o->options.demLodPath};
+            // The lod DEM's file, once the import made one (it removes it when it fails itself), is
+            // removed after the save, and when the save fails; never a file this run did not make.
+            RemoveFileOnExit lodFile;
             const SceneDocument doc = importScene(o->options, report, &progress);
+            if (doc.demLod) lodFile.path = doc.demLod->path();
             saveScene(o->out, doc);
         }
         for (const std::string& w : report.warnings) std::cerr << "lacet import: warning: " << w << "\n";

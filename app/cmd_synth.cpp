@@ -1,9 +1,11 @@
 // `lacet synth`: generates a synthetic scene, optionally its view-refined quadtree, and prints
 // a summary (text, or JSON with --json).
 #include <algorithm>
+#include <exception>
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -92,14 +94,9 @@ void run(const SynthOptions& o) {
         t0 = Clock::now();
         doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});
         double demMs = msSince(t0);
-        // The lod DEM's file, beside the output, removed after the save (also when it fails).
-        struct RemoveAfter {
-            std::string path;
-            ~RemoveAfter() {
-                std::error_code ec;
-                if (!path.empty()) std::filesystem::remove(path, ec);
-            }
-        } lodFile;
+        // The lod DEM's file, beside the output, once written: removed after the save (also when it
+        // fails).
+        RemoveFileOnExit lodFile;
         nlohmann::json lodJson;
         if (o.demSide > 0) {
             t0 = Clock::now();
@@ -107,28 +104,39 @@ void run(const SynthOptions& o) {
             doc.dem.reset();
             const FineSyntheticDem fine(s, base, {.side = o.demSide, .seed = o.seed});
             const DemLodLayout layout = DemLodLayout::make(o.demSide, o.demSide, fine.cell(), fine.topLeft());
-            lodFile.path = o.out + ".dem.tmp";
-            std::filesystem::remove(lodFile.path);
+            const std::string lodPath = uniqueDemLodPath(o.out);  // a new name: never a file found there
             // Rows made in batches on every core, written in order.
             constexpr int kBatch = 32;
             const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
             std::vector<float> batch(std::size_t(kBatch) * std::size_t(o.demSide));
             int first = -kBatch;
-            DemLodOutput lod = writeDemLodFile(lodFile.path, layout, [&](int t, std::span<float> row) {
+            DemLodOutput lod = writeDemLodFile(lodPath, layout, [&](int t, std::span<float> row) {
                 if (t >= first + kBatch) {
                     first = t;
                     const int rows = std::min(kBatch, o.demSide - first);
+                    // A worker's exception (fine.row() throws, e.g. bad_alloc) is kept, the first one
+                    // rethrown here after every worker is joined: none escapes a thread (terminate).
                     std::vector<std::thread> workers;
+                    std::mutex failedMutex;
+                    std::exception_ptr failed;
                     for (int w = 0; w < threads; ++w)
                         workers.emplace_back([&, w] {
-                            for (int k = w; k < rows; k += threads)
-                                fine.row(first + k, std::span<float>(batch).subspan(std::size_t(k) * std::size_t(o.demSide), std::size_t(o.demSide)));
+                            try {
+                                for (int k = w; k < rows; k += threads)
+                                    fine.row(first + k,
+                                             std::span<float>(batch).subspan(std::size_t(k) * std::size_t(o.demSide), std::size_t(o.demSide)));
+                            } catch (...) {
+                                const std::lock_guard lock(failedMutex);
+                                if (!failed) failed = std::current_exception();
+                            }
                         });
                     for (std::thread& w : workers) w.join();
+                    if (failed) std::rethrow_exception(failed);
                 }
                 const auto from = batch.begin() + std::ptrdiff_t(std::size_t(t - first) * std::size_t(o.demSide));
                 std::copy(from, from + o.demSide, row.begin());
             });
+            lodFile.path = lodPath;  // written (writeDemLodFile removes it when it fails)
             demMs = msSince(t0);
             doc.dem = std::move(lod.coarse);
             doc.demLod = std::make_shared<const DemLodFile>(lodFile.path);

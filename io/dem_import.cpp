@@ -174,6 +174,19 @@ void toSource(const DemSourceInfo& src, std::vector<double>& xs, std::vector<dou
     for (std::size_t k = 0; k < xs.size(); ++k) ok[k] = ok[k] && std::isfinite(xs[k]) && std::isfinite(ys[k]);
 }
 
+// The centres of columns [i0, i1] of grid row j in the source CRS: xs, ys (n = i1 - i0 + 1 each),
+// ok[m] false where the transformation fails (toSource).
+void rowToSource(const DemSourceInfo& src, const SceneFrame& frame, const dem_detail::SceneGrid& grid, int j, int i0, int i1,
+                 std::vector<double>& xs, std::vector<double>& ys, std::vector<int>& ok) {
+    const std::size_t n = std::size_t(i1 - i0 + 1);
+    xs.resize(n), ys.resize(n);
+    for (int i = i0; i <= i1; ++i) {
+        const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
+        xs[std::size_t(i - i0)] = ll.x, ys[std::size_t(i - i0)] = ll.y;
+    }
+    toSource(src, xs, ys, ok);
+}
+
 bool inFootprints(const DemSourceInfo& src, double x, double y) {
     for (const Box& f : src.footprints)
         if (f.contains(Vec2(x, y))) return true;
@@ -393,13 +406,9 @@ void resampleRow(const DemSourceInfo& src, const SceneFrame& frame, const SceneG
     const double* gt = src.geoTransform;
     const int ww = window.at.width(), wh = window.at.height();
     const std::size_t n = std::size_t(i1 - i0 + 1);
-    std::vector<double> xs(n), ys(n);
+    std::vector<double> xs, ys;
     std::vector<int> ok;
-    for (int i = i0; i <= i1; ++i) {
-        const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
-        xs[std::size_t(i - i0)] = ll.x, ys[std::size_t(i - i0)] = ll.y;
-    }
-    toSource(src, xs, ys, ok);
+    rowToSource(src, frame, grid, j, i0, i1, xs, ys, ok);
     for (std::size_t m = 0; m < n; ++m) {
         covered[m] = 0;
         if (!ok[m] || !inFootprints(src, xs[m], ys[m])) continue;
@@ -426,14 +435,19 @@ void resampleRow(const DemSourceInfo& src, const SceneFrame& frame, const SceneG
 
 void coveredCells(const DemSourceInfo& src, const SceneFrame& frame, const SceneGrid& grid, int j, int i0, int i1, std::uint8_t* covered) {
     const std::size_t n = std::size_t(i1 - i0 + 1);
-    std::vector<double> xs(n), ys(n);
+    std::vector<double> xs, ys;
     std::vector<int> ok;
-    for (int i = i0; i <= i1; ++i) {
-        const glm::dvec2 ll = frame.reverse(grid.centre(i, j));
-        xs[std::size_t(i - i0)] = ll.x, ys[std::size_t(i - i0)] = ll.y;
-    }
-    toSource(src, xs, ys, ok);
+    rowToSource(src, frame, grid, j, i0, i1, xs, ys, ok);
     for (std::size_t m = 0; m < n; ++m) covered[m] = ok[m] && inFootprints(src, xs[m], ys[m]);
+}
+
+void initReport(const DemSourceInfo& src, DemImportReport& report) {
+    report = {};
+    for (const std::string& input : src.inputs) report.path += (report.path.empty() ? "" : ", ") + input;
+    report.files = src.files;
+    report.sourceWidth = src.width;
+    report.sourceHeight = src.height;
+    report.sourceResolution = src.resolution;
 }
 
 std::size_t filesMeeting(const DemSourceInfo& src, const Box& window) {
@@ -583,13 +597,8 @@ DemSourceInfo demSourceInfo(const std::vector<std::string>& inputs) {
 
 Dem importDem(const DemSourceInfo& src, const SceneFrame& frame, const Box& extent, double cellSize, DemImportReport& report) {
     const auto t0 = std::chrono::steady_clock::now();
-    report = {};
-    for (const std::string& input : src.inputs) report.path += (report.path.empty() ? "" : ", ") + input;
+    initReport(src, report);
     const std::string& name = report.path;
-    report.files = src.files;
-    report.sourceWidth = src.width;
-    report.sourceHeight = src.height;
-    report.sourceResolution = src.resolution;
 
     // The scene grid.
     const SceneGrid grid = makeSceneGrid(name, extent, cellSize, kMaxDemSide);

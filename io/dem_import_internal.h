@@ -89,6 +89,10 @@ void coveredCells(const DemSourceInfo& src, const SceneFrame& frame, const Scene
 // Compares every pair of rasters touching inside `window` (source CRS) along their shared border.
 void checkSeams(const DemSourceInfo& src, const Box& window, DemImportReport& report);
 
+// Resets `report` and fills what the source gives: path (the inputs, comma-separated: the name
+// messages use), files, sourceWidth, sourceHeight, sourceResolution.
+void initReport(const DemSourceInfo& src, DemImportReport& report);
+
 // How many of the rasters' footprints meet `window` (source CRS): the files read.
 std::size_t filesMeeting(const DemSourceInfo& src, const Box& window);
 

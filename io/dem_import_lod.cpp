@@ -1,10 +1,18 @@
 #include "io/dem_import_lod.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <random>
 #include <stdexcept>
+#include <system_error>
 #include <vector>
 
 #include "io/dem_import_internal.h"
@@ -110,9 +118,39 @@ private:
 
 }  // namespace
 
+std::string uniqueDemLodPath(const std::string& beside) {
+    std::random_device random;
+    for (int attempt = 0; attempt < 100; ++attempt) {
+        const std::uint64_t r = std::uint64_t(random()) << 32 ^ std::uint64_t(random());
+        char suffix[64];
+        std::snprintf(suffix, sizeof suffix, ".dem.%lld.%016llx.tmp", static_cast<long long>(::getpid()),
+                      static_cast<unsigned long long>(r));
+        const std::string path = beside + suffix;
+        const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+        if (fd < 0) {
+            if (errno == EEXIST) continue;
+            throw std::runtime_error(path + ": cannot create the DEM tree's temporary file: " + std::strerror(errno));
+        }
+        ::close(fd);
+        ::unlink(path.c_str());
+        return path;
+    }
+    throw std::runtime_error(beside + ": no free name for the DEM tree's temporary file beside it");
+}
+
+RemoveFileOnExit::~RemoveFileOnExit() {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::remove(path, ec);
+}
+
 DemLodOutput writeDemLodFile(const std::string& path, const DemLodLayout& layout, const DemRowSource& rowAt, int coarseSide,
                              Progress* progress) {
     const auto t0 = std::chrono::steady_clock::now();
+    {
+        std::error_code ec;
+        if (std::filesystem::symlink_status(path, ec).type() != std::filesystem::file_type::not_found)
+            throw std::invalid_argument("writeDemLodFile(): " + path + " exists (or cannot be checked): not replacing it");
+    }
     DemLodOutput out;
     out.layout = layout;
     out.coarseLevel = levelAtMost(layout, coarseSide);
@@ -160,13 +198,8 @@ DemLodOutput importDemLod(const DemSourceInfo& src, const SceneFrame& frame, con
                           const std::string& lodPath, DemImportReport& report, const DemLodImportParams& params, Progress* progress) {
     const auto t0 = std::chrono::steady_clock::now();
     checkParams(params);
-    report = {};
-    for (const std::string& input : src.inputs) report.path += (report.path.empty() ? "" : ", ") + input;
+    initReport(src, report);
     const std::string& name = report.path;
-    report.files = src.files;
-    report.sourceWidth = src.width;
-    report.sourceHeight = src.height;
-    report.sourceResolution = src.resolution;
     report.storage = "lod";
 
     // The scene grid, square cells (see the header).

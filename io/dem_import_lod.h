@@ -73,7 +73,26 @@ struct DemLodOutput {
 // into `heights` (layout.width finite values, metres, west to east).
 using DemRowSource = std::function<void(int t, std::span<float> heights)>;
 
-// Creates a GeoPackage at `path` (which must not exist) holding the tree of `layout` (srs_id -1,
+// A name for a tree's own GeoPackage beside `beside` (an output path) that no file has:
+// beside + ".dem." + the process id + "." + 16 random hex digits + ".tmp", made sure of by creating
+// it exclusively (O_CREAT | O_EXCL) and removing it at once (writeDemLodFile creates the file and
+// needs the path free). A caller removes the file only once writeDemLodFile (or importScene) made
+// it, never a file it found there. Throws std::runtime_error naming the path when none can be
+// created (a missing or read-only directory).
+std::string uniqueDemLodPath(const std::string& beside);
+
+// Removes the file at `path` when destroyed, unless `path` is empty (errors ignored): a tree's file
+// this run made, set once it exists (never a file found there), removed after the save or when a
+// later step fails.
+struct RemoveFileOnExit {
+    std::string path;
+    RemoveFileOnExit() = default;
+    RemoveFileOnExit(const RemoveFileOnExit&) = delete;
+    RemoveFileOnExit& operator=(const RemoveFileOnExit&) = delete;
+    ~RemoveFileOnExit();
+};
+
+// Creates a GeoPackage at `path` (which must not exist: std::invalid_argument, the file untouched) holding the tree of `layout` (srs_id -1,
 // GeoPackage's undefined Cartesian: scene metres; the scene file gives it the scene's CRS when it
 // copies the tree), its rows from `rowAt`, in one transaction, keeping level
 // levelAtMost(layout, coarseSide) in memory as it goes.

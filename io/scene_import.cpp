@@ -213,13 +213,7 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
                           " %); import a smaller region");
 
     // A lod DEM's file is removed when the import fails after writing it (after the document, which reads it).
-    struct RemoveOnFailure {
-        std::string path;
-        ~RemoveOnFailure() {
-            std::error_code ec;
-            if (!path.empty()) std::filesystem::remove(path, ec);
-        }
-    } lodFile;
+    RemoveFileOnExit lodFile;
     SceneDocument doc;
     if (demInfo) {
         const double cell = o.demCell > 0.0 ? o.demCell : std::max(1.0, std::min(demInfo->resolution.x, demInfo->resolution.y));
@@ -227,9 +221,12 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
         const bool lod = o.demStorage == DemStorage::Lod || (o.demStorage == DemStorage::Auto && std::lround(side) > kInMemoryDemSide);
         if (lod) {
             if (o.demLodPath.empty()) throw ImportError("a DEM stored as lod needs a file to write it to (ImportOptions::demLodPath)");
-            std::filesystem::remove(o.demLodPath);  // a stale one of an interrupted import
-            lodFile.path = o.demLodPath;
+            std::error_code ec;
+            if (std::filesystem::symlink_status(o.demLodPath, ec).type() != std::filesystem::file_type::not_found)
+                throw ImportError(o.demLodPath + ": exists: the DEM tree's file must be a new one (uniqueDemLodPath), not replaced");
+            // importDemLod removes the file when it fails; this, when a later step does.
             DemLodOutput out = importDemLod(*demInfo, frame, report.extent, cell, o.demLodPath, report.dem, {}, progress);
+            lodFile.path = o.demLodPath;
             report.demLodLayout = out.layout;
             report.demLodTiles = out.tiles;
             report.demLodBytes = out.bytes;

@@ -58,8 +58,10 @@ struct ImportOptions {
     bool allowEmpty = false;           // accept fewer than minKept (an explicit choice)
     DemStorage demStorage = DemStorage::Auto;
     // Where a lod DEM is written (a GeoPackage of its own, beside the output: the caller's
-    // out + ".dem.tmp"); required when the DEM is stored as lod. importScene replaces a file there,
-    // removes it when it fails; the caller removes it after saving the document.
+    // uniqueDemLodPath(out), io/dem_import_lod.h); required when the DEM is stored as lod, and must
+    // not exist (ImportError: importScene never replaces a file). importScene removes the file it
+    // wrote when it fails; after it succeeds the caller removes it (SceneDocument::demLod's path)
+    // once the document is saved.
     std::string demLodPath;
 };
 

@@ -4,7 +4,10 @@
 // as the uncut tile), and the memory held (the strips, never the whole grid).
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -15,6 +18,7 @@
 #include "io/dem_import.h"
 #include "io/dem_import_lod.h"
 #include "io/dem_lod.h"
+#include "io/scene_file.h"
 #include "io/scene_import.h"
 #include "tests/io/gis_fixtures.h"
 
@@ -305,6 +309,15 @@ TEST_F(AndorraMosaic, TwoTilesAtTheSourceResolutionHaveNoSeamAndEqualTheUncutTil
 namespace lacet {
 namespace {
 
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 TEST_F(AndorraMosaic, ImportSceneWithLodStorageKeepsTheTreeAndACoarseLevel) {
     ImportOptions o;
     o.dem = {west_, east_};
@@ -350,6 +363,58 @@ TEST_F(AndorraMosaic, ImportSceneWithLodStorageKeepsTheTreeAndACoarseLevel) {
     o.minKept = 1000000;  // fails after the DEM is written
     EXPECT_THROW(importScene(o, g), ImportError);
     EXPECT_FALSE(std::filesystem::exists(o.demLodPath));
+
+    // A file already at demLodPath is the user's: refused, left as it was (also when the import
+    // would fail anyway).
+    o.minKept = 1;
+    o.vectors.clear();
+    o.demLodPath = (dir_ / "mine.dem.tmp").string();
+    writeText(o.demLodPath, "my notes");
+    EXPECT_THROW(importScene(o, g), ImportError);
+    EXPECT_EQ(readText(o.demLodPath), "my notes");
+}
+
+TEST(DemLodTempPath, UniqueNamesBesideTheOutputThatNoFileHas) {
+    const auto dir = test::scratchDir("demlod_temp_path");
+    const std::string out = (dir / "scene.gpkg").string();
+    const std::string a = uniqueDemLodPath(out), b = uniqueDemLodPath(out);
+    EXPECT_NE(a, b);
+    for (const std::string& p : {a, b}) {
+        EXPECT_EQ(p.rfind(out + ".dem.", 0), 0u) << p;
+        EXPECT_TRUE(p.ends_with(".tmp")) << p;
+        EXPECT_FALSE(std::filesystem::exists(p)) << "reserved, then left free for writeDemLodFile: " << p;
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+    EXPECT_THROW(uniqueDemLodPath((dir / "no_such_dir" / "scene.gpkg").string()), std::runtime_error);
+    // writeDemLodFile never replaces (nor, failing, removes) a file it did not make.
+    writeText(a, "my notes");
+    const DemLodLayout layout = DemLodLayout::make(8, 8, 1.0, {0.0, 0.0}, 4);
+    EXPECT_THROW(writeDemLodFile(a, layout, [](int, std::span<float> row) { std::fill(row.begin(), row.end(), 1.0f); }),
+                 std::invalid_argument);
+    EXPECT_EQ(readText(a), "my notes");
+    std::filesystem::remove_all(dir);
+}
+
+// `lacet import` writes a lod DEM's tree under a name of its own and removes only that: a file named
+// like the old fixed temporary name (<out>.dem.tmp) survives imports of both storages, and nothing
+// else is left beside the output.
+TEST_F(AndorraMosaic, ImportCliLeavesAUsersDemTmpFileAlone) {
+    const std::filesystem::path work = dir_ / "cli";
+    std::filesystem::create_directories(work);
+    const std::string out = (work / "scene.gpkg").string(), mine = out + ".dem.tmp";
+    writeText(mine, "my notes");
+    for (const char* storage : {"lod", "grid"}) {
+        SCOPED_TRACE(storage);
+        const std::string cmd = std::string(LACET_BINARY) + " import --dem '" + west_ + "' '" + east_ + "' --dem-storage " + storage +
+                                " --force --out '" + out + "' > '" + (dir_ / "cli.log").string() + "' 2>&1";
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << readText((dir_ / "cli.log").string());
+        EXPECT_EQ(readText(mine), "my notes");
+        std::vector<std::string> names;
+        for (const auto& e : std::filesystem::directory_iterator(work)) names.push_back(e.path().filename().string());
+        std::sort(names.begin(), names.end());
+        EXPECT_EQ(names, (std::vector<std::string>{"scene.gpkg", "scene.gpkg.dem.tmp"}));
+    }
+    EXPECT_TRUE(loadScene(out).dem);
 }
 
 }  // namespace

@@ -3,7 +3,11 @@
 // resolution (and not without the fade), and the rows through a DEM LOD tree read back unchanged.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -146,6 +150,26 @@ TEST(FineSyntheticDem, RowsThroughALodTreeReadBackUnchanged) {
         EXPECT_EQ(db.queryInteger("SELECT srs_id FROM gpkg_contents WHERE table_name = 'dem_lod'"), -1);
     }
     std::filesystem::remove(path);
+}
+
+// `lacet synth --dem-side` writes its tree under a name of its own beside --out and removes only
+// that: a user's file named like the old fixed temporary name (<out>.dem.tmp) survives.
+TEST(FineSyntheticDem, SynthCliLeavesAUsersDemTmpFileAlone) {
+    const auto dir = std::filesystem::temp_directory_path() / ("lacet_test_synth_cli_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const std::string out = (dir / "scene.gpkg").string(), mine = out + ".dem.tmp", log = (dir.parent_path() / "synth_cli.log").string();
+    std::ofstream(mine, std::ios::binary) << "my notes";
+    const std::string cmd = std::string(LACET_BINARY) + " synth --curves 200 --dem-side 300 --json --out '" + out + "' > '" + log + "' 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(mine, std::ios::binary);
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()), "my notes");
+    std::vector<std::string> names;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(names, (std::vector<std::string>{"scene.gpkg", "scene.gpkg.dem.tmp"}));
+    std::filesystem::remove_all(dir);
+    std::filesystem::remove(log);
 }
 
 }  // namespace
