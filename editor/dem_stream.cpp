@@ -56,10 +56,35 @@ void DemStream::setBudget(double budgetMiB) {
     params_.budgetMiB = budgetMiB;
     maxBlocks_ = std::max<std::size_t>(1, std::size_t(budgetMiB * 1048576.0 / blockBytes));
     makeRoom(0, 0.0, true);
+    refused_.clear();
+}
+
+bool DemStream::wants(const DemBlockKey& key) const {
+    if (failed_.count(key) > 0) return false;
+    const auto it = refused_.find(key);
+    return it == refused_.end() || it->second + kRetryRefusedFrames <= frame_;
+}
+
+void DemStream::touch(Block& b, double priority) {
+    if (b.lastUsed != frame_) {
+        usedChanged_ = usedChanged_ || b.lastUsed + 1 != frame_;  // not used in the last frame
+        ++usedThisFrame_;
+        b.priority = priority;
+    } else {
+        b.priority = std::min(b.priority, priority);
+    }
+    b.lastUsed = frame_;
+    b.tick = ++tick_;
 }
 
 void DemStream::beginFrame() {
     std::lock_guard lock(mutex_);
+    // The blocks in use changed (some new, or some no longer used): what the budget refused may
+    // fit now.
+    if (usedChanged_ || usedThisFrame_ != usedLastFrame_) refused_.clear();
+    usedChanged_ = false;
+    usedLastFrame_ = usedThisFrame_;
+    usedThisFrame_ = 0;
     ++frame_;
     requests_.clear();
 }
@@ -149,7 +174,7 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
                     const auto it = blocks_.find(key);
                     if (it == blocks_.end()) {
                         all = false;
-                        if (level == wanted && failed_.count(key) == 0) {
+                        if (level == wanted && wants(key)) {
                             auto [q, fresh] = requests_.try_emplace(key, priority);
                             if (!fresh) q->second = std::min(q->second, priority);
                         }
@@ -159,12 +184,7 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
                 }
             if (all || level == 0) break;
         }
-        for (const auto& [key, samples] : use) {
-            Block& blk = blocks_.at(key);
-            if (blk.lastUsed != frame_ || priority < blk.priority) blk.priority = priority;
-            blk.lastUsed = frame_;
-            blk.tick = ++tick_;
-        }
+        for (const auto& [key, samples] : use) touch(blocks_.at(key), priority);
         ++stats_.windows;
         stats_.fallbacks += level < wanted;
     }
@@ -186,7 +206,7 @@ void DemStream::request(const Box& box, double spacing, double priority) {
         for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
             for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
                 const DemBlockKey key{wanted, c, r};
-                if (blocks_.count(key) > 0 || failed_.count(key) > 0) continue;
+                if (blocks_.count(key) > 0 || !wants(key)) continue;
                 auto [q, fresh] = requests_.try_emplace(key, priority);
                 if (!fresh) q->second = std::min(q->second, priority);
                 any = true;
@@ -195,9 +215,12 @@ void DemStream::request(const Box& box, double spacing, double priority) {
     if (any) wake_.notify_one();
 }
 
-bool DemStream::makeRoom(std::size_t count, double priority, bool force) {
-    if (blocks_.size() + count <= maxBlocks_) return true;
-    const std::size_t excess = blocks_.size() + count - maxBlocks_;
+std::size_t DemStream::profileFloor() const { return std::size_t(layout().levels) + kProfileSpare; }
+
+bool DemStream::makeRoom(std::size_t count, double priority, bool force, std::size_t capacity) {
+    capacity = std::max(capacity, maxBlocks_);
+    if (blocks_.size() + count <= capacity) return true;
+    const std::size_t excess = blocks_.size() + count - capacity;
     // The victims, least useful first: the blocks this frame has not used, longest unused first,
     // then those it used, least important first. Chosen before any is dropped, so that a refusal
     // leaves the cache as it was.
@@ -243,6 +266,7 @@ std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& ke
         // A chain that cannot fit beside the root is refused at once (it would empty the cache).
         if (!sync && (chain.size() >= maxBlocks_ || !makeRoom(chain.size(), priority, false))) {
             ++stats_.refused;
+            refused_[key] = frame_;
             return nullptr;
         }
     }
@@ -264,10 +288,16 @@ std::shared_ptr<const std::vector<float>> DemStream::fetch(const DemBlockKey& ke
         stats_.loadMs += ms;
         stats_.loaded += read.size();
         if (sync) stats_.loadedSync += read.size();
-        makeRoom(read.size(), priority, sync);
-        for (auto& [k, samples] : read) blocks_.try_emplace(k, Block{samples, frame_, ++tick_, priority});
+        // The z-profiles' reads keep a chain and a few blocks more even under a smaller budget (a
+        // profile walks block after block: it would read each chain again for every sample).
+        const std::size_t capacity = sync ? profileFloor() : maxBlocks_;
+        makeRoom(read.size(), priority, sync, capacity);
+        for (auto& [k, samples] : read) {
+            Block& b = blocks_.try_emplace(k, Block{samples, 0, 0, priority}).first->second;
+            touch(b, priority);
+        }
         // Keep within the budget even when a synchronous read had to exceed it for a moment.
-        makeRoom(0, priority, true);
+        makeRoom(0, priority, true, capacity);
         if (failed) failed_.insert(*failed);
     }
     if (failed) throw std::runtime_error("DEM block not readable");
@@ -364,12 +394,11 @@ double DemStream::sampleLevel(int level, Vec2 p) {
                 if (failed_.count(key) > 0) throw std::runtime_error("DEM block not readable");
                 const auto it = blocks_.find(key);
                 if (it != blocks_.end()) {
-                    it->second.lastUsed = frame_;
-                    it->second.tick = ++tick_;
+                    touch(it->second, it->second.lastUsed == frame_ ? it->second.priority : kProfilePriority);
                     samples = it->second.samples;
                 }
             }
-            if (!samples) samples = fetch(key, -1.0, true);
+            if (!samples) samples = fetch(key, kProfilePriority, true);
             use[key] = std::move(samples);
         }
     return cut(level, rg, use).sample(p);

@@ -51,7 +51,8 @@ namespace lacet {
 
 struct DemStreamParams {
     // Memory of the blocks held (MiB): blockSide^2 floats a block (256 KiB for 256^2). At least the
-    // root is held, whatever the budget.
+    // root is held, whatever the budget; the z-profiles' reads hold up to a chain of blocks (one per
+    // level) and 8 more when the budget is smaller than that.
     double budgetMiB = 512.0;
     // Whether a background thread loads the blocks; without it, load() loads them when called
     // (tests and benchmarks that want a deterministic order).
@@ -142,7 +143,12 @@ private:
     // Under mutex_: evicts until `count` more blocks fit, the least useful first (see the header);
     // without `force`, evicts nothing and returns false when a victim would be a block this frame
     // used for a request at least as important as `priority`. False when only the root is left.
-    bool makeRoom(std::size_t count, double priority, bool force);
+    // `capacity`: the blocks allowed, at least the budget's.
+    bool makeRoom(std::size_t count, double priority, bool force, std::size_t capacity = 0);
+    // What the z-profiles' synchronous reads may hold under a smaller budget: a chain and
+    // kProfileSpare blocks more.
+    static constexpr std::size_t kProfileSpare = 8;
+    std::size_t profileFloor() const;
     Dem cut(int level, const std::array<int, 4>& r, const std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>>& blocks) const;
     void loaderLoop();
     bool loadOne();
@@ -158,6 +164,16 @@ private:
     std::map<DemBlockKey, Block> blocks_;
     std::map<DemBlockKey, double> requests_;  // block -> priority (lowest wins)
     std::set<DemBlockKey> failed_;            // blocks that could not be read: never asked again
+    std::map<DemBlockKey, std::uint64_t> refused_;  // blocks the budget refused, and the frame it did
+    // A refused block is asked again when the blocks in use change (a still view comes to rest:
+    // nothing pending), or after this many frames.
+    static constexpr std::uint64_t kRetryRefusedFrames = 60;
+    bool usedChanged_ = false;  // a block was used this frame that the last frame did not use
+    std::size_t usedThisFrame_ = 0, usedLastFrame_ = 0;  // blocks used
+    // The importance of the z-profiles' reads (they cannot wait).
+    static constexpr double kProfilePriority = -1.0;
+    void touch(Block& b, double priority);  // under mutex_: used now
+    bool wants(const DemBlockKey& key) const;  // under mutex_: neither failed nor refused lately
     std::uint64_t frame_ = 1, tick_ = 0;
     std::size_t maxBlocks_ = 1;
     std::size_t inFlight_ = 0;
