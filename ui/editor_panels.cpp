@@ -136,7 +136,7 @@ void EditorApp::drawPanels() {
         const DemLodLayout& L = dem->layout();
         ImGui::Separator();
         ImGui::Text("DEM: streamed, %d x %d samples of %.1f m, %d levels", L.width, L.height, L.cell, L.levels);
-        ImGui::Text("  blocks: %zu held (%.0f of %.0f MiB), %zu pending, %llu loaded, %llu evicted", st.held, st.heldMiB,
+        ImGui::Text("  blocks: %zu held (%.1f of %.1f MiB), %zu pending, %llu loaded, %llu evicted", st.held, st.heldMiB,
                     dem->params().budgetMiB, st.pending, static_cast<unsigned long long>(st.loaded),
                     static_cast<unsigned long long>(st.evicted));
         ImGui::Text("  tiles from a coarser block this frame: %zu; remade finer: %zu", lastFrame_.demFallbacks, lastFrame_.demRemade);
