@@ -84,6 +84,8 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--dem-profile-spacing", fo->demProfileSpacingM,
                         "The streamed DEM level the z-profiles read: the coarsest with samples at most this far apart (m)")
         ->check(CLI::PositiveNumber);
+    flyover->add_flag("--profile-error", fo->profileError,
+                      "With a streamed DEM: the z-profiles near the path from --dem-profile-spacing's level against the finest (m)");
     flyover->add_option("--adaptive", fo->adaptiveTargetMs, "Adapt K to this update time per frame (ms; 0: K fixed)")->check(CLI::NonNegativeNumber);
     flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
     flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });

@@ -68,6 +68,52 @@ FlightPath paperFlight(int frames, double startAltitude, double endAltitude) {
     return path;
 }
 
+// The error the z-profiles' DEM level leaves (DemStreamParams::profileSpacing): the profiles of
+// the root road and river curves with a vertex within 2 km of the path, made from that level and
+// from the finest, compared sample by sample (every sample of every profile).
+nlohmann::json profileError(const EditSession& session, const FlyoverBenchOptions& o, Vec2 from, Vec2 to) {
+    const SceneDocument& doc = session.document();
+    const DemLodLayout& L = session.demStream()->layout();
+    const auto t0 = Clock::now();
+    DemStream coarse(doc.demLod, {.budgetMiB = 512.0, .background = false, .profileSpacing = o.demProfileSpacingM});
+    DemStream fine(doc.demLod, {.budgetMiB = 512.0, .background = false, .profileSpacing = L.cell});
+    const CurveDataCache a(session.quadtree(), coarse.heights(), session.params().profiles);
+    const CurveDataCache b(session.quadtree(), fine.heights(), session.params().profiles);
+    const Box near{glm::min(from, to) - 2000.0, glm::max(from, to) + 2000.0};
+    std::vector<double> diffs;
+    std::size_t curves = 0;
+    double worst = 0.0;
+    for (LayerId l = 0; l < doc.scene.layers.size(); ++l) {
+        const LayerKind kind = doc.scene.layers[l].kind;
+        if (kind != LayerKind::Roads && kind != LayerKind::Rivers) continue;
+        const auto& cs = doc.scene.layers[l].curves;
+        for (ElementId id = 0; id < cs.size(); ++id) {
+            if (!cs[id].alive || cs[id].vertices.empty()) continue;
+            if (std::none_of(cs[id].vertices.begin(), cs[id].vertices.end(), [&](const Vertex& v) { return near.contains(v.p); }))
+                continue;
+            const ZProfile& za = a.zProfile(l, id);
+            const ZProfile& zb = b.zProfile(l, id);
+            if (za.z.size() != zb.z.size()) continue;
+            ++curves;
+            for (std::size_t k = 0; k < za.z.size(); ++k) {
+                diffs.push_back(std::abs(za.z[k] - zb.z[k]));
+                worst = std::max(worst, diffs.back());
+            }
+        }
+    }
+    double sum = 0.0;
+    for (double d : diffs) sum += d;
+    return {{"profile_spacing_m", o.demProfileSpacingM},
+            {"profile_level_cell_m", L.levelCell(coarse.profileLevel())},
+            {"against_cell_m", L.cell},
+            {"curves", curves},
+            {"samples", diffs.size()},
+            {"mean_abs_m", diffs.empty() ? 0.0 : sum / double(diffs.size())},
+            {"p99_abs_m", diffs.empty() ? 0.0 : quantile(diffs, 0.99)},
+            {"max_abs_m", worst},
+            {"seconds", msSince(t0) / 1000.0}};
+}
+
 nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     if (o.frames < 2) throw std::invalid_argument("bench flyover: --frames must be 2 or more");
     SceneDocument doc;
@@ -266,12 +312,15 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                    {"tiles_from_coarser_block", demFallbackTiles},
                    {"tiles_remade_when_finer_blocks_arrived", demRemade}};
         }
+        nlohmann::json profileJson;
+        if (o.profileError && session.demStream()) profileJson = profileError(session, o, start, end);
         nlohmann::json adaptiveJson;
         if (adaptive)
             adaptiveJson = {{"target_ms", o.adaptiveTargetMs}, {"K_min", kMin}, {"K_mean", kSum / double(ms.size())},
                             {"lowered", adaptive->lowered()}, {"raised", adaptive->raised()}};
         runs.push_back({{"budget_ms", budget},
                         {"dem_stream", dem},
+                        {"profile_error", profileJson},
                         {"adaptive_K", adaptiveJson},
                         {"peak_rss_mib_so_far", peakRssMiB()},
                         {"pyramid", run.pyramid},

@@ -83,6 +83,9 @@ struct FlyoverBenchOptions {
     std::string scene;
     double demBudgetMiB = 512.0;
     double demProfileSpacingM = DemStreamParams{}.profileSpacing;  // the DEM level the z-profiles read (m)
+    // After the flight over a streamed DEM: the z-profiles of the road and river curves near the
+    // path made from that level against the same made from the finest level (metres).
+    bool profileError = false;
     // Frame-rate-adaptive K (editor/adaptive_quality.h) aiming at this update time per frame (ms;
     // 0: K fixed).
     double adaptiveTargetMs = 0.0;
