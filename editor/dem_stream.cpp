@@ -141,23 +141,32 @@ Dem DemStream::cut(int level, const std::array<int, 4>& rg, const std::map<DemBl
     return Dem(extent, w, h, std::move(heights));
 }
 
+std::vector<DemBlockKey> DemStream::blocksOf(int level, const std::array<int, 4>& rg) const {
+    const int b = layout().blockSide;
+    const auto [k0, k1, r0, r1] = rg;
+    std::vector<DemBlockKey> keys;
+    for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
+        for (int c = k0 / b; c <= (k1 - 1) / b; ++c) keys.emplace_back(level, c, r);
+    return keys;
+}
+
+void DemStream::enqueue(const DemBlockKey& key, double priority) {
+    auto [q, fresh] = requests_.try_emplace(key, priority);
+    if (!fresh) q->second = std::min(q->second, priority);
+}
+
 int DemStream::availableLevel(const Box& box, double spacing) const {
     const int wanted = layout().levelFor(spacing);
-    const int b = layout().blockSide;
     std::lock_guard lock(mutex_);
     for (int level = wanted; level > 0; --level) {
-        const auto [k0, k1, r0, r1] = range(box, level);
-        bool all = true;
-        for (int r = r0 / b; all && r <= (r1 - 1) / b; ++r)
-            for (int c = k0 / b; all && c <= (k1 - 1) / b; ++c) all = blocks_.count({level, c, r}) > 0;
-        if (all) return level;
+        const std::vector<DemBlockKey> keys = blocksOf(level, range(box, level));
+        if (std::all_of(keys.begin(), keys.end(), [&](const DemBlockKey& k) { return blocks_.count(k) > 0; })) return level;
     }
     return 0;
 }
 
 DemWindow DemStream::window(const Box& box, double spacing, double priority) {
     const int wanted = layout().levelFor(spacing);
-    const int b = layout().blockSide;
     std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
     int level = wanted;
     std::array<int, 4> rg{};
@@ -165,23 +174,17 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
         std::lock_guard lock(mutex_);
         for (;; --level) {
             rg = range(box, level);
-            const auto [k0, k1, r0, r1] = rg;
             use.clear();
             bool all = true;
-            for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
-                for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
-                    const DemBlockKey key{level, c, r};
-                    const auto it = blocks_.find(key);
-                    if (it == blocks_.end()) {
-                        all = false;
-                        if (level == wanted && wants(key)) {
-                            auto [q, fresh] = requests_.try_emplace(key, priority);
-                            if (!fresh) q->second = std::min(q->second, priority);
-                        }
-                    } else {
-                        use[key] = it->second.samples;
-                    }
+            for (const DemBlockKey& key : blocksOf(level, rg)) {
+                const auto it = blocks_.find(key);
+                if (it != blocks_.end()) {
+                    use[key] = it->second.samples;
+                    continue;
                 }
+                all = false;
+                if (level == wanted && wants(key)) enqueue(key, priority);
+            }
             if (all || level == 0) break;
         }
         for (const auto& [key, samples] : use) touch(blocks_.at(key), priority);
@@ -198,19 +201,15 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
 
 void DemStream::request(const Box& box, double spacing, double priority) {
     const int wanted = layout().levelFor(spacing);
-    const int b = layout().blockSide;
-    const auto [k0, k1, r0, r1] = range(box, wanted);
+    const std::vector<DemBlockKey> keys = blocksOf(wanted, range(box, wanted));
     bool any = false;
     {
         std::lock_guard lock(mutex_);
-        for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
-            for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
-                const DemBlockKey key{wanted, c, r};
-                if (blocks_.count(key) > 0 || !wants(key)) continue;
-                auto [q, fresh] = requests_.try_emplace(key, priority);
-                if (!fresh) q->second = std::min(q->second, priority);
-                any = true;
-            }
+        for (const DemBlockKey& key : keys) {
+            if (blocks_.count(key) > 0 || !wants(key)) continue;
+            enqueue(key, priority);
+            any = true;
+        }
     }
     if (any) wake_.notify_one();
 }
@@ -381,26 +380,22 @@ double DemStream::ProfileHeights::height(Vec2 p) const {
 }
 
 double DemStream::sampleLevel(int level, Vec2 p) {
-    const int b = layout().blockSide;
     const auto rg = range(Box{p, p}, level);
-    const auto [k0, k1, r0, r1] = rg;
     std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
-    for (int r = r0 / b; r <= (r1 - 1) / b; ++r)
-        for (int c = k0 / b; c <= (k1 - 1) / b; ++c) {
-            const DemBlockKey key{level, c, r};
-            std::shared_ptr<const std::vector<float>> samples;
-            {
-                std::lock_guard lock(mutex_);
-                if (failed_.count(key) > 0) throw std::runtime_error("DEM block not readable");
-                const auto it = blocks_.find(key);
-                if (it != blocks_.end()) {
-                    touch(it->second, it->second.lastUsed == frame_ ? it->second.priority : kProfilePriority);
-                    samples = it->second.samples;
-                }
+    for (const DemBlockKey& key : blocksOf(level, rg)) {
+        std::shared_ptr<const std::vector<float>> samples;
+        {
+            std::lock_guard lock(mutex_);
+            if (failed_.count(key) > 0) throw std::runtime_error("DEM block not readable");
+            const auto it = blocks_.find(key);
+            if (it != blocks_.end()) {
+                touch(it->second, it->second.lastUsed == frame_ ? it->second.priority : kProfilePriority);
+                samples = it->second.samples;
             }
-            if (!samples) samples = fetch(key, kProfilePriority, true);
-            use[key] = std::move(samples);
         }
+        if (!samples) samples = fetch(key, kProfilePriority, true);
+        use[key] = std::move(samples);
+    }
     return cut(level, rg, use).sample(p);
 }
 

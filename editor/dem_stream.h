@@ -136,6 +136,9 @@ private:
     };
     // The level-l sample range covering `box` with the margin: [k0, k1) x [r0, r1), clamped.
     std::array<int, 4> range(const Box& box, int level) const;
+    // The blocks of `level` that hold a range of range().
+    std::vector<DemBlockKey> blocksOf(int level, const std::array<int, 4>& rg) const;
+    void enqueue(const DemBlockKey& key, double priority);  // under mutex_: requested, the most important priority kept
     // Reads a block and its missing ancestors (outside the lock) and inserts them, evicting to fit;
     // nullptr when the budget refuses them (never with `sync`, which reads them even so). Throws
     // what DemLodFile throws, and for a block that failed before (the failing one is remembered).

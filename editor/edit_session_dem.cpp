@@ -4,19 +4,34 @@
 
 namespace lacet {
 
-DemWindow EditSession::demWindow(const Quad& q, glm::dvec3 viewer) {
+namespace {
+
+// What the producers read of the DEM for quad `q`: a little beyond it (the elevation tile's border
+// and the footprints' reach, the appearance's border, model/tile_grid.h; a quarter of the side
+// covers both), at samples `spacing` metres apart, requested with the K rule's ratio.
+struct DemNeed {
+    Box box;
+    double spacing, priority;
+};
+
+DemNeed demNeed(const Quad& q, glm::dvec3 viewer, double samplesPerQuad) {
     const double size = q.bounds.size().x;
-    // The producers read the DEM a little beyond the quad: the elevation tile's border and the
-    // footprints' reach, the appearance's border (model/tile_grid.h); a quarter of the side covers both.
-    const Box box{q.bounds.min - size / 4.0, q.bounds.max + size / 4.0};
-    return demStream_->window(box, size / params_.demSamplesPerQuad, Quadtree::viewDistance(q, viewer) / size);
+    return {Box{q.bounds.min - size / 4.0, q.bounds.max + size / 4.0}, size / samplesPerQuad,
+            Quadtree::viewDistance(q, viewer) / size};
+}
+
+}  // namespace
+
+DemWindow EditSession::demWindow(const Quad& q, glm::dvec3 viewer) {
+    const DemNeed n = demNeed(q, viewer, params_.demSamplesPerQuad);
+    return demStream_->window(n.box, n.spacing, n.priority);
 }
 
 DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow) {
     // A bridge is made whole in the quad holding its middle (raster/object_meshes.h), its pillars
     // standing on the DEM anywhere along it: the window covers its ancestor curves too.
-    const double size = q.bounds.size().x;
-    Box box{q.bounds.min - size / 4.0, q.bounds.max + size / 4.0};
+    DemNeed n = demNeed(q, viewer, params_.demSamplesPerQuad);
+    Box& box = n.box;
     bool wider = false;
     for (std::size_t l = 0; l < q.layers.size(); ++l)
         for (const auto& [a, pieces] : q.layers[l].curves) {
@@ -33,7 +48,7 @@ DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemW
             }
         }
     if (!wider) return quadWindow;
-    return demStream_->window(box, size / params_.demSamplesPerQuad, Quadtree::viewDistance(q, viewer) / size);
+    return demStream_->window(n.box, n.spacing, n.priority);
 }
 
 void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r) {
@@ -41,14 +56,12 @@ void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameR
     for (const Quad* q : fit.shown) {
         const auto it = cache_.find(keyOf(*q));
         if (it == cache_.end() || it->second.dirty || it->second.demLevel >= it->second.demWanted) continue;
-        const double size = q->bounds.size().x;
-        const Box box{q->bounds.min - size / 4.0, q->bounds.max + size / 4.0};
-        const double spacing = size / params_.demSamplesPerQuad;
-        if (demStream_->availableLevel(box, spacing) > it->second.demLevel) {
+        const DemNeed n = demNeed(*q, viewer, params_.demSamplesPerQuad);
+        if (demStream_->availableLevel(n.box, n.spacing) > it->second.demLevel) {
             it->second.dirty = true;
             ++r.demRemade;
         } else {
-            demStream_->request(box, spacing, Quadtree::viewDistance(*q, viewer) / size);
+            demStream_->request(n.box, n.spacing, n.priority);
         }
     }
 }
