@@ -20,7 +20,9 @@ namespace lacet {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) { return msBetween(t0, Clock::now()); }
+// Budgets are read on the session's work clock (SessionParams::clock).
+double msSince(const WorkClock& clock, Clock::time_point t0) { return msBetween(t0, clock()); }
 
 const Quad* findQuad(const Quad& root, const QuadKey& key) {
     const auto [level, tx, ty] = key;
@@ -313,14 +315,14 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
             ProductionEstimate& estimate = estimates_[read ? 2 : appearance ? 0 : 1];
             const std::size_t elements = elementsOf(q);
             const std::size_t x = read ? 0 : elements;
-            if (budgetMs > 0.0 && j >= 2 && msSince(t0) + estimate.predict(x) > budgetMs) {
+            if (budgetMs > 0.0 && j >= 2 && msSince(params_.clock, t0) + estimate.predict(x) > budgetMs) {
                 stop = true;
                 return;
             }
-            auto j0 = Clock::now();
+            auto j0 = params_.clock();
             if (read) {
                 std::optional<AppearanceTile> t = pyramid->appearance(q, border);
-                estimate.add(x, msSince(j0));
+                estimate.add(x, msSince(params_.clock, j0));
                 if (t) {
                     made[i].appearance = std::move(*t);
                     source[i] = kRead;
@@ -328,7 +330,7 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
                     continue;
                 }
                 source[i] = kFailed;  // made live below
-                j0 = Clock::now();
+                j0 = params_.clock();
             }
             if (appearance) made[i].appearance = produceAppearance(q, *quadtree_, *data_, demOf(i), params_.appearance);
             else {
@@ -343,7 +345,7 @@ std::size_t EditSession::produce(const std::vector<const Quad*>& quads, glm::dve
                     objectLevel[i] = w.level;
                 }
             }
-            estimates_[appearance ? 0 : 1].add(elements, msSince(j0));
+            estimates_[appearance ? 0 : 1].add(elements, msSince(params_.clock, j0));
             done[j] = 1;
         }
     });
@@ -389,11 +391,11 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
     std::vector<const Quad*> needed = keepShown(fit);
     if (predicted) keepMadeAhead(std::move(leaves.madeAhead), fit.kept, *predicted);
     std::stable_sort(needed.begin(), needed.end(), nearestFirst(viewer));
-    const auto t0 = Clock::now();
+    const auto t0 = params_.clock();
     r.produced = produce(needed, viewer, budgetMs, t0, r);
     r.pending = needed.size() - r.produced;
     if (predicted && r.pending == 0) r.prefetched = prefetch(std::move(leaves.ahead), *predicted, budgetMs, t0, r);
-    r.produceMs = msSince(t0);
+    r.produceMs = msSince(params_.clock, t0);
     plan_.clear();  // it points at tiles eviction may drop
     planPending_ = false;
     evict();
@@ -407,14 +409,13 @@ FrameReport EditSession::frame(glm::dvec3 viewer, double budgetMs, const QuadVis
 }
 
 void EditSession::refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, FrameReport& r) {
-    const auto t0 = Clock::now();
-    std::optional<Clock::time_point> deadline;
-    if (params_.refineBudgetMs > 0.0)
-        deadline = t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(params_.refineBudgetMs));
+    const auto t0 = params_.clock();
+    std::optional<Deadline> deadline;
+    if (params_.refineBudgetMs > 0.0) deadline = Deadline::after(t0, params_.refineBudgetMs, params_.clock);
     // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
     const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
     r.refineDeferred = !quadtree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view, deadline);
-    r.refineMs = msSince(t0);
+    r.refineMs = msSince(params_.clock, t0);
 }
 
 EditSession::FrameLeaves EditSession::collectLeaves(glm::dvec3 viewer, std::optional<glm::dvec3> predicted,
@@ -486,8 +487,8 @@ std::size_t EditSession::prefetch(std::vector<const Quad*> ahead, glm::dvec3 pre
     if (ahead.empty()) return 0;
     const std::size_t first = elementsOf(*ahead.front());
     const double appearance = readsPyramid(*ahead.front()) ? estimates_[2].predict(0) : estimates_[0].predict(first);
-    if (budgetMs > 0.0 && msSince(t0) + appearance + estimates_[1].predict(first) >= budgetMs) return 0;
-    return produce(ahead, predicted, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(t0)), Clock::now(), r);
+    if (budgetMs > 0.0 && msSince(params_.clock, t0) + appearance + estimates_[1].predict(first) >= budgetMs) return 0;
+    return produce(ahead, predicted, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(params_.clock, t0)), params_.clock(), r);
 }
 
 void EditSession::evict() {

@@ -60,6 +60,7 @@
 #include "io/document.h"
 #include "model/curve_data.h"
 #include "model/quadtree.h"
+#include "model/work_clock.h"
 #include "pyramid/pyramid_reader.h"
 #include "raster/appearance_producer.h"
 #include "raster/dem_height_field.h"
@@ -80,6 +81,10 @@ struct SessionParams {
     // Time a frame may spend subdividing (ms; 0: unlimited): past it, subdivisions wait for the
     // next frames, nearest first, and the leaves stay coarser meanwhile.
     double refineBudgetMs = 0.0;
+    // The clock the frame's budgets (production and refinement) are read on: the machine's, or a
+    // stepped one (model/work_clock.h) so that what a budget lets through does not depend on the
+    // machine's speed (tests, scripts). The commands' reported times are always the machine's.
+    WorkClock clock = realClock();
     AppearanceParams appearance;
     ElevationParams elevation;
     SkirtParams skirt;  // how far the draw plan's skirts hang (editor/draw_plan.h)
@@ -170,6 +175,7 @@ public:
     // rebuild the quadtree and drop every tile.
     void setK(double K);  // K > 0 (ViewParams), else std::invalid_argument and nothing changes
     void setRefineBudget(double ms) { params_.refineBudgetMs = ms; }
+    void setClock(WorkClock clock) { params_.clock = std::move(clock); }
     void setRefineParams(const RefineParams& refine);
     // Hides a layer from the textures (its appearance and footprint) or shows it again: the tiles
     // of quads holding its elements become dirty.

@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <queue>
+#include <tuple>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -247,44 +250,64 @@ bool Quadtree::wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewPara
     return q.level < view.maxLevel && viewDistance(q, viewer) < view.K * q.bounds.size().x;
 }
 
-bool Quadtree::refineQuad(Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view,
-                          const std::optional<std::chrono::steady_clock::time_point>& deadline) {
-    bool wanted = false;
-    for (const glm::dvec3& v : viewers) wanted = wanted || wantsSubdivision(q, v, view);
-    if (!wanted) {
-        merge(q);
-        return true;
-    }
-    if (q.isLeaf()) {
-        if (deadline && std::chrono::steady_clock::now() >= *deadline) return false;  // deferred
-        subdivide(q);
-    }
-    if (!deadline) {
-        bool complete = true;
-        for (auto& c : q.children) complete = refineQuad(*c, viewers, view, deadline) && complete;
-        return complete;
-    }
-    // Nearest first, so that what a deadline defers is what lies farthest.
-    std::array<Quad*, 4> order;
-    for (std::size_t k = 0; k < 4; ++k) order[k] = q.children[k].get();
-    const Vec2 v(viewers[0].x, viewers[0].y);
-    auto distance = [&](const Quad* c) {
-        const Vec2 d = glm::max(glm::max(c->bounds.min - v, v - c->bounds.max), Vec2(0.0));
-        return d.x * d.x + d.y * d.y;
+namespace {
+
+// A leaf the viewers want subdivided, and how much: the first viewer's wants before the others'
+// (tier 0 before 1), then the smallest distance over size (the quad that stands largest on screen
+// for its size), then level and position so that the order is total and the same on every run.
+struct PendingSubdivision {
+    int tier = 0;
+    double ratio = 0.0;
+    Quad* quad = nullptr;
+    auto key() const { return std::make_tuple(tier, ratio, quad->level, quad->ty, quad->tx); }
+    // std::priority_queue keeps the greatest on top: the most wanted is the "greatest".
+    bool operator<(const PendingSubdivision& o) const { return o.key() < key(); }
+};
+
+}  // namespace
+
+bool Quadtree::wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view) {
+    return std::any_of(viewers.begin(), viewers.end(), [&](const glm::dvec3& v) { return wantsSubdivision(q, v, view); });
+}
+
+bool Quadtree::refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
+    if (viewers.empty()) throw std::invalid_argument("Quadtree::refineForViewers(): no viewer");
+    // First the tree as it stands: merge what no viewer wants, and find the wanted leaves.
+    std::priority_queue<PendingSubdivision> pending;
+    auto want = [&](Quad& q) {
+        const double size = q.bounds.size().x;
+        if (wantsSubdivision(q, viewers[0], view)) return pending.push({0, viewDistance(q, viewers[0]) / size, &q});
+        double ratio = std::numeric_limits<double>::infinity();
+        for (const glm::dvec3& v : viewers.subspan(1))
+            if (wantsSubdivision(q, v, view)) ratio = std::min(ratio, viewDistance(q, v) / size);
+        pending.push({1, ratio, &q});
     };
-    std::stable_sort(order.begin(), order.end(), [&](const Quad* a, const Quad* b) { return distance(a) < distance(b); });
-    bool complete = true;
-    for (Quad* c : order) complete = refineQuad(*c, viewers, view, deadline) && complete;
-    return complete;
+    std::vector<Quad*> stack{&root_};
+    while (!stack.empty()) {
+        Quad& q = *stack.back();
+        stack.pop_back();
+        if (!wantedByAny(q, viewers, view)) merge(q);
+        else if (q.isLeaf()) want(q);
+        else
+            for (auto& c : q.children) stack.push_back(c.get());
+    }
+    // Then the subdivisions, most wanted first; with a deadline, the first whatever the deadline
+    // and each other one while it has not passed.
+    for (std::size_t done = 0; !pending.empty(); ++done) {
+        if (done > 0 && deadline && deadline->passed()) return false;
+        Quad& q = *pending.top().quad;
+        pending.pop();
+        subdivide(q);
+        for (auto& c : q.children)
+            if (wantedByAny(*c, viewers, view)) want(*c);
+    }
+    return true;
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) {
-    refineQuad(root_, {&viewer, 1}, view, std::nullopt);
-}
+void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) { refine({&viewer, 1}, view, std::nullopt); }
 
-bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
-                                std::optional<std::chrono::steady_clock::time_point> deadline) {
-    return refineQuad(root_, viewers, view, deadline);
+bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline) {
+    return refine(viewers, view, deadline);
 }
 
 void Quadtree::copyQuad(Quad& q, const Quad& like) {

@@ -17,7 +17,6 @@
 // refineForViewer(); after each edit of the Scene (model/edits.h), update(changeset).
 
 #include <array>
-#include <chrono>
 #include <optional>
 #include <memory>
 #include <span>
@@ -32,6 +31,7 @@
 #include "model/graph.h"
 #include "model/procedural.h"
 #include "model/view_params.h"
+#include "model/work_clock.h"
 
 namespace lacet {
 
@@ -101,12 +101,17 @@ public:
     // view.maxLevel, and merges the others. `viewer` is (x, y, height above the ground plane
     // z = 0), metres.
     void refineForViewer(glm::dvec3 viewer, const ViewParams& view);
-    // The same for several viewers at once: a quad is subdivided when any of them wants it. With a
-    // deadline, no quad is subdivided once it has passed (merges still happen; children are
-    // visited nearest to the first viewer first): returns false when a subdivision was deferred,
-    // to be done by a later call.
+    // The same for several viewers at once: a quad is subdivided when any of them wants it. The
+    // tree is first merged where no viewer wants it; then the wanted leaves are subdivided, and
+    // their wanted children in turn, most wanted first: those the first viewer wants before those
+    // only the others do, then the nearest for their size (distance over size). With a deadline,
+    // the first subdivision of the call is always made and each other one only while the deadline
+    // has not passed (an already passed deadline makes exactly one), so that every call makes
+    // progress whatever the budget, and what is deferred is what matters least. Returns false
+    // when a subdivision was deferred, to be done by a later call; the tree the calls reach is the
+    // tree refineForViewer makes. Throws std::invalid_argument when `viewers` is empty.
     bool refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
-                          std::optional<std::chrono::steady_clock::time_point> deadline = std::nullopt);
+                          std::optional<Deadline> deadline = std::nullopt);
     // The rule of refineForViewer: q is below view.maxLevel and closer to `viewer` than view.K
     // times its size.
     static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewParams& view);
@@ -173,8 +178,8 @@ private:
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
-    bool refineQuad(Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view,
-                    const std::optional<std::chrono::steady_clock::time_point>& deadline);
+    static bool wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view);
+    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline);
     void copyQuad(Quad& q, const Quad& like);
 
     const Scene& scene_;

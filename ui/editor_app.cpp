@@ -279,6 +279,11 @@ void EditorApp::save(const std::string& path) {
         status(std::string("Saved to another file than ") + pyramidScene_ + ": its pyramid " + pyramidPath_ + " was not updated");
 }
 
+void EditorApp::setWorkClock(WorkClock clock) {
+    sessionParams_.clock = clock;
+    if (session_) session_->setClock(std::move(clock));
+}
+
 void EditorApp::open(const std::string& path) {
     while (pyramidUpdate_) pollPyramidUpdate(true);  // the updates of the scene being left end first
     const std::string pyramid = defaultPyramidPath(path);

@@ -104,6 +104,7 @@ public:
     void open(const std::string& path) override;
     void setBackground(glm::vec3 rgb) override { background_ = rgb; }
     void setBudget(double ms) override { options_.budgetMs = ms; }
+    void setWorkClock(WorkClock clock) override;
     // The view's tiles still to make, and a streamed DEM's blocks still to load (tiles made from a
     // coarser block are remade when they arrive).
     std::size_t pendingTiles() const override {

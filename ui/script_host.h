@@ -13,6 +13,7 @@
 #include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "editor/editing_controller.h"
+#include "model/work_clock.h"
 #include "ui/input_event.h"
 
 namespace lacet::ui {
@@ -37,6 +38,8 @@ public:
     virtual void open(const std::string& path) = 0;
     virtual void setBackground(glm::vec3 rgb) = 0;
     virtual void setBudget(double ms) = 0;  // tile production per frame
+    // The clock the session's budgets are read on (SessionParams::clock).
+    virtual void setWorkClock(WorkClock clock) = 0;
     // The view's tiles still missing or dirty after the last frame (with a streamed DEM, and its
     // blocks still to load), and whether it left subdivisions for later.
     virtual std::size_t pendingTiles() const = 0;

@@ -1,5 +1,7 @@
 #include "ui/script_player.h"
 
+#include "model/work_clock.h"
+
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -198,6 +200,7 @@ bool ScriptPlayer::begin(ScriptHost& app, const nlohmann::json& s) {
     if (kind == "inspect") return inspect(app);
     if (kind == "budget") {
         app.setBudget(s["ms"].get<double>());
+        if (s.contains("clock_step_ms")) app.setWorkClock(steppedClockMs(s["clock_step_ms"].get<double>()));
         return true;
     }
     if (kind == "fly") return beginFly(app, s);

@@ -31,7 +31,9 @@
 //               node makes)
 //   save        file (default: the scene's own); open: file
 //   background  rgb [r, g, b] in [0, 1]
-//   budget      ms: the per-frame production budget
+//   budget      ms: the per-frame production budget; clock_step_ms (optional): the budget is
+//               read on a stepped clock advancing that much at each reading (model/work_clock.h),
+//               so that what it lets through does not depend on the machine's speed
 //   probe       logs what the tiles hold where the last drag began and ended (b, z_o, z_e, z_m,
 //               the appearance colour)
 //   fly         to [x, y, height above the ground] or "focus" (with height), frames, pitch (degrees), screenshot_every,

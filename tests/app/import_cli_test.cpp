@@ -41,7 +41,8 @@ const std::string kAndorraPbf = std::string(LACET_SOURCE_DIR) + "/../shared/data
 const std::string kDem = "../dem.tif";
 const std::string kGoodVectors = "../good.geojson";
 const std::string kScene = "scene.gpkg";
-constexpr int kTimeoutS = 120;
+// A guard against a hang only: far above what any import here takes, even sanitized on a loaded machine.
+constexpr int kTimeoutS = 600;
 
 // The bytes of a regular file; empty for anything else.
 std::string readFile(const fs::path& path, std::size_t maxBytes = std::string::npos) {

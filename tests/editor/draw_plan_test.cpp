@@ -11,6 +11,8 @@
 
 #include <gtest/gtest.h>
 
+#include "model/work_clock.h"
+
 #include "editor/edit_session.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -35,6 +37,8 @@ TEST(DrawPlan, EveryLeafDrawsItsNearestTiledAncestorAndLookupsAgreeWithTheTree) 
     SessionParams params;
     params.refine.resolution = 32;
     params.view.maxLevel = 10;
+    // The budget is read on a stepped clock: it leaves the same quads pending on any machine.
+    params.clock = steppedClockMs(0.05);
     SceneDocument doc;
     doc.scene = makeSyntheticScene({21, 1500});
     doc.dem = makeSyntheticDem(doc.scene, {21, 1000});

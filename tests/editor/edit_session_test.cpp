@@ -11,6 +11,8 @@
 
 #include "io/scene_file.h"
 #include "model/edits.h"
+#include "model/quadtree_compare.h"
+#include "model/work_clock.h"
 #include "synth/random_edits.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -269,9 +271,13 @@ TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
     params.refine.resolution = 64;
     params.view.maxLevel = 10;
     params.cacheTiles = 1u << 20;  // every leaf of the view shown
+    // A budget read on a stepped clock (each reading 0.1 ms later): what it lets through does not
+    // depend on the machine's speed. One quad's two jobs are made whatever the budget.
+    params.clock = steppedClockMs(0.1);
     EditSession session(syntheticDocument(12, 1500), params);
     const Vec2 c = session.document().scene.extent.center();
-    const FrameReport first = session.frame({c.x, c.y, 20.0}, 1e-6);  // one batch only
+    const FrameReport first = session.frame({c.x, c.y, 20.0}, 0.05);
+    EXPECT_GE(first.produced, 1u);
     EXPECT_GT(first.pending, 0u);
     EXPECT_EQ(first.produced + first.pending, first.viewQuads);
     // The quad under the viewer is among the first made.
@@ -286,6 +292,47 @@ TEST(EditSession, AFrameBudgetLeavesTheRestPendingNearestFirst) {
     const FrameReport rest = session.frame({c.x, c.y, 20.0}, 0.0);
     EXPECT_EQ(rest.pending, 0u);
     EXPECT_EQ(first.produced + rest.produced, first.viewQuads);
+}
+
+// Issue 28: a refinement budget shorter than one subdivision still refines, a subdivision a
+// frame at least, until the tree is the one an unbudgeted session makes; its tiles then equal
+// that session's.
+TEST(EditSession, ARefineBudgetShorterThanOneSubdivisionStillReachesTheCompleteTree) {
+    SessionParams params;
+    params.refine.resolution = 32;
+    params.view.maxLevel = 9;
+    params.cacheTiles = 1u << 20;  // every leaf of the view shown
+    const SceneDocument doc = syntheticDocument(12, 1500);
+    EditSession complete(doc, params);
+    params.refineBudgetMs = 1e-6;  // far less than one clock step
+    params.clock = steppedClockMs(0.1);
+    EditSession budgeted(doc, params);
+    const Vec2 c = doc.scene.extent.center();
+    const glm::dvec3 viewer(c.x, c.y, 25.0);
+    const FrameReport all = complete.frame(viewer, 0.0);
+    EXPECT_FALSE(all.refineDeferred);
+    const std::size_t subdivisions = (complete.quadtree().quadCount() - 1) / 4;
+    std::size_t frames = 0;
+    for (FrameReport r; frames == 0 || r.refineDeferred; ++frames) {
+        ASSERT_LE(frames, subdivisions) << "a frame made no progress";
+        const std::size_t before = budgeted.quadtree().quadCount();
+        r = budgeted.frame(viewer, 0.0);
+        EXPECT_EQ(budgeted.quadtree().quadCount(), before + 4) << "frame " << frames;
+    }
+    EXPECT_EQ(frames, subdivisions);
+    EXPECT_EQ(compareQuadtrees(complete.quadtree(), budgeted.quadtree()).mismatches, 0u);
+    budgeted.frame(viewer, 0.0);
+    std::size_t compared = 0;
+    complete.quadtree().forEachQuad([&](const Quad& q) {
+        if (!q.isLeaf()) return;
+        const CachedTile* a = complete.tile(keyOf(q));
+        const CachedTile* b = budgeted.tile(keyOf(q));
+        ASSERT_NE(a, nullptr);
+        ASSERT_NE(b, nullptr);
+        EXPECT_TRUE(a->appearance == b->appearance && a->elevation == b->elevation) << "L" << q.level << " " << q.tx << "," << q.ty;
+        ++compared;
+    });
+    EXPECT_GT(compared, 20u);
 }
 
 

@@ -3,15 +3,19 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <set>
+#include <span>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "model/edits.h"
 #include "model/quadtree_compare.h"
+#include "model/work_clock.h"
 #include "synth/synthetic_scene.h"
 #include "tests/model/small_scene.h"
 #include "tests/model/split_roads.h"
@@ -176,25 +180,139 @@ TEST(Quadtree, UpdateMarksExactlyTheQuadsWhoseGraphChanged) {
     EXPECT_LT(changed.size(), qt.quadCount() / 2);
 }
 
-TEST(Quadtree, ARefinementDeadlineDefersSubdivisionsAndLaterCallsFinishThem) {
+// The leaves the viewers want subdivided, by (level, tx, ty), with the key the refinement orders
+// them by: 0 and the first viewer's distance over size, or 1 and the others' smallest.
+using LeafKey = std::tuple<int, std::uint32_t, std::uint32_t>;
+std::map<LeafKey, std::pair<int, double>> wantedLeaves(const Quadtree& qt, std::span<const glm::dvec3> viewers, const ViewParams& view) {
+    std::map<LeafKey, std::pair<int, double>> out;
+    qt.forEachQuad([&](const Quad& q) {
+        if (!q.isLeaf()) return;
+        const double size = q.bounds.size().x;
+        if (Quadtree::wantsSubdivision(q, viewers[0], view)) {
+            out[{q.level, q.tx, q.ty}] = {0, Quadtree::viewDistance(q, viewers[0]) / size};
+            return;
+        }
+        for (std::size_t i = 1; i < viewers.size(); ++i)
+            if (Quadtree::wantsSubdivision(q, viewers[i], view)) {
+                const double r = Quadtree::viewDistance(q, viewers[i]) / size;
+                const auto it = out.find({q.level, q.tx, q.ty});
+                if (it == out.end() || r < it->second.second) out[{q.level, q.tx, q.ty}] = {1, r};
+            }
+    });
+    return out;
+}
+
+std::set<LeafKey> innerQuads(const Quadtree& qt) {
+    std::set<LeafKey> out;
+    qt.forEachQuad([&](const Quad& q) {
+        if (!q.isLeaf()) out.insert({q.level, q.tx, q.ty});
+    });
+    return out;
+}
+
+// Issue 28: a call under a deadline that passed before its first subdivision used to subdivide
+// nothing, so that a slow machine could leave the view coarse forever. Now every call makes the
+// most wanted subdivision whatever the deadline: with a deadline already passed, exactly one a
+// call, so the calls reach the complete tree in as many calls as it has subdivisions.
+TEST(Quadtree, APassedDeadlineStillMakesTheMostWantedSubdivisionAndTheCallsReachTheCompleteTree) {
     const Scene scene = makeSyntheticScene({7, 800});
     const Vec2 c = scene.extent.center();
-    const glm::dvec3 viewer(c.x, c.y, 15.0);
+    const glm::dvec3 viewers[1] = {{c.x + 37.0, c.y - 11.0, 15.0}};
+    const ViewParams view{.maxLevel = 12};
     Quadtree complete(scene), stepwise(scene);
-    complete.refineForViewer(viewer, ViewParams{.maxLevel = 12});
-    // A deadline already passed: nothing is subdivided.
-    const glm::dvec3 viewers[1] = {viewer};
-    EXPECT_FALSE(stepwise.refineForViewers(viewers, ViewParams{.maxLevel = 12}, std::chrono::steady_clock::now()));
-    EXPECT_EQ(stepwise.quadCount(), 1u);
-    // Short deadlines: each call does some of the work, nearest first, until it is complete.
-    int calls = 0;
-    while (!stepwise.refineForViewers(viewers, ViewParams{.maxLevel = 12}, std::chrono::steady_clock::now() + std::chrono::microseconds(200))) {
-        ASSERT_LT(++calls, 100000);
+    complete.refineForViewer(viewers[0], view);
+    const std::size_t subdivisions = (complete.quadCount() - 1) / 4;
+    ASSERT_GT(subdivisions, 20u);
+    const WorkClock clock = steppedClock(std::chrono::microseconds(1));
+    std::size_t calls = 0;
+    for (bool done = false; !done;) {
+        ASSERT_LT(calls, subdivisions) << "a call made no progress";
+        const auto wanted = wantedLeaves(stepwise, viewers, view);
+        ASSERT_FALSE(wanted.empty());
+        const auto most = std::min_element(wanted.begin(), wanted.end(), [](const auto& x, const auto& y) { return x.second < y.second; });
+        const std::set<LeafKey> before = innerQuads(stepwise);
+        done = stepwise.refineForViewers(viewers, view, Deadline{clock, clock()});  // passed when read
+        ++calls;
+        std::set<LeafKey> made;
+        std::ranges::set_difference(innerQuads(stepwise), before, std::inserter(made, made.end()));
+        ASSERT_EQ(made.size(), 1u) << "call " << calls;
+        // The quad subdivided is one of the most wanted (ties are broken by level and position).
+        EXPECT_EQ(wanted.at(*made.begin()), most->second) << "call " << calls;
     }
-    EXPECT_GT(calls, 0);
+    EXPECT_EQ(calls, subdivisions);
     const QuadtreeDiff diff = compareQuadtrees(complete, stepwise);
     EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details.front());
     EXPECT_EQ(complete.quadCount(), stepwise.quadCount());
+    // With nothing left to do, a call with a passed deadline changes nothing and says so.
+    EXPECT_TRUE(stepwise.refineForViewers(viewers, view, Deadline{clock, clock()}));
+    EXPECT_EQ(complete.quadCount(), stepwise.quadCount());
+}
+
+// A deadline read on a stepped clock lets through the same work on any machine: each reading
+// after the first subdivision advances the clock one step, so a deadline of ten steps makes ten
+// subdivisions a call.
+TEST(Quadtree, ADeadlineOnASteppedClockMakesTheSameSubdivisionsEveryRun) {
+    const Scene scene = makeSyntheticScene({7, 800});
+    const Vec2 c = scene.extent.center();
+    const glm::dvec3 viewers[1] = {{c.x, c.y, 15.0}};
+    const ViewParams view{.maxLevel = 12};
+    Quadtree complete(scene), stepwise(scene);
+    complete.refineForViewer(viewers[0], view);
+    const std::size_t subdivisions = (complete.quadCount() - 1) / 4;
+    const WorkClock clock = steppedClock(std::chrono::microseconds(1));
+    std::size_t calls = 0;
+    for (bool done = false; !done; ++calls) {
+        ASSERT_LT(calls, subdivisions);
+        const std::size_t before = stepwise.quadCount();
+        done = stepwise.refineForViewers(viewers, view, Deadline::after(clock(), 0.010, clock));
+        if (!done) {
+            EXPECT_EQ(stepwise.quadCount(), before + 4 * 10) << "call " << calls;
+        }
+    }
+    EXPECT_EQ(calls, (subdivisions + 9) / 10);
+    EXPECT_EQ(compareQuadtrees(complete, stepwise).mismatches, 0u);
+}
+
+// Two viewers (the current one and the predicted one): what the first wants is done before what
+// only the second wants, then the tree is the one both want.
+TEST(Quadtree, UnderADeadlineTheFirstViewersSubdivisionsComeFirst) {
+    const Scene scene = makeSyntheticScene({7, 800});
+    const Box e = scene.extent;
+    const glm::dvec3 viewers[2] = {{e.min.x + 0.3 * e.size().x, e.min.y + 0.4 * e.size().y, 20.0},
+                                   {e.min.x + 0.7 * e.size().x, e.min.y + 0.6 * e.size().y, 20.0}};
+    const ViewParams view{.maxLevel = 11};
+    Quadtree first(scene), both(scene), stepwise(scene);
+    first.refineForViewer(viewers[0], view);
+    EXPECT_TRUE(both.refineForViewers(viewers, view));
+    const std::set<LeafKey> firstInner = innerQuads(first);
+    const WorkClock clock = steppedClock(std::chrono::microseconds(1));
+    std::size_t calls = 0;
+    bool done = false;
+    for (; !done && calls < firstInner.size(); ++calls) done = stepwise.refineForViewers(viewers, view, Deadline{clock, clock()});
+    EXPECT_FALSE(done);
+    EXPECT_EQ(innerQuads(stepwise), firstInner);  // every one the first viewer wants, no other yet
+    for (; !done; ++calls) {
+        ASSERT_LT(calls, both.quadCount());
+        done = stepwise.refineForViewers(viewers, view, Deadline{clock, clock()});
+    }
+    EXPECT_EQ(calls, (both.quadCount() - 1) / 4);
+    EXPECT_EQ(compareQuadtrees(both, stepwise).mismatches, 0u);
+}
+
+// A viewer that moves away: the calls merge what it no longer wants, deadline or not.
+TEST(Quadtree, UnderAPassedDeadlineQuadsNoLongerWantedAreStillMerged) {
+    const Scene scene = makeSyntheticScene({7, 800});
+    const Box e = scene.extent;
+    const glm::dvec3 near[1] = {{e.center().x, e.center().y, 15.0}};
+    const glm::dvec3 far[1] = {{e.center().x, e.center().y, 1e7}};
+    const ViewParams view{.maxLevel = 12};
+    Quadtree qt(scene);
+    qt.refineForViewer(near[0], view);
+    ASSERT_GT(qt.quadCount(), 1u);
+    const WorkClock clock = steppedClock(std::chrono::microseconds(1));
+    EXPECT_TRUE(qt.refineForViewers(far, view, Deadline{clock, clock()}));
+    EXPECT_EQ(qt.quadCount(), 1u);
+    EXPECT_THROW(qt.refineForViewers({}, view), std::invalid_argument);
 }
 
 }  // namespace
