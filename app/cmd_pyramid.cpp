@@ -27,6 +27,7 @@ struct PyramidOptions {
     double texel = 1.0;
     int vectorLevels = 1;
     int shardLevel = -1;
+    double demBudgetMiB = PyramidParams{}.demBudgetMiB;
     bool force = false;
     bool json = false;
     bool shards = false;
@@ -59,6 +60,7 @@ PyramidParams paramsOf(const PyramidOptions& o) {
     p.texel = o.texel;
     p.vectorLevels = o.vectorLevels;
     p.shardLevel = o.shardLevel;
+    p.demBudgetMiB = o.demBudgetMiB;
     p.encoding = parseEncoding(o.encoding);
     return p;
 }
@@ -92,6 +94,8 @@ void addPyramidCommand(CLI::App& app) {
     build->add_option("--encoding", b->encoding, "Colour tiles: jpeg[:QUALITY], png[:ZLIB LEVEL] or webp[:QUALITY]");
     build->add_option("--vector-levels", b->vectorLevels, "Deepest levels made from vector data (>= 1); the rest mipmapped");
     build->add_option("--shard-level", b->shardLevel, "Level of the subtrees the build goes by (default: deepest - 4)");
+    build->add_option("--dem-budget", b->demBudgetMiB,
+                      "MiB of a streamed DEM's blocks held at once (each quad reads its window at the level it needs)");
     build->add_flag("--force", b->force, "Replace a pyramid built for another scene in --out");
     build->add_flag("--shards", b->shards, "Run the shards on the ranks of an MPI job (mpirun -np N lacet pyramid build ... --shards)");
     build->add_flag("--json", b->json, "Print the figures as JSON");
@@ -113,12 +117,13 @@ void addPyramidCommand(CLI::App& app) {
     CLI::App* update = cmd->add_subcommand("update", "Remake the tiles of a pyramid whose inputs changed since it was built");
     update->add_option("scene", u->scene, "Scene file")->required();
     update->add_option("--pyramid", u->out, "Pyramid file (default: SCENE with .pyramid.gpkg)");
+    update->add_option("--dem-budget", u->demBudgetMiB, "MiB of a streamed DEM's blocks held at once");
     update->add_flag("--json", u->json, "Print the figures as JSON");
     update->callback([u] {
         const std::string path = u->out.empty() ? defaultPyramidPath(u->scene) : u->out;
         const SceneDocument doc = loadForPyramid(u->scene);
         TerminalProgress progress;
-        const PyramidStats s = updatePyramid(doc, path, &progress);
+        const PyramidStats s = updatePyramid(doc, path, &progress, u->demBudgetMiB);
         printPyramidStats(s, "updated", path, u->json);
     });
 
@@ -143,7 +148,15 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) 
             {"tiles_per_s", s.wallSeconds > 0 ? tiles / s.wallSeconds : 0.0},
             {"thread_seconds",
              {{"clip", t.clip}, {"digest", t.digest}, {"elevation", t.elevation}, {"appearance", t.appearance},
-              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}}}};
+              {"mipmap", t.mipmap}, {"encode", t.encode}, {"decode", t.decode}, {"write", t.write}, {"dem", t.dem}}},
+            {"dem", s.dem.streamed ? nlohmann::json{{"streamed", true},
+                                                    {"windows", s.dem.windows},
+                                                    {"fallbacks", s.dem.fallbacks},
+                                                    {"blocks_read", s.dem.blocksRead},
+                                                    {"blocks_evicted", s.dem.blocksEvicted},
+                                                    {"blocks_failed", s.dem.blocksFailed},
+                                                    {"read_s", s.dem.readSeconds}}
+                                   : nlohmann::json{{"streamed", false}}}};
 }
 
 void printPyramidStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json) {
@@ -158,6 +171,11 @@ void printPyramidStats(const PyramidStats& s, const std::string& what, const std
                 what.c_str(), path.c_str(), s.quads, s.quadsChanged, s.tilesMade, s.tilesWritten, s.appearanceTiles, s.waterTiles,
                 s.elevationTiles, double(s.bytes) / 1e6, s.wallSeconds, s.wallSeconds > 0 ? double(s.tilesMade) / s.wallSeconds : 0.0,
                 t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write);
+    if (s.dem.streamed)
+        std::printf("  streamed DEM: %llu windows at the level each quad needs (%llu from a coarser one), %llu blocks read, %llu "
+                    "dropped, %llu unreadable, %.2f s reading\n",
+                    (unsigned long long)s.dem.windows, (unsigned long long)s.dem.fallbacks, (unsigned long long)s.dem.blocksRead,
+                    (unsigned long long)s.dem.blocksEvicted, (unsigned long long)s.dem.blocksFailed, s.dem.readSeconds);
     if (s.rebuilt) std::printf("  the scene's DEM, layers or a knob changed since the build: every tile was remade\n");
 }
 

@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "app/commands.h"
 #include "app/progress_bar.h"
 #include "bench/bench_util.h"
+#include "io/dem_stream.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
 #include "model/graph_step.h"
@@ -35,6 +37,7 @@ struct RenderOptions {
     int demResolution = 5000;
     std::string scene;  // a scene file instead of the synthetic scene
     std::int64_t maxPixels = std::int64_t(1) << 28;  // 16384 x 16384: 768 MiB of RGB; signed, so that -1 is refused
+    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
 };
 
 // Tiles go to the producers in batches of this many, so that progress moves and only one
@@ -192,7 +195,19 @@ void run(const RenderOptions& o) {
         throw std::logic_error("render: clipping made " + std::to_string(quads.size()) + " quads of the region where " +
                                std::to_string(plan.tiles()) + " were planned");
 
-    DemHeightField heights(dem);
+    // A streamed DEM (the scene's LOD tree): each tile reads its window at the level its quad needs
+    // and the z-profiles their fixed level, as the editor and the pyramid do; never the coarse
+    // level held in memory.
+    std::unique_ptr<DemStream> stream;
+    std::unique_ptr<DemHeightField> inMemoryHeights;
+    if (doc.demLod) stream = std::make_unique<DemStream>(doc.demLod, DemStreamParams{.budgetMiB = o.demBudgetMiB, .background = false});
+    else inMemoryHeights = std::make_unique<DemHeightField>(dem);
+    const HeightField& heights = stream ? stream->heights() : static_cast<const HeightField&>(*inMemoryHeights);
+    const QuadDem quadDem = [&](const Quad& q) {
+        if (!stream) return std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &dem);
+        const DemNeed need = quadDemNeed(q.bounds);
+        return stream->windowNow(need.box, need.spacing).dem;
+    };
     CurveDataCache data(qt, heights);
     ElevationCounters counters;
     AppearanceCounters appearanceCounters;
@@ -212,13 +227,13 @@ void run(const RenderOptions& o) {
     for (std::size_t begin = 0; begin < quads.size(); begin += kBatchTiles) {
         const std::span<const Quad* const> batch(quads.data() + begin, std::min(kBatchTiles, quads.size() - begin));
         if (appearance) {
-            const auto tiles = produceAppearanceTiles(batch, qt, data, dem, {}, &appearanceCounters);
+            const auto tiles = produceAppearanceTiles(batch, qt, data, quadDem, {}, &appearanceCounters);
             for (std::size_t k = 0; k < batch.size(); ++k) {
                 appearanceImage(tiles[k], image);
                 place(*batch[k]);
             }
         } else {
-            const auto tiles = produceElevationTiles(batch, qt, data, dem, {}, &counters);
+            const auto tiles = produceElevationTiles(batch, qt, data, quadDem, {}, &counters);
             for (std::size_t k = 0; k < batch.size(); ++k) {
                 if (o.layer == "footprint") footprintImage(tiles[k], image);
                 else hillshade(tiles[k], image);
@@ -250,6 +265,12 @@ void run(const RenderOptions& o) {
               << " (" << graphStep.counters().importedBridgesOverRivers << " over a river), roads at roundabouts "
               << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
               << counters.curvesOnStructures << "\n";
+    if (stream) {
+        const DemStreamStats d = stream->stats();
+        std::cout << "Streamed DEM: " << d.windows << " windows at the level each quad needs (" << d.fallbacks
+                  << " from a coarser one), " << d.loaded << " blocks read, " << d.evicted << " dropped, " << d.failed
+                  << " unreadable, " << d.loadMs << " ms reading\n";
+    }
 }
 
 }  // namespace
@@ -264,6 +285,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--level", o->level, "Quadtree level of the tiles")->check(CLI::Range(0, ViewParams{}.maxLevel));
     cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
+    cmd->add_option("--dem-budget", o->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
     cmd->add_option("--max-pixels", o->maxPixels, "Refuse a mosaic of more pixels than this (default 2^28 = 16384 x 16384, 768 MiB of RGB)")
         ->check(CLI::Range(std::int64_t(1), std::numeric_limits<std::int64_t>::max()));

@@ -167,7 +167,7 @@ void mergeShard(PyramidStore& store, const std::string& path, const PyramidInfo&
 
 // What each rank sends rank 0 after its shards.
 struct RankFigures {
-    enum : std::size_t { Quads, TilesMade, TilesWritten, Times, Run = Times + 8, Resumed, Seconds, Count };
+    enum : std::size_t { Quads, TilesMade, TilesWritten, Times, Run = Times + 9, Resumed, Seconds, Dem, Count = Dem + 6 };
     std::array<double, Count> v{};
 };
 
@@ -178,8 +178,12 @@ RankFigures figuresOf(PyramidJob& job, std::size_t run, std::size_t resumed, dou
     f.v[RankFigures::TilesMade] = double(s.tilesMade);
     f.v[RankFigures::TilesWritten] = double(s.tilesWritten);
     const auto& t = s.times;
-    const std::array<double, 8> times{t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write};
+    const std::array<double, 9> times{t.clip, t.digest, t.elevation, t.appearance, t.mipmap, t.encode, t.decode, t.write, t.dem};
     std::copy(times.begin(), times.end(), f.v.begin() + RankFigures::Times);
+    const PyramidDemStats& d = s.dem;
+    const std::array<double, 6> dem{double(d.windows),       double(d.fallbacks),    double(d.blocksRead),
+                                    double(d.blocksEvicted), double(d.blocksFailed), d.readSeconds};
+    std::copy(dem.begin(), dem.end(), f.v.begin() + RankFigures::Dem);
     f.v[RankFigures::Run] = double(run);
     f.v[RankFigures::Resumed] = double(resumed);
     f.v[RankFigures::Seconds] = seconds;
@@ -345,8 +349,15 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
         st.tilesMade += std::size_t(f[RankFigures::TilesMade]);
         st.tilesWritten += std::size_t(f[RankFigures::TilesWritten]);
         auto& t = st.times;
-        double* times[] = {&t.clip, &t.digest, &t.elevation, &t.appearance, &t.mipmap, &t.encode, &t.decode, &t.write};
-        for (std::size_t i = 0; i < 8; ++i) *times[i] += f[RankFigures::Times + i];
+        double* times[] = {&t.clip, &t.digest, &t.elevation, &t.appearance, &t.mipmap, &t.encode, &t.decode, &t.write, &t.dem};
+        for (std::size_t i = 0; i < 9; ++i) *times[i] += f[RankFigures::Times + i];
+        PyramidDemStats& d = st.dem;  // each rank's blocks: its shards' own
+        d.windows += std::uint64_t(f[RankFigures::Dem]);
+        d.fallbacks += std::uint64_t(f[RankFigures::Dem + 1]);
+        d.blocksRead += std::uint64_t(f[RankFigures::Dem + 2]);
+        d.blocksEvicted += std::uint64_t(f[RankFigures::Dem + 3]);
+        d.blocksFailed += std::uint64_t(f[RankFigures::Dem + 4]);
+        d.readSeconds += f[RankFigures::Dem + 5];
     }
     // The resumed shards in the order of job.shards().
     const std::string spaced = " " + allNames;

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "editor/dem_stream.h"
+#include "io/dem_stream.h"
 #include "model/view_params.h"
 
 namespace lacet::bench {

@@ -41,7 +41,7 @@ struct CachedTile {
     bool dirty = false;
     std::uint64_t lastUsed = 0;
     std::uint64_t version = 0;  // changes each time the tile is made (for GPU copies)
-    // With a streamed DEM (editor/dem_stream.h): the level its DEM window was cut from and the one
+    // With a streamed DEM (io/dem_stream.h): the level its DEM window was cut from and the one
     // it wanted (-1: the DEM in memory whole); the tile is remade when finer blocks arrive.
     int demLevel = -1, demWanted = -1;
 };

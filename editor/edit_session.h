@@ -53,7 +53,7 @@
 
 #include "editor/cache_fit.h"
 #include "editor/command.h"
-#include "editor/dem_stream.h"
+#include "io/dem_stream.h"
 #include "model/graph_step.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
@@ -93,12 +93,11 @@ struct SessionParams {
     // deckThickness is taken from `graph` (the deck the z-profiles make room for).
     ObjectParams objects;
     ZProfileParams profiles;   // z-profiles (model/curve_data.h)
-    // A streamed DEM (the document's demLod, editor/dem_stream.h): the memory budget, and the DEM
+    // A streamed DEM (the document's demLod, io/dem_stream.h): the memory budget, and the DEM
     // samples a quad's tiles need across its side (the level each window is cut from: the
-    // coarsest whose spacing is at most the quad's size over this). The elevation tile has 24
-    // intervals a side; the appearance's ground shading reads the slope between them.
+    // coarsest whose spacing is at most the quad's size over this; io/dem_stream.h: quadDemNeed).
     DemStreamParams demStream;
-    double demSamplesPerQuad = 64.0;
+    double demSamplesPerQuad = kDemSamplesPerQuad;
 };
 
 struct CommandReport {

@@ -1,4 +1,4 @@
-// EditSession with a streamed DEM (editor/dem_stream.h): each quad's window, and the tiles remade
+// EditSession with a streamed DEM (io/dem_stream.h): each quad's window, and the tiles remade
 // when the finer blocks they wanted arrive.
 #include "editor/edit_session.h"
 
@@ -6,31 +6,20 @@ namespace lacet {
 
 namespace {
 
-// What the producers read of the DEM for quad `q`: a little beyond it (the elevation tile's border
-// and the footprints' reach, the appearance's border, model/tile_grid.h; a quarter of the side
-// covers both), at samples `spacing` metres apart, requested with the K rule's ratio.
-struct DemNeed {
-    Box box;
-    double spacing, priority;
-};
-
-DemNeed demNeed(const Quad& q, glm::dvec3 viewer, double samplesPerQuad) {
-    const double size = q.bounds.size().x;
-    return {Box{q.bounds.min - size / 4.0, q.bounds.max + size / 4.0}, size / samplesPerQuad,
-            Quadtree::viewDistance(q, viewer) / size};
-}
+// The K rule's ratio: the priority of quad `q`'s DEM requests (lower is more important).
+double demPriority(const Quad& q, glm::dvec3 viewer) { return Quadtree::viewDistance(q, viewer) / q.bounds.size().x; }
 
 }  // namespace
 
 DemWindow EditSession::demWindow(const Quad& q, glm::dvec3 viewer) {
-    const DemNeed n = demNeed(q, viewer, params_.demSamplesPerQuad);
-    return demStream_->window(n.box, n.spacing, n.priority);
+    const DemNeed n = quadDemNeed(q.bounds, params_.demSamplesPerQuad);
+    return demStream_->window(n.box, n.spacing, demPriority(q, viewer));
 }
 
 DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow) {
     // A bridge is made whole in the quad holding its middle (raster/object_meshes.h), its pillars
     // standing on the DEM anywhere along it: the window covers its ancestor curves too.
-    DemNeed n = demNeed(q, viewer, params_.demSamplesPerQuad);
+    DemNeed n = quadDemNeed(q.bounds, params_.demSamplesPerQuad);
     Box& box = n.box;
     bool wider = false;
     for (std::size_t l = 0; l < q.layers.size(); ++l)
@@ -48,7 +37,7 @@ DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemW
             }
         }
     if (!wider) return quadWindow;
-    return demStream_->window(n.box, n.spacing, n.priority);
+    return demStream_->window(n.box, n.spacing, demPriority(q, viewer));
 }
 
 void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r) {
@@ -56,12 +45,12 @@ void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameR
     for (const Quad* q : fit.shown) {
         const auto it = cache_.find(keyOf(*q));
         if (it == cache_.end() || it->second.dirty || it->second.demLevel >= it->second.demWanted) continue;
-        const DemNeed n = demNeed(*q, viewer, params_.demSamplesPerQuad);
+        const DemNeed n = quadDemNeed(q->bounds, params_.demSamplesPerQuad);
         if (demStream_->availableLevel(n.box, n.spacing) > it->second.demLevel) {
             it->second.dirty = true;
             ++r.demRemade;
         } else {
-            demStream_->request(n.box, n.spacing, n.priority);
+            demStream_->request(n.box, n.spacing, demPriority(*q, viewer));
         }
     }
 }

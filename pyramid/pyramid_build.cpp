@@ -13,6 +13,7 @@
 #include <tbb/parallel_for_each.h>
 #include <tbb/task_group.h>
 
+#include "io/dem_stream.h"
 #include "io/scene_checksum.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
@@ -60,7 +61,13 @@ std::uint64_t inputsDigest(const SceneDocument& doc, const PyramidParams& p, con
     const Scene& s = doc.scene;
     d.real(s.extent.min.x).real(s.extent.min.y).real(s.extent.max.x).real(s.extent.max.y).word(s.layers.size());
     for (const Layer& l : s.layers) d.text(l.name).word(std::uint64_t(l.kind));
-    if (doc.dem) {
+    if (doc.demLod) {
+        // A streamed DEM: its tree (each quad reads its window at the level it needs, the
+        // z-profiles their fixed level), not the coarse level held in memory.
+        const DemLodLayout& l = doc.demLod->layout();
+        d.text("dem_lod").word(std::uint64_t(l.width)).word(std::uint64_t(l.height)).real(l.cell).real(l.origin.x).real(l.origin.y);
+        d.word(std::uint64_t(l.blockSide)).text(doc.demLod->digest()).real(kDemSamplesPerQuad).real(DemStreamParams{}.profileSpacing);
+    } else if (doc.dem) {
         const Dem& dem = *doc.dem;
         d.real(dem.extent().min.x).real(dem.extent().min.y).real(dem.extent().max.x).real(dem.extent().max.y);
         d.word(std::uint64_t(dem.width())).word(std::uint64_t(dem.height())).reals(std::span<const float>(dem.heights()));
@@ -95,14 +102,19 @@ struct PyramidJob::Impl {
     GraphStep graphStep;
     Quadtree qt;
     std::optional<Dem> flat;  // a scene without a DEM: flat ground at 0
-    const Dem& dem;
-    DemHeightField heights;
+    const Dem& dem;           // the DEM in memory (for a streamed one, only its coarse level: unused)
+    // A streamed DEM (doc.demLod): each quad's window read at the level it needs, within
+    // params.demBudgetMiB, and the z-profiles' heights from its fixed level, as the editor reads them.
+    std::unique_ptr<DemStream> stream;
+    std::unique_ptr<DemHeightField> inMemoryHeights;
+    const HeightField& heights;
     CurveDataCache data;
     QuadDigests digests;
     AppearanceParams appearanceParams;
     ElevationParams elevationParams;
     PyramidStats stats;
     StageClock clip, digest, elevation, appearance, mipmap, encode, decode, write;
+    StageClock demRead;  // the streamed DEM's windows (reads and cuts)
     std::mutex remadeMutex;
     KeySet remade;  // appearance tiles remade at the shard level and above (the top's mipmaps read them)
     Progress* progress = nullptr;
@@ -122,10 +134,22 @@ struct PyramidJob::Impl {
           graphStep(d.scene),
           qt(d.scene, refine, &graphStep),
           dem(demOf(d, flat)),
-          heights(dem),
+          stream(d.demLod ? std::make_unique<DemStream>(d.demLod, DemStreamParams{.budgetMiB = p.demBudgetMiB, .background = false})
+                          : nullptr),
+          inMemoryHeights(stream ? nullptr : std::make_unique<DemHeightField>(dem)),
+          heights(stream ? stream->heights() : static_cast<const HeightField&>(*inMemoryHeights)),
           data(qt, heights),
           digests(qt, data) {
         params.resolve(d.scene.extent.size().x, refine.resolution);
+    }
+
+    // The DEM the producers read for q: the one in memory, or q's window of the streamed one at
+    // the level it needs (io/dem_stream.h: quadDemNeed, the editor's rule).
+    std::shared_ptr<const Dem> demFor(const Quad& q) {
+        if (!stream) return std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &dem);
+        const DemNeed n = quadDemNeed(q.bounds);
+        const DemWindow w = stream->windowNow(n.box, n.spacing);
+        return w.dem;
     }
 
     int vectorLevel() const { return std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1); }
@@ -226,8 +250,10 @@ struct PyramidJob::Impl {
         tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
             Quad& q = *all[i].first;
             if (!stored(q.level) || !changed[i]) return;
+            std::shared_ptr<const Dem> quadDem;
+            if (params.elevation || (params.appearance && q.level >= vl)) quadDem = demRead.time([&] { return demFor(q); });
             if (params.elevation) {
-                ElevationTile t = elevation.time([&] { return produceElevation(q, qt, data, dem, elevationParams); });
+                ElevationTile t = elevation.time([&] { return produceElevation(q, qt, data, *quadDem, elevationParams); });
                 MadeTile& m = made[i];
                 m.cells = elevationCells(t);
                 m.elevation = encode.time([&] { return encodeFloatTiff(m.cells.z, m.cells.size, m.cells.size); });
@@ -235,7 +261,7 @@ struct PyramidJob::Impl {
                 progressAdvance(progress);
             }
             if (params.appearance && q.level >= vl) {
-                AppearanceTile t = appearance.time([&] { return produceAppearance(q, qt, data, dem, appearanceParams); });
+                AppearanceTile t = appearance.time([&] { return produceAppearance(q, qt, data, *quadDem, appearanceParams); });
                 encodeImage(pyramidImage(t), q.level > params.minLevel && q.level <= vl, made[i]);
                 progressAdvance(progress);
             }
@@ -364,7 +390,12 @@ const PyramidParams& PyramidJob::params() const { return impl_->params; }
 PyramidStats& PyramidJob::stats() {
     auto& s = impl_->stats;
     s.times = {impl_->clip.seconds(),   impl_->digest.seconds(), impl_->elevation.seconds(), impl_->appearance.seconds(),
-               impl_->mipmap.seconds(), impl_->encode.seconds(), impl_->decode.seconds(),    impl_->write.seconds()};
+               impl_->mipmap.seconds(), impl_->encode.seconds(), impl_->decode.seconds(),    impl_->write.seconds(),
+               impl_->demRead.seconds()};
+    if (impl_->stream) {
+        const DemStreamStats d = impl_->stream->stats();
+        s.dem = {true, d.windows, d.fallbacks, d.loaded, d.evicted, d.failed, d.loadMs / 1000.0};
+    }
     return s;
 }
 
@@ -509,13 +540,15 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
     }
 }
 
-PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress) {
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
     if (!std::filesystem::exists(path)) throw PyramidError(path + ": no such pyramid file (build one with lacet pyramid build)");
     PyramidStore store(path, PyramidStore::Mode::ReadWrite);
     const auto old = store.info();
     if (!old) throw PyramidError(path + ": the file holds no Lacet pyramid (lacet_pyramid table)");
     if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
-    PyramidJob job(doc, pyramidParams(*old), store.digests());
+    PyramidParams params = pyramidParams(*old);
+    params.demBudgetMiB = demBudgetMiB;
+    PyramidJob job(doc, params, store.digests());
     const PyramidInfo wanted = job.info();
     checkPyramidMatches(*old, wanted, path);
     const bool rebuild = wanted.inputs != old->inputs;

@@ -47,6 +47,10 @@ struct PyramidParams {
     int shardLevel = -1;      // level of the subtrees' roots, <= maxLevel and kMaxShardLevel; -1: max(0, maxLevel - 4)
     bool appearance = true, elevation = true;
     TileEncoding encoding{};
+    // A streamed DEM's blocks held at once (MiB, > 0; io/dem_stream.h): each quad reads its window
+    // at the level it needs (never the coarse level in memory), the least recently used blocks
+    // dropped. Memory only: not stored with the pyramid, no tile depends on it.
+    double demBudgetMiB = 512.0;
     // Checks ranges (and the limits above) and fills the defaults for a scene of `extent`; throws
     // std::invalid_argument.
     void resolve(double extentSize, int tileSize);
@@ -56,6 +60,16 @@ struct PyramidParams {
 struct PyramidTimes {
     double clip = 0.0, digest = 0.0, elevation = 0.0, appearance = 0.0, mipmap = 0.0, encode = 0.0, decode = 0.0,
            write = 0.0;
+    double dem = 0.0;  // a streamed DEM's windows: blocks read and cut
+};
+
+// A streamed DEM's reads (io/dem_stream.h) in a run.
+struct PyramidDemStats {
+    bool streamed = false;
+    std::uint64_t windows = 0;    // one a quad made
+    std::uint64_t fallbacks = 0;  // cut from a coarser level than the quad needs (a block that could not be read)
+    std::uint64_t blocksRead = 0, blocksEvicted = 0, blocksFailed = 0;
+    double readSeconds = 0.0;     // reading and rebuilding blocks, summed over threads
 };
 
 struct PyramidStats {
@@ -67,6 +81,7 @@ struct PyramidStats {
     std::uint64_t bytes = 0;          // of the stored tiles after the run
     bool rebuilt = false;             // an update that remade everything (inputs changed)
     PyramidTimes times;
+    PyramidDemStats dem;
     double wallSeconds = 0.0;
 };
 
@@ -113,9 +128,11 @@ std::string defaultPyramidPath(const std::string& scenePath);
 PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force,
                           Progress* progress);
 
-// Updates the pyramid at `path` to `doc` (knobs as stored). Throws PyramidError when there is no
+// Updates the pyramid at `path` to `doc` (knobs as stored; a streamed DEM's blocks within
+// `demBudgetMiB`, PyramidParams::demBudgetMiB). Throws PyramidError when there is no
 // pyramid, it is incomplete, or it was made for another extent or CRS.
-PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress);
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress,
+                           double demBudgetMiB = PyramidParams{}.demBudgetMiB);
 
 // Throws PyramidError naming `path` when a stored pyramid was made for another extent or CRS than
 // `wanted` (a build refuses to replace it without --force, an update refuses it).

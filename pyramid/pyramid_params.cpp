@@ -56,6 +56,8 @@ TileEncoding parseEncoding(const std::string& text) {
 void PyramidParams::resolve(double extentSize, int tileSize) {
     if (!(texel > 0.0) || !std::isfinite(texel)) throw std::invalid_argument("PyramidParams: texel must be > 0 metres");
     if (!(extentSize > 0.0)) throw std::invalid_argument("PyramidParams: the scene has an empty extent");
+    if (!(demBudgetMiB > 0.0) || !std::isfinite(demBudgetMiB))
+        throw std::invalid_argument("PyramidParams: the DEM budget must be a positive number of MiB (got " + std::to_string(demBudgetMiB) + ")");
     if (maxLevel < 0) {
         // The level whose texel is nearest `texel` by ratio.
         maxLevel = 0;

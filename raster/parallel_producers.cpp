@@ -3,23 +3,44 @@
 #include <tbb/parallel_for.h>
 
 namespace lacet {
+namespace {
+
+QuadDem whole(const Dem& dem) {
+    return [&dem](const Quad&) { return std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &dem); };
+}
+
+}  // namespace
 
 std::vector<ElevationTile> produceElevationTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
                                                  const CurveDataCache& curveData, const Dem& dem,
                                                  const ElevationParams& params, ElevationCounters* counters) {
-    std::vector<ElevationTile> tiles(quads.size());
-    tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t i) {
-        tiles[i] = produceElevation(*quads[i], quadtree, curveData, dem, params, counters);
-    });
-    return tiles;
+    return produceElevationTiles(quads, quadtree, curveData, whole(dem), params, counters);
 }
 
 std::vector<AppearanceTile> produceAppearanceTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
                                                    const CurveDataCache& curveData, const Dem& dem,
                                                    const AppearanceParams& params, AppearanceCounters* counters) {
+    return produceAppearanceTiles(quads, quadtree, curveData, whole(dem), params, counters);
+}
+
+std::vector<ElevationTile> produceElevationTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
+                                                 const CurveDataCache& curveData, const QuadDem& dem,
+                                                 const ElevationParams& params, ElevationCounters* counters) {
+    std::vector<ElevationTile> tiles(quads.size());
+    tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t i) {
+        const std::shared_ptr<const Dem> d = dem(*quads[i]);
+        tiles[i] = produceElevation(*quads[i], quadtree, curveData, *d, params, counters);
+    });
+    return tiles;
+}
+
+std::vector<AppearanceTile> produceAppearanceTiles(std::span<const Quad* const> quads, const Quadtree& quadtree,
+                                                   const CurveDataCache& curveData, const QuadDem& dem,
+                                                   const AppearanceParams& params, AppearanceCounters* counters) {
     std::vector<AppearanceTile> tiles(quads.size());
     tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t i) {
-        tiles[i] = produceAppearance(*quads[i], quadtree, curveData, dem, params, counters);
+        const std::shared_ptr<const Dem> d = dem(*quads[i]);
+        tiles[i] = produceAppearance(*quads[i], quadtree, curveData, *d, params, counters);
     });
     return tiles;
 }

@@ -68,7 +68,7 @@ struct EditorOptions {
     // Frame-rate-adaptive K (editor/adaptive_quality.h): the frame time aimed at (ms; 0: K fixed).
     // Off in scripted sessions, which must draw the same frames on every machine.
     double adaptiveMs = 1000.0 / 30.0;
-    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (editor/dem_stream.h)
+    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (io/dem_stream.h)
 };
 
 // The document the editor opens: the scene, the file it saves to (empty: none yet, a save goes to

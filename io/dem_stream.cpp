@@ -1,4 +1,4 @@
-#include "editor/dem_stream.h"
+#include "io/dem_stream.h"
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +23,13 @@ DemBlockKey parentOf(const DemBlockKey& k) {
 }
 
 }  // namespace
+
+DemNeed quadDemNeed(const Box& quad, double samplesPerQuad) {
+    if (!(samplesPerQuad > 0.0) || !std::isfinite(samplesPerQuad))
+        throw std::invalid_argument("quadDemNeed(): samplesPerQuad must be > 0, got " + std::to_string(samplesPerQuad));
+    const double size = quad.size().x;
+    return {Box{quad.min - size / 4.0, quad.max + size / 4.0}, size / samplesPerQuad};
+}
 
 DemStream::DemStream(std::shared_ptr<const DemLodFile> file, DemStreamParams params)
     : file_(std::move(file)), params_(params), heights_(*this, 0) {
@@ -197,6 +204,32 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
     w.level = level;
     w.wanted = wanted;
     return w;
+}
+
+DemWindow DemStream::windowNow(const Box& box, double spacing) {
+    const int wanted = layout().levelFor(spacing);
+    for (int level = wanted;; --level) {
+        const std::array<int, 4> rg = range(box, level);
+        std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
+        try {
+            use = readNow(level, rg, kBatchPriority);
+        } catch (const std::exception&) {
+            if (level == 0) throw;
+            std::lock_guard lock(mutex_);
+            ++stats_.failed;
+            continue;
+        }
+        {
+            std::lock_guard lock(mutex_);
+            ++stats_.windows;
+            stats_.fallbacks += level < wanted;
+        }
+        DemWindow w;
+        w.dem = std::make_shared<const Dem>(cut(level, rg, use));
+        w.level = level;
+        w.wanted = wanted;
+        return w;
+    }
 }
 
 void DemStream::request(const Box& box, double spacing, double priority) {
@@ -379,8 +412,8 @@ double DemStream::ProfileHeights::height(Vec2 p) const {
     }
 }
 
-double DemStream::sampleLevel(int level, Vec2 p) {
-    const auto rg = range(Box{p, p}, level);
+std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> DemStream::readNow(int level, const std::array<int, 4>& rg,
+                                                                               double priority) {
     std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> use;
     for (const DemBlockKey& key : blocksOf(level, rg)) {
         std::shared_ptr<const std::vector<float>> samples;
@@ -389,14 +422,21 @@ double DemStream::sampleLevel(int level, Vec2 p) {
             if (failed_.count(key) > 0) throw std::runtime_error("DEM block not readable");
             const auto it = blocks_.find(key);
             if (it != blocks_.end()) {
-                touch(it->second, it->second.lastUsed == frame_ ? it->second.priority : kProfilePriority);
+                // A block this frame used already keeps its importance.
+                touch(it->second, it->second.lastUsed == frame_ ? it->second.priority : priority);
                 samples = it->second.samples;
             }
         }
-        if (!samples) samples = fetch(key, kProfilePriority, true);
+        // Held by `use` until the caller is done with it, whatever the cache drops meanwhile.
+        if (!samples) samples = fetch(key, priority, true);
         use[key] = std::move(samples);
     }
-    return cut(level, rg, use).sample(p);
+    return use;
+}
+
+double DemStream::sampleLevel(int level, Vec2 p) {
+    const auto rg = range(Box{p, p}, level);
+    return cut(level, rg, readNow(level, rg, kProfilePriority)).sample(p);
 }
 
 }  // namespace lacet

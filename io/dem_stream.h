@@ -4,6 +4,11 @@
 // by a background thread, most important first, and the least useful are dropped when the blocks
 // held pass the budget.
 //
+// Two uses. The editor streams (below); batch commands (the pyramid build, render) read each
+// quad's window at once at the level it needs, windowNow(), within the same budget, the blocks
+// used least recently dropped first: the same windows the editor's tiles end with, never a fixed
+// coarse level (issue 23).
+//
 // Order of calls, each frame: beginFrame() (requests not renewed since the last frame are dropped:
 // the queue follows the view), availableLevel() for the tiles made from a coarser level than they
 // wanted (remade when it rose) and request() for those still waiting, then window() for every
@@ -65,6 +70,18 @@ struct DemStreamParams {
 // A block of the tree: (level, column, row from the top).
 using DemBlockKey = std::tuple<int, int, int>;
 
+// What the producers read of the DEM for a quad with bounds `quad`: a little beyond it (the
+// elevation tile's border and the footprints' reach, the appearance's border, model/tile_grid.h;
+// a quarter of the side covers both), at samples `spacing` metres apart: the quad's side over
+// `samplesPerQuad` (the elevation tile has 24 intervals a side; the appearance's ground shading
+// reads the slope between them). One rule for the editor and the batch commands.
+inline constexpr double kDemSamplesPerQuad = 64.0;
+struct DemNeed {
+    Box box;
+    double spacing = 0.0;
+};
+DemNeed quadDemNeed(const Box& quad, double samplesPerQuad = kDemSamplesPerQuad);
+
 struct DemWindow {
     std::shared_ptr<const Dem> dem;
     int level = 0;   // the level it was cut from
@@ -77,7 +94,7 @@ struct DemStreamStats {
     double heldMiB = 0.0;
     std::size_t pending = 0;       // requests waiting
     std::uint64_t loaded = 0;      // blocks read in all (by the loader and synchronously)
-    std::uint64_t loadedSync = 0;  // of which read at once for heights()
+    std::uint64_t loadedSync = 0;  // of which read at once (heights(), windowNow())
     std::uint64_t evicted = 0;
     std::uint64_t refused = 0;     // requests dropped because the budget holds more important blocks
     std::uint64_t failed = 0;      // block reads that failed (corrupt tile): their windows and heights stay coarser
@@ -102,6 +119,12 @@ public:
     // The DEM under `box` for samples `spacing` metres apart (see the header); requests what is
     // missing with `priority`.
     DemWindow window(const Box& box, double spacing, double priority);
+    // The DEM under `box` for samples `spacing` metres apart, from the level asked for: the blocks
+    // it needs that are not held are read now (the least recently used dropped to stay within
+    // the budget, beyond it for the blocks this window needs at once). A block that cannot be
+    // read leaves the window to the finest coarser level whose blocks can (counted in
+    // stats().failed and fallbacks; DemWindow::complete() says so). Any thread may call it.
+    DemWindow windowNow(const Box& box, double spacing);
     // Renews the requests of the blocks window() would want for `box` (for a tile made from a
     // coarser level, still shown, that waits for them).
     void request(const Box& box, double spacing, double priority);
@@ -153,6 +176,9 @@ private:
     static constexpr std::size_t kProfileSpare = 8;
     std::size_t profileFloor() const;
     Dem cut(int level, const std::array<int, 4>& r, const std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>>& blocks) const;
+    // The blocks of `level` over `rg`, those not held read at once (fetch with sync) for a use of
+    // importance `priority`; throws when one cannot be read.
+    std::map<DemBlockKey, std::shared_ptr<const std::vector<float>>> readNow(int level, const std::array<int, 4>& rg, double priority);
     void loaderLoop();
     bool loadOne();
     // The height at p from the blocks of `level` (read at once when not held); throws when one
@@ -173,8 +199,10 @@ private:
     static constexpr std::uint64_t kRetryRefusedFrames = 60;
     bool usedChanged_ = false;  // a block was used this frame that the last frame did not use
     std::size_t usedThisFrame_ = 0, usedLastFrame_ = 0;  // blocks used
-    // The importance of the z-profiles' reads (they cannot wait).
+    // The importance of the z-profiles' reads (they cannot wait), and of batch windows
+    // (windowNow(): the least recently used go first, the profiles' blocks after them).
     static constexpr double kProfilePriority = -1.0;
+    static constexpr double kBatchPriority = 0.0;
     void touch(Block& b, double priority);  // under mutex_: used now
     bool wants(const DemBlockKey& key) const;  // under mutex_: neither failed nor refused lately
     std::uint64_t frame_ = 1, tick_ = 0;

@@ -1,17 +1,20 @@
-// The streamed DEM (editor/dem_stream.h): windows equal the DEM in memory, the budget holds, the
+// The streamed DEM (io/dem_stream.h): windows equal the DEM in memory, the budget holds, the
 // root always serves, heights() equals the DEM, and the session's tiles once every block is loaded
 // equal those made with the whole DEM in memory.
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include "editor/dem_stream.h"
+#include "io/dem_stream.h"
 #include "editor/edit_session.h"
 #include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
@@ -45,6 +48,17 @@ std::shared_ptr<const DemLodFile> lodOf(const Dem& dem, const std::string& path,
     {
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);
         writeDemLod(db, dem, blockSide, 0);
+        db.close();
+    }
+    return std::make_shared<const DemLodFile>(path);
+}
+
+// The tree of `dem` (blocks of 16) at `path` with every tile of its finest level corrupt.
+std::shared_ptr<const DemLodFile> corruptFinestLevel(const Dem& dem, const std::string& path) {
+    const int finest = lodOf(dem, path, 16)->layout().levels - 1;
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec("UPDATE " + std::string(kDemLodTable) + " SET tile_data = x'00010203' WHERE zoom_level = " + std::to_string(finest));
         db.close();
     }
     return std::make_shared<const DemLodFile>(path);
@@ -182,14 +196,8 @@ TEST(DemStream, TheBudgetHoldsAndTheRootAlwaysServes) {
 TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarserAndIsNotReadAgain) {
     const Dem dem = roughDem(120, 120, 10.0);
     Removed file{tempPath("corrupt.gpkg")};
-    auto lod = lodOf(dem, file.path, 16);
+    const auto lod = corruptFinestLevel(dem, file.path);
     const int finest = lod->layout().levels - 1;
-    {
-        SqliteDb db(file.path, SqliteDb::Mode::ReadWrite);
-        db.exec("UPDATE " + std::string(kDemLodTable) + " SET tile_data = x'00010203' WHERE zoom_level = " + std::to_string(finest));
-        db.close();
-    }
-    lod = std::make_shared<const DemLodFile>(file.path);
     DemStream stream(lod, {.budgetMiB = 64.0, .background = true, .profileSpacing = 10.0});
     const Box box{dem.extent().center() - 30.0, dem.extent().center() + 30.0};
     for (int frame = 0; frame < 3; ++frame) {
@@ -215,6 +223,72 @@ TEST(DemStream, ACorruptBlockLeavesItsWindowsCoarserAndIsNotReadAgain) {
     const double h = stream.heights().height(c);
     EXPECT_NEAR(h, dem.sample(c), 30.0);
     EXPECT_EQ(h, stream.heights().height(c));  // the same every time
+}
+
+// Batch windows (windowNow, issue 23): read at once at the level asked for, the same samples as
+// a streamed window once loaded, with any budget; from several threads at once; a corrupt block
+// leaves them to the next coarser level, counted, never a throw.
+TEST(DemStream, WindowsReadNowAreTheWantedLevelsSamplesWhateverTheBudget) {
+    const Dem dem = roughDem(301, 177, 10.0);
+    Removed file{tempPath("now.gpkg")};
+    const auto lod = lodOf(dem, file.path, 16);
+    DemStream loaded(lod, {.budgetMiB = 64.0, .background = false});
+    DemStream tiny(lod, {.budgetMiB = 0.001, .background = false});
+    std::mt19937_64 rng(11);
+    const Box e = dem.extent();
+    std::uniform_real_distribution<double> ux(e.min.x - 100.0, e.max.x), uy(e.min.y - 100.0, e.max.y), side(20.0, 900.0),
+        spacing(2.0, 200.0);
+    for (int k = 0; k < 60; ++k) {
+        const Vec2 p(ux(rng), uy(rng));
+        const Box box{p, p + side(rng)};
+        const double s = spacing(rng);
+        loaded.window(box, s, 0.0);
+        loaded.load();
+        const DemWindow streamed = loaded.window(box, s, 0.0);
+        ASSERT_TRUE(streamed.complete());
+        const DemWindow now = tiny.windowNow(box, s);
+        ASSERT_TRUE(now.complete());
+        ASSERT_EQ(now.level, streamed.level);
+        ASSERT_EQ(now.dem->width(), streamed.dem->width());
+        ASSERT_EQ(now.dem->height(), streamed.dem->height());
+        EXPECT_EQ(now.dem->extent().min, streamed.dem->extent().min);
+        EXPECT_TRUE(now.dem->heights() == streamed.dem->heights()) << "window " << k;
+    }
+    const DemStreamStats st = tiny.stats();
+    EXPECT_EQ(st.windows, 60u);
+    EXPECT_EQ(st.fallbacks, 0u);
+    EXPECT_GT(st.evicted, 0u);  // read, used, dropped: the budget holds the root only
+    EXPECT_LE(st.held, std::size_t(tiny.layout().levels) + 8u);
+    // Many threads at once: the same windows.
+    const Box box{e.center() - 200.0, e.center() + 150.0};
+    const DemWindow reference = tiny.windowNow(box, 10.0);
+    std::vector<std::thread> threads;
+    std::atomic<int> same{0};
+    for (int t = 0; t < 4; ++t)
+        threads.emplace_back([&] {
+            for (int i = 0; i < 20; ++i) same += tiny.windowNow(box, 10.0).dem->heights() == reference.dem->heights();
+        });
+    for (auto& t : threads) t.join();
+    EXPECT_EQ(same.load(), 80);
+}
+
+TEST(DemStream, AWindowReadNowOverACorruptBlockComesFromTheNextCoarserLevel) {
+    const Dem dem = roughDem(120, 120, 10.0);
+    Removed file{tempPath("now_corrupt.gpkg")};
+    const auto lod = corruptFinestLevel(dem, file.path);
+    const int finest = lod->layout().levels - 1;
+    DemStream stream(lod, {.budgetMiB = 64.0, .background = false});
+    const Box box{dem.extent().center() - 30.0, dem.extent().center() + 30.0};
+    const DemWindow w = stream.windowNow(box, 1.0);
+    EXPECT_EQ(w.wanted, finest);
+    EXPECT_EQ(w.level, finest - 1);
+    EXPECT_FALSE(w.complete());
+    const DemStreamStats st = stream.stats();
+    EXPECT_EQ(st.fallbacks, 1u);
+    EXPECT_GT(st.failed, 0u);
+    // Not read again: the next window falls back at once.
+    EXPECT_EQ(stream.windowNow(box, 1.0).level, finest - 1);
+    EXPECT_EQ(stream.stats().loaded, st.loaded);
 }
 
 TEST(DemStream, ARequestLessImportantThanTheBlocksInUseIsRefused) {
