@@ -14,6 +14,7 @@
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
+#include "io/dem_stream.h"
 #include "io/fit_check.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
@@ -108,13 +109,14 @@ int runFit(const FitOptions& o) {
 struct BridgesOptions {
     std::string scene;
     BridgeCheckParams params;
+    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
     bool json = false;
 };
 
 int runBridges(const BridgesOptions& o) {
     const SceneDocument doc = loadScene(o.scene);
     if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: bridges cannot be checked against the terrain");
-    const BridgeCheckReport r = checkBridges(doc.scene, *doc.dem, o.params);
+    const BridgeCheckReport r = checkBridges(doc.scene, *batchDemSource(doc, o.demBudgetMiB), o.params);
     const nlohmann::json out = {
         {"scene", o.scene},
         {"level", o.params.level},
@@ -147,6 +149,7 @@ int runBridges(const BridgesOptions& o) {
 
 struct RiversOptions {
     std::string scene;
+    double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
     bool json = false;
 };
 
@@ -158,7 +161,7 @@ nlohmann::json quantilesJson(const Quantiles& q, double over) {
 int runRivers(const RiversOptions& o) {
     const SceneDocument doc = loadScene(o.scene);
     if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: rivers cannot be checked against the terrain");
-    const RiverCheckReport r = checkRivers(doc.scene, *doc.dem);
+    const RiverCheckReport r = checkRivers(doc.scene, *batchDemSource(doc, o.demBudgetMiB));
     const nlohmann::json out = {{"scene", o.scene},
                                 {"river_curves", r.curves},
                                 {"profile_above_dem", quantilesJson(r.profileAboveDem, r.over)},
@@ -200,6 +203,7 @@ void addCheckCommand(CLI::App& app) {
     bridges->add_option("scene", b->scene, "Scene file (from lacet import or the editor)")->required();
     bridges->add_option("--level", b->params.level, "Quadtree level of the elevation tiles compared")->check(CLI::Range(0, 20));
     bridges->add_option("--step", b->params.step, "Metres between the points sampled along a deck")->check(CLI::Range(0.05, 100.0));
+    bridges->add_option("--dem-budget", b->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
     bridges->add_flag("--json", b->json, "Print JSON");
     bridges->callback([b] {
         if (const int rc = runBridges(*b); rc != 0) throw CLI::RuntimeError(rc);
@@ -208,6 +212,7 @@ void addCheckCommand(CLI::App& app) {
     auto rv = std::make_shared<RiversOptions>();
     CLI::App* rivers = check->add_subcommand("rivers", "River profiles and node heights against the DEM, and whether a river rises");
     rivers->add_option("scene", rv->scene, "Scene file (from lacet import or the editor)")->required();
+    rivers->add_option("--dem-budget", rv->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
     rivers->add_flag("--json", rv->json, "Print JSON");
     rivers->callback([rv] {
         if (const int rc = runRivers(*rv); rc != 0) throw CLI::RuntimeError(rc);

@@ -177,7 +177,6 @@ void run(const RenderOptions& o) {
         doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
     }
     const Scene& scene = doc.scene;
-    const Dem& dem = *doc.dem;
     const MosaicPlan plan = check(scene.extent);
     const double prepareMs = msSince(t0);
 
@@ -198,16 +197,8 @@ void run(const RenderOptions& o) {
     // A streamed DEM (the scene's LOD tree): each tile reads its window at the level its quad needs
     // and the z-profiles their fixed level, as the editor and the pyramid do; never the coarse
     // level held in memory.
-    std::unique_ptr<DemStream> stream;
-    std::unique_ptr<DemHeightField> inMemoryHeights;
-    if (doc.demLod) stream = std::make_unique<DemStream>(doc.demLod, DemStreamParams{.budgetMiB = o.demBudgetMiB, .background = false});
-    else inMemoryHeights = std::make_unique<DemHeightField>(dem);
-    const HeightField& heights = stream ? stream->heights() : static_cast<const HeightField&>(*inMemoryHeights);
-    const QuadDem quadDem = [&](const Quad& q) {
-        if (!stream) return std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &dem);
-        const DemNeed need = quadDemNeed(q.bounds);
-        return stream->windowNow(need.box, need.spacing).dem;
-    };
+    const std::unique_ptr<DemSource> demSource = batchDemSource(doc, o.demBudgetMiB);
+    const HeightField& heights = demSource->heights();
     CurveDataCache data(qt, heights);
     ElevationCounters counters;
     AppearanceCounters appearanceCounters;
@@ -227,13 +218,13 @@ void run(const RenderOptions& o) {
     for (std::size_t begin = 0; begin < quads.size(); begin += kBatchTiles) {
         const std::span<const Quad* const> batch(quads.data() + begin, std::min(kBatchTiles, quads.size() - begin));
         if (appearance) {
-            const auto tiles = produceAppearanceTiles(batch, qt, data, quadDem, {}, &appearanceCounters);
+            const auto tiles = produceAppearanceTiles(batch, qt, data, *demSource, {}, &appearanceCounters);
             for (std::size_t k = 0; k < batch.size(); ++k) {
                 appearanceImage(tiles[k], image);
                 place(*batch[k]);
             }
         } else {
-            const auto tiles = produceElevationTiles(batch, qt, data, quadDem, {}, &counters);
+            const auto tiles = produceElevationTiles(batch, qt, data, *demSource, {}, &counters);
             for (std::size_t k = 0; k < batch.size(); ++k) {
                 if (o.layer == "footprint") footprintImage(tiles[k], image);
                 else hillshade(tiles[k], image);
@@ -265,8 +256,8 @@ void run(const RenderOptions& o) {
               << " (" << graphStep.counters().importedBridgesOverRivers << " over a river), roads at roundabouts "
               << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
               << counters.curvesOnStructures << "\n";
-    if (stream) {
-        const DemStreamStats d = stream->stats();
+    if (const auto* streamed = dynamic_cast<const StreamedDem*>(demSource.get())) {
+        const DemStreamStats d = streamed->stats();
         std::cout << "Streamed DEM: " << d.windows << " windows at the level each quad needs (" << d.fallbacks
                   << " from a coarser one), " << d.loaded << " blocks read, " << d.evicted << " dropped, " << d.failed
                   << " unreadable, " << d.loadMs << " ms reading\n";

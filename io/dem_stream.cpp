@@ -439,4 +439,34 @@ double DemStream::sampleLevel(int level, Vec2 p) {
     return cut(level, rg, readNow(level, rg, kProfilePriority)).sample(p);
 }
 
+StreamedDem::StreamedDem(std::shared_ptr<const DemLodFile> file, double budgetMiB)
+    : stream_(std::move(file), DemStreamParams{.budgetMiB = budgetMiB, .background = false}) {}
+
+std::shared_ptr<const Dem> StreamedDem::quadDem(const Quad& q) const {
+    const DemNeed n = quadDemNeed(q.bounds);
+    return stream_.windowNow(n.box, n.spacing).dem;
+}
+
+namespace {
+
+// Flat ground at 0 m over a scene without a DEM, owned by its source.
+class FlatDem final : public DemSource {
+public:
+    explicit FlatDem(const Box& extent) : dem_(extent, 2, 2, std::vector<float>(4, 0.0f)), inner_(dem_) {}
+    const HeightField& heights() const override { return inner_.heights(); }
+    std::shared_ptr<const Dem> quadDem(const Quad& q) const override { return inner_.quadDem(q); }
+
+private:
+    Dem dem_;
+    InMemoryDem inner_;
+};
+
+}  // namespace
+
+std::unique_ptr<DemSource> batchDemSource(const SceneDocument& doc, double budgetMiB) {
+    if (doc.demLod) return std::make_unique<StreamedDem>(doc.demLod, budgetMiB);
+    if (doc.dem) return std::make_unique<InMemoryDem>(*doc.dem);
+    return std::make_unique<FlatDem>(doc.scene.extent);
+}
+
 }  // namespace lacet

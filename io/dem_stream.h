@@ -49,8 +49,10 @@
 #include <vector>
 
 #include "io/dem_lod.h"
+#include "io/document.h"
 #include "model/curve_data.h"
 #include "raster/dem.h"
+#include "raster/dem_source.h"
 
 namespace lacet {
 
@@ -212,5 +214,24 @@ private:
     bool stop_ = false;
     std::thread loader_;
 };
+
+// A streamed DEM read in batch (raster/dem_source.h): each quad's window read at once at the
+// level it needs (windowNow, quadDemNeed), the z-profiles from the stream's fixed level.
+class StreamedDem final : public DemSource {
+public:
+    // Throws what DemStream's constructor throws.
+    StreamedDem(std::shared_ptr<const DemLodFile> file, double budgetMiB);
+    const HeightField& heights() const override { return stream_.heights(); }
+    std::shared_ptr<const Dem> quadDem(const Quad& q) const override;
+    DemStreamStats stats() const { return stream_.stats(); }
+
+private:
+    mutable DemStream stream_;
+};
+
+// The DEM a batch command reads of `doc`: its LOD tree streamed within `budgetMiB` when it has
+// one (never the coarse level held in memory), else its DEM in memory, else flat ground at 0 m
+// over the scene. The document must outlive it.
+std::unique_ptr<DemSource> batchDemSource(const SceneDocument& doc, double budgetMiB);
 
 }  // namespace lacet

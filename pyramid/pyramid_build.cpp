@@ -101,13 +101,10 @@ struct PyramidJob::Impl {
     RefineParams refine;
     GraphStep graphStep;
     Quadtree qt;
-    std::optional<Dem> flat;  // a scene without a DEM: flat ground at 0
-    const Dem& dem;           // the DEM in memory (for a streamed one, only its coarse level: unused)
-    // A streamed DEM (doc.demLod): each quad's window read at the level it needs, within
-    // params.demBudgetMiB, and the z-profiles' heights from its fixed level, as the editor reads them.
-    std::unique_ptr<DemStream> stream;
-    std::unique_ptr<DemHeightField> inMemoryHeights;
-    const HeightField& heights;
+    // Each quad's DEM and the z-profiles' heights: a streamed DEM's (doc.demLod) window at the level
+    // the quad needs within params.demBudgetMiB, as the editor reads it; else the DEM in memory,
+    // else flat ground at 0 m.
+    std::unique_ptr<DemSource> demSource;
     CurveDataCache data;
     QuadDigests digests;
     AppearanceParams appearanceParams;
@@ -121,35 +118,16 @@ struct PyramidJob::Impl {
     bool deferWrites = false;          // runShards(): a shard's tiles are written while the next is made
     std::future<void> pendingWrite;    // that write
 
-    static const Dem& demOf(const SceneDocument& d, std::optional<Dem>& flat) {
-        if (d.dem) return *d.dem;
-        flat.emplace(d.scene.extent, 2, 2, std::vector<float>(4, 0.0f));
-        return *flat;
-    }
-
     Impl(const SceneDocument& d, PyramidParams p, QuadDigestMap prev)
         : doc(d),
           params(p),
           previous(std::move(prev)),
           graphStep(d.scene),
           qt(d.scene, refine, &graphStep),
-          dem(demOf(d, flat)),
-          stream(d.demLod ? std::make_unique<DemStream>(d.demLod, DemStreamParams{.budgetMiB = p.demBudgetMiB, .background = false})
-                          : nullptr),
-          inMemoryHeights(stream ? nullptr : std::make_unique<DemHeightField>(dem)),
-          heights(stream ? stream->heights() : static_cast<const HeightField&>(*inMemoryHeights)),
-          data(qt, heights),
+          demSource(batchDemSource(d, p.demBudgetMiB)),
+          data(qt, demSource->heights()),
           digests(qt, data) {
         params.resolve(d.scene.extent.size().x, refine.resolution);
-    }
-
-    // The DEM the producers read for q: the one in memory, or q's window of the streamed one at
-    // the level it needs (io/dem_stream.h: quadDemNeed, the editor's rule).
-    std::shared_ptr<const Dem> demFor(const Quad& q) {
-        if (!stream) return std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &dem);
-        const DemNeed n = quadDemNeed(q.bounds);
-        const DemWindow w = stream->windowNow(n.box, n.spacing);
-        return w.dem;
     }
 
     int vectorLevel() const { return std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1); }
@@ -251,7 +229,7 @@ struct PyramidJob::Impl {
             Quad& q = *all[i].first;
             if (!stored(q.level) || !changed[i]) return;
             std::shared_ptr<const Dem> quadDem;
-            if (params.elevation || (params.appearance && q.level >= vl)) quadDem = demRead.time([&] { return demFor(q); });
+            if (params.elevation || (params.appearance && q.level >= vl)) quadDem = demRead.time([&] { return demSource->quadDem(q); });
             if (params.elevation) {
                 ElevationTile t = elevation.time([&] { return produceElevation(q, qt, data, *quadDem, elevationParams); });
                 MadeTile& m = made[i];
@@ -392,8 +370,8 @@ PyramidStats& PyramidJob::stats() {
     s.times = {impl_->clip.seconds(),   impl_->digest.seconds(), impl_->elevation.seconds(), impl_->appearance.seconds(),
                impl_->mipmap.seconds(), impl_->encode.seconds(), impl_->decode.seconds(),    impl_->write.seconds(),
                impl_->demRead.seconds()};
-    if (impl_->stream) {
-        const DemStreamStats d = impl_->stream->stats();
+    if (const auto* streamed = dynamic_cast<const StreamedDem*>(impl_->demSource.get())) {
+        const DemStreamStats d = streamed->stats();
         s.dem = {true, d.windows, d.fallbacks, d.loaded, d.evicted, d.failed, d.loadMs / 1000.0};
     }
     return s;

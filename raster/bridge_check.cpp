@@ -21,13 +21,12 @@ namespace {
 struct Terrain {
     GraphStep step;
     Quadtree qt;
-    DemHeightField heights;
+    const DemSource& dem;
     CurveDataCache data;
-    const Dem& dem;
     int level;
     std::map<std::pair<std::uint32_t, std::uint32_t>, ElevationTile> tiles;
-    Terrain(const Scene& s, const Dem& d, const BridgeCheckParams& p)
-        : step(s, p.graph), qt(s, {}, &step), heights(d), data(qt, heights), dem(d), level(p.level) {}
+    Terrain(const Scene& s, const DemSource& d, const BridgeCheckParams& p)
+        : step(s, p.graph), qt(s, {}, &step), dem(d), data(qt, d.heights()), level(p.level) {}
 
     // z_m at p, bilinear between the samples of the level's tile holding p.
     double zm(Vec2 p) {
@@ -38,7 +37,7 @@ struct Terrain {
             q = q->children[std::size_t((p.x >= mid.x ? 1 : 0) | (p.y >= mid.y ? 2 : 0))].get();
         }
         auto [it, made] = tiles.try_emplace({q->tx, q->ty});
-        if (made) it->second = produceElevation(*q, qt, data, dem, {});
+        if (made) it->second = produceElevation(*q, qt, data, *dem.quadDem(*q), {});
         const ElevationTile& t = it->second;
         const Vec2 f = (p - t.bounds.min) / t.delta;
         const int i = std::clamp(int(std::floor(f.x)), 0, t.resolution - 1), j = std::clamp(int(std::floor(f.y)), 0, t.resolution - 1);
@@ -85,6 +84,10 @@ double distanceToCurve(const Curve& c, Vec2 p) {
 }  // namespace
 
 BridgeCheckReport checkBridges(const Scene& scene, const Dem& dem, const BridgeCheckParams& params) {
+    return checkBridges(scene, InMemoryDem(dem), params);
+}
+
+BridgeCheckReport checkBridges(const Scene& scene, const DemSource& dem, const BridgeCheckParams& params) {
     if (params.level < 0 || !(params.step > 0.0)) throw std::invalid_argument("checkBridges: level >= 0 and step > 0 required");
     const auto t0 = std::chrono::steady_clock::now();
     BridgeCheckReport r;

@@ -15,6 +15,7 @@
 #include "model/graph.h"
 #include "model/graph_step.h"
 #include "raster/dem.h"
+#include "raster/dem_source.h"
 
 namespace lacet {
 
@@ -38,5 +39,7 @@ struct BridgeCheckReport {
 };
 
 BridgeCheckReport checkBridges(const Scene& scene, const Dem& dem, const BridgeCheckParams& params = {});
+// The same on any DEM source (a streamed DEM's windows at the level each tile needs).
+BridgeCheckReport checkBridges(const Scene& scene, const DemSource& dem, const BridgeCheckParams& params = {});
 
 }  // namespace lacet

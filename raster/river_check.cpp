@@ -6,7 +6,6 @@
 #include <vector>
 
 #include "model/graph_step.h"
-#include "raster/dem_height_field.h"
 
 namespace lacet {
 namespace {
@@ -31,9 +30,13 @@ Quantiles quantiles(std::vector<double> v, double over) {
 }  // namespace
 
 RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileParams& profiles) {
+    return checkRivers(scene, InMemoryDem(dem), profiles);
+}
+
+RiverCheckReport checkRivers(const Scene& scene, const DemSource& dem, const ZProfileParams& profiles) {
     const auto t0 = std::chrono::steady_clock::now();
     RiverCheckReport r;
-    DemHeightField heights(dem);
+    const HeightField& heights = dem.heights();
     GraphStep step(scene);
     Quadtree qt(scene, {}, &step);
     CurveDataCache data(qt, heights, profiles);
@@ -48,7 +51,7 @@ RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileP
             const ZProfile& z = data.zProfile(l, c);
             const std::vector<Vec2> points = data.samplePoints(l, c);
             for (std::size_t i = 0; i < z.z.size() && i < points.size(); ++i) {
-                above.push_back(z.z[i] - dem.sample(points[i]));
+                above.push_back(z.z[i] - heights.height(points[i]));
                 r.risingSamples += i > 0 && z.z[i] > z.z[i - 1];
             }
         }
@@ -57,7 +60,7 @@ RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileP
             if (!nd.alive || nd.curves.empty()) continue;
             if (std::all_of(nd.curves.begin(), nd.curves.end(), [&](ElementId c) { return !layer.curves[c].areas.empty(); }))
                 continue;  // a river area's ring node
-            nodes.push_back(data.nodeHeight(l, id) - dem.sample(nd.p));
+            nodes.push_back(data.nodeHeight(l, id) - heights.height(nd.p));
         }
     }
     r.profileAboveDem = quantiles(std::move(above), r.over);

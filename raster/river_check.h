@@ -9,6 +9,7 @@
 
 #include "model/curve_data.h"
 #include "raster/dem.h"
+#include "raster/dem_source.h"
 
 namespace lacet {
 
@@ -28,5 +29,8 @@ struct RiverCheckReport {
 };
 
 RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileParams& profiles = {});
+// The same on any DEM source: the profiles and the ground both from its heights (a streamed DEM's
+// fixed profile level).
+RiverCheckReport checkRivers(const Scene& scene, const DemSource& dem, const ZProfileParams& profiles = {});
 
 }  // namespace lacet

@@ -19,6 +19,8 @@
 #include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/sqlite_db.h"
+#include "raster/bridge_check.h"
+#include "raster/river_check.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -408,6 +410,56 @@ TEST(EditSessionDemStream, AFarTooSmallBudgetStillDrawsTheTerrainCoarser) {
     }
     EXPECT_GT(coarser, 0u);
     EXPECT_LE(s.demStream()->stats().held, std::size_t(s.demStream()->layout().levels) + 8u);
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// Batch commands read a streamed DEM through StreamedDem (io/dem_stream.h): where every quad and
+// the z-profiles read the finest level (the DEM's 20 m cells are coarser than the profiles' 10 m
+// and than the level-7 quads' windows need), the checks find what they find on the DEM in memory.
+TEST(StreamedDem, ChecksThroughItEqualTheDemInMemoryWhereTheyReadTheFinestLevel) {
+    SceneDocument memory = sceneWithDem(33);
+    Removed file{tempPath("checks.gpkg")};
+    SceneDocument streamed;
+    streamed.scene = memory.scene;
+    streamed.demLod = lodOf(*memory.dem, file.path, 32);
+    streamed.dem = readDemLevel(*streamed.demLod, 0);  // coarse: must not be what is read
+    const std::unique_ptr<DemSource> a = batchDemSource(memory, 512.0), b = batchDemSource(streamed, 0.5);
+    ASSERT_NE(dynamic_cast<const InMemoryDem*>(a.get()), nullptr);
+    ASSERT_NE(dynamic_cast<const StreamedDem*>(b.get()), nullptr);
+
+    const RiverCheckReport ra = checkRivers(memory.scene, *a), rb = checkRivers(streamed.scene, *b);
+    ASSERT_GT(ra.profileAboveDem.count, 100u);
+    EXPECT_EQ(ra.profileAboveDem.count, rb.profileAboveDem.count);
+    EXPECT_NEAR(ra.profileAboveDem.median, rb.profileAboveDem.median, 1e-4);
+    EXPECT_NEAR(ra.profileAboveDem.max, rb.profileAboveDem.max, 1e-4);
+    EXPECT_NEAR(ra.nodesAboveDem.max, rb.nodesAboveDem.max, 1e-4);
+    EXPECT_EQ(ra.risingSamples, rb.risingSamples);
+    // The coarse level alone would not give that: the test sees which level was read.
+    const RiverCheckReport rc = checkRivers(streamed.scene, *streamed.dem);
+    EXPECT_GT(std::abs(rc.profileAboveDem.max - ra.profileAboveDem.max) + std::abs(rc.profileAboveDem.median - ra.profileAboveDem.median), 1e-3);
+
+    const BridgeCheckReport ba = checkBridges(memory.scene, *a), bb = checkBridges(streamed.scene, *b);
+    ASSERT_GT(ba.bridges, 0u);
+    EXPECT_EQ(ba.bridges, bb.bridges);
+    EXPECT_EQ(ba.bedPoints, bb.bedPoints);
+    EXPECT_EQ(ba.bedPointsDiffering, bb.bedPointsDiffering);
+    EXPECT_NEAR(ba.leastClearance, bb.leastClearance, 1e-4);
+    EXPECT_NEAR(ba.largestBedDifference, bb.largestBedDifference, 1e-3);
+    const DemStreamStats st = dynamic_cast<const StreamedDem&>(*b).stats();
+    EXPECT_GT(st.windows, 0u);
+    EXPECT_EQ(st.fallbacks, 0u);
+
+    // No DEM at all: flat ground at 0 m.
+    SceneDocument flat;
+    flat.scene = memory.scene;
+    const std::unique_ptr<DemSource> f = batchDemSource(flat, 512.0);
+    EXPECT_EQ(f->heights().height(flat.scene.extent.center()), 0.0);
+    EXPECT_EQ(f->quadDem(Quadtree(flat.scene).root())->sample(flat.scene.extent.center()), 0.0);
 }
 
 }  // namespace
