@@ -152,6 +152,7 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) 
             {"dem", s.dem.streamed ? nlohmann::json{{"streamed", true},
                                                     {"windows", s.dem.windows},
                                                     {"fallbacks", s.dem.fallbacks},
+                                                    {"windows_at_level", s.dem.windowsAtLevel},
                                                     {"blocks_read", s.dem.blocksRead},
                                                     {"blocks_evicted", s.dem.blocksEvicted},
                                                     {"blocks_failed", s.dem.blocksFailed},

@@ -44,6 +44,7 @@
 
 #include "app/commands.h"
 #include "app/progress_bar.h"
+#include "io/dem_lod.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
 #include "pyramid/pyramid_build.h"
@@ -167,7 +168,7 @@ void mergeShard(PyramidStore& store, const std::string& path, const PyramidInfo&
 
 // What each rank sends rank 0 after its shards.
 struct RankFigures {
-    enum : std::size_t { Quads, TilesMade, TilesWritten, Times, Run = Times + 9, Resumed, Seconds, Dem, Count = Dem + 6 };
+    enum : std::size_t { Quads, TilesMade, TilesWritten, Times, Run = Times + 9, Resumed, Seconds, Dem, DemLevels = Dem + 6, Count = DemLevels + kMaxDemLevels };
     std::array<double, Count> v{};
 };
 
@@ -184,6 +185,7 @@ RankFigures figuresOf(PyramidJob& job, std::size_t run, std::size_t resumed, dou
     const std::array<double, 6> dem{double(d.windows),       double(d.fallbacks),    double(d.blocksRead),
                                     double(d.blocksEvicted), double(d.blocksFailed), d.readSeconds};
     std::copy(dem.begin(), dem.end(), f.v.begin() + RankFigures::Dem);
+    for (std::size_t l = 0; l < d.windowsAtLevel.size() && l < kMaxDemLevels; ++l) f.v[RankFigures::DemLevels + l] = double(d.windowsAtLevel[l]);
     f.v[RankFigures::Run] = double(run);
     f.v[RankFigures::Resumed] = double(resumed);
     f.v[RankFigures::Seconds] = seconds;
@@ -358,6 +360,12 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
         d.blocksEvicted += std::uint64_t(f[RankFigures::Dem + 3]);
         d.blocksFailed += std::uint64_t(f[RankFigures::Dem + 4]);
         d.readSeconds += f[RankFigures::Dem + 5];
+        for (std::size_t l = 0; l < kMaxDemLevels; ++l) {
+            const auto n = std::uint64_t(f[RankFigures::DemLevels + l]);
+            if (n == 0) continue;
+            if (d.windowsAtLevel.size() <= l) d.windowsAtLevel.resize(l + 1, 0);
+            d.windowsAtLevel[l] += n;
+        }
     }
     // The resumed shards in the order of job.shards().
     const std::string spaced = " " + allNames;

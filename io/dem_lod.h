@@ -41,6 +41,7 @@
 //
 // Units: positions in scene metres, heights in metres.
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -66,6 +67,8 @@ inline constexpr int kDemLodFormatVersion = 1;
 // The null of the coverage (GDAL's usual Float32 nodata): inherited and padding samples.
 inline constexpr float kDemNull = -std::numeric_limits<float>::max();
 inline constexpr int kDefaultDemBlockSide = 256;  // samples
+// More levels than any tree has (blocks of at least 4 samples, at most 2^31 samples a side: 30).
+inline constexpr std::size_t kMaxDemLevels = 32;
 // The largest level a scene holds in memory (SceneDocument::dem of a streamed DEM): samples a side.
 inline constexpr int kInMemoryDemSide = 4096;
 

@@ -196,6 +196,7 @@ DemWindow DemStream::window(const Box& box, double spacing, double priority) {
         }
         for (const auto& [key, samples] : use) touch(blocks_.at(key), priority);
         ++stats_.windows;
+        ++stats_.windowsAtLevel[std::size_t(level)];
         stats_.fallbacks += level < wanted;
     }
     if (level < wanted) wake_.notify_one();
@@ -222,6 +223,7 @@ DemWindow DemStream::windowNow(const Box& box, double spacing) {
         {
             std::lock_guard lock(mutex_);
             ++stats_.windows;
+            ++stats_.windowsAtLevel[std::size_t(level)];
             stats_.fallbacks += level < wanted;
         }
         DemWindow w;

@@ -101,6 +101,7 @@ struct DemStreamStats {
     std::uint64_t refused = 0;     // requests dropped because the budget holds more important blocks
     std::uint64_t failed = 0;      // block reads that failed (corrupt tile): their windows and heights stay coarser
     std::uint64_t windows = 0, fallbacks = 0;  // windows cut, and those from a coarser level than wanted
+    std::array<std::uint64_t, kMaxDemLevels> windowsAtLevel{};  // windows cut from each level
     double loadMs = 0.0;           // time reading and rebuilding blocks
 };
 

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <queue>
-#include <tuple>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 
 #include <tbb/parallel_for.h>
 

@@ -372,7 +372,9 @@ PyramidStats& PyramidJob::stats() {
                impl_->demRead.seconds()};
     if (const auto* streamed = dynamic_cast<const StreamedDem*>(impl_->demSource.get())) {
         const DemStreamStats d = streamed->stats();
-        s.dem = {true, d.windows, d.fallbacks, d.loaded, d.evicted, d.failed, d.loadMs / 1000.0};
+        s.dem = {true, d.windows, d.fallbacks, {}, d.loaded, d.evicted, d.failed, d.loadMs / 1000.0};
+        s.dem.windowsAtLevel.assign(d.windowsAtLevel.begin(), d.windowsAtLevel.end());
+        while (!s.dem.windowsAtLevel.empty() && s.dem.windowsAtLevel.back() == 0) s.dem.windowsAtLevel.pop_back();
     }
     return s;
 }

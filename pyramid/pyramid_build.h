@@ -68,6 +68,7 @@ struct PyramidDemStats {
     bool streamed = false;
     std::uint64_t windows = 0;    // one a quad made
     std::uint64_t fallbacks = 0;  // cut from a coarser level than the quad needs (a block that could not be read)
+    std::vector<std::uint64_t> windowsAtLevel;  // windows cut from each level of the tree (0: the root)
     std::uint64_t blocksRead = 0, blocksEvicted = 0, blocksFailed = 0;
     double readSeconds = 0.0;     // reading and rebuilding blocks, summed over threads
 };

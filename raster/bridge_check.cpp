@@ -11,7 +11,6 @@
 
 #include "model/curve_data.h"
 #include "model/edits.h"
-#include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
 
 namespace lacet {

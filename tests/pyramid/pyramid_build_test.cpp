@@ -470,6 +470,8 @@ TEST(PyramidBuild, AStreamedDemIsReadAtTheLevelEachQuadNeedsNotTheCoarseLevelInM
     EXPECT_TRUE(sb.dem.streamed);
     EXPECT_EQ(sb.dem.windows, sb.quads);
     EXPECT_EQ(sb.dem.fallbacks, 0u);
+    ASSERT_EQ(sb.dem.windowsAtLevel.size(), std::size_t(lod->layout().levels));
+    EXPECT_GE(sb.dem.windowsAtLevel.back(), 64u);  // the deepest quads' windows come from the finest level
     EXPECT_GT(sb.dem.blocksRead, 0u);
     EXPECT_GT(sd.dem.blocksEvicted, 0u);
     EXPECT_FALSE(buildPyramid(fine, a.path, p, true, nullptr).dem.streamed);
