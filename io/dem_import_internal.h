@@ -1,5 +1,5 @@
 #pragma once
-// Private to io/ (io/dem_import.cpp, io/dem_import_lod.cpp): the steps of the DEM import shared by
+// Private to io/ (io/dem_import*.cpp, io/dem_import_lod.cpp): the steps of the DEM import shared by
 // the in-memory importDem and the out-of-core importDemLod, so that both give the same samples from
 // the same formulas: the scene grid, the source window under rows of it, the window read with its
 // voids, the harmonic fill, the bilinear resampling of a row, the seams.
@@ -21,6 +21,21 @@ struct GdalClose {
 using Dataset = std::unique_ptr<GDALDataset, GdalClose>;
 
 std::string number(double v);
+
+// Opens `path` as a raster, quietly; throws DemImportError naming `name` with GDAL's reason.
+Dataset openRaster(const std::string& path, const std::string& name);
+
+// Whether (x, y), in the source CRS, is inside one of the rasters' footprints.
+bool inFootprints(const DemSourceInfo& src, double x, double y);
+
+// A block of one band's samples, its top-left sample (x0, y0) in its raster.
+struct Block {
+    int x0 = 0, y0 = 0, width = 0, height = 0;
+    std::vector<float> values;
+    std::vector<std::uint8_t> valid;
+};
+// Reads a block of band 1 (invalid: non-finite or nodata); throws DemImportError naming `name`.
+Block readBlock(GDALDataset& ds, const std::string& name, int x0, int y0, int width, int height);
 
 // The scene grid over `extent`: width x height cells, sample (i, j) at the centre of cell (i, j),
 // j growing with y (raster/dem.h's convention).
