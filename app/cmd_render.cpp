@@ -18,7 +18,6 @@
 #include "io/scene_file.h"
 #include "model/graph_step.h"
 #include "model/view_params.h"
-#include "raster/dem_height_field.h"
 #include "raster/parallel_producers.h"
 #include "raster/tile_images.h"
 #include "synth/synthetic_dem.h"

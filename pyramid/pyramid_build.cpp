@@ -21,7 +21,6 @@
 #include "pyramid/pyramid_tiles.h"
 #include "pyramid/quad_digest.h"
 #include "raster/appearance_producer.h"
-#include "raster/dem_height_field.h"
 #include "raster/elevation_producer.h"
 
 namespace lacet {

@@ -419,6 +419,17 @@ double largestDifference(const std::string& a, const std::string& b, int level, 
     return worst;
 }
 
+// `dem` written as a LOD tree of 16-sample blocks into a new GeoPackage at `path`.
+std::shared_ptr<const DemLodFile> writeTree(const Dem& dem, const std::string& path) {
+    createEmptyGpkg(path);
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        writeDemLod(db, dem, 16, 0);
+        db.close();
+    }
+    return std::make_shared<const DemLodFile>(path);
+}
+
 // Issue 23 (full resolution in batch): a scene whose DEM is a LOD tree (io/dem_lod.h) holds only a
 // coarse level in memory; the pyramid used to be made from that level, silently. Now each quad
 // reads its window at the level it needs: the deepest tiles equal those made with the finest
@@ -430,13 +441,7 @@ TEST(PyramidBuild, AStreamedDemIsReadAtTheLevelEachQuadNeedsNotTheCoarseLevelInM
     fine.scene = makeSyntheticScene({9, 1500});
     fine.dem = makeSyntheticDem(fine.scene, {9, 5000});
     TempFile tree("pyramid_dem_tree.gpkg");
-    createEmptyGpkg(tree.path);
-    {
-        SqliteDb db(tree.path, SqliteDb::Mode::ReadWrite);
-        writeDemLod(db, *fine.dem, 16, 0);
-        db.close();
-    }
-    const auto lod = std::make_shared<const DemLodFile>(tree.path);
+    const auto lod = writeTree(*fine.dem, tree.path);
     ASSERT_GE(lod->layout().levels, 4);
     const int coarseLevel = lod->layout().levels - 3;  // samples 4x farther apart than the DEM's
     SceneDocument streamed;
@@ -488,19 +493,14 @@ TEST(PyramidUpdate, AStreamedDemTreeIsPartOfTheInputs) {
     doc.scene = makeSyntheticScene({10, 800});
     const Dem dem = makeSyntheticDem(doc.scene, {10, 5000});
     TempFile tree("pyramid_inputs_tree.gpkg"), other("pyramid_inputs_other.gpkg"), f("pyramid_inputs.gpkg");
-    for (const std::string* path : {&tree.path, &other.path}) {
-        createEmptyGpkg(*path);
-        SqliteDb db(*path, SqliteDb::Mode::ReadWrite);
-        std::vector<float> z = dem.heights();
-        if (path == &other.path) z[z.size() / 2] += 5.0f;
-        writeDemLod(db, Dem(dem.extent(), dem.width(), dem.height(), std::move(z)), 16, 0);
-        db.close();
-    }
-    doc.demLod = std::make_shared<const DemLodFile>(tree.path);
+    std::vector<float> z = dem.heights();
+    z[z.size() / 2] += 5.0f;
+    const auto changed = writeTree(Dem(dem.extent(), dem.width(), dem.height(), std::move(z)), other.path);
+    doc.demLod = writeTree(dem, tree.path);
     doc.dem = readDemLevel(*doc.demLod, 0);
     buildPyramid(doc, f.path, smallParams(), false, nullptr);
     EXPECT_EQ(updatePyramid(doc, f.path, nullptr).tilesMade, 0u);
-    doc.demLod = std::make_shared<const DemLodFile>(other.path);  // the same coarse level in memory
+    doc.demLod = changed;  // the same coarse level in memory
     const PyramidStats st = updatePyramid(doc, f.path, nullptr);
     EXPECT_TRUE(st.rebuilt);
     EXPECT_THROW(updatePyramid(doc, f.path, nullptr, 0.0), std::invalid_argument);
