@@ -10,6 +10,7 @@
 
 #include "io/dem_lod.h"
 #include "io/dem_lod_internal.h"
+#include "io/gpkg_coverage.h"
 #include "io/sqlite_db.h"
 
 namespace lacet {
@@ -80,9 +81,9 @@ void copyDemLod(SqliteDb& db, const std::string& from, std::int64_t srsId) {
             }
             db.exec("BEGIN IMMEDIATE");
             inTransaction = true;
-            ensureCoverageTables(db);
+            ensureGpkgTileTables(db, true);
             const std::string srsText = std::to_string(srsId);
-            db.exec(createTileTableSql("main"));
+            db.exec(gpkgTileTableSql("main", kDemLodTable));
             db.exec("INSERT INTO main.\"" + table + "\" (id, zoom_level, tile_column, tile_row, tile_data) SELECT id, zoom_level, "
                     "tile_column, tile_row, tile_data FROM " + src + ".\"" + table + "\"");
             db.exec("INSERT INTO main.gpkg_contents (table_name, data_type, identifier, description, last_change, min_x, min_y, "

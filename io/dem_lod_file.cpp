@@ -13,6 +13,7 @@
 
 #include "io/dem_lod.h"
 #include "io/dem_lod_internal.h"
+#include "io/gpkg_coverage.h"
 #include "io/sqlite_db.h"
 #include "io/tile_codec.h"
 
@@ -79,8 +80,8 @@ DemLodFile::DemLodFile(const std::string& path) : path_(path) {
             s.bindText(1, kDemLodTable);
             if (!s.step()) refuse(path, "no gpkg_tile_matrix_set row");
             if (s.real(0) != layout_.origin.x || s.real(1) != layout_.origin.y)
-                refuse(path, "the tile matrix set's corner (" + sqlReal(s.real(0)) + ", " + sqlReal(s.real(1)) +
-                                 ") is not the origin (" + sqlReal(layout_.origin.x) + ", " + sqlReal(layout_.origin.y) + ")");
+                refuse(path, "the tile matrix set's corner (" + gpkgReal(s.real(0)) + ", " + gpkgReal(s.real(1)) +
+                                 ") is not the origin (" + gpkgReal(layout_.origin.x) + ", " + gpkgReal(layout_.origin.y) + ")");
         }
         {
             auto s = db_->prepare(

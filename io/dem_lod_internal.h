@@ -19,16 +19,10 @@ namespace dem_lod_detail {
 std::string hexText(double v);
 // The reverse of hexText; false for anything else or a value that is not finite.
 bool parseHex(std::string_view s, double& v);
-// "%.17g": exact when read back, what GIS tools expect in the gpkg_* tables' SQL.
-std::string sqlReal(double v);
 // "block (level l, column c, row r)", for messages.
 std::string blockName(int level, int col, int row);
 
-// Creates those of the tables a 2D gridded coverage needs (the DDL of OGC 12-128r15 and 17-066r1)
-// that `db`'s main database lacks.
-void ensureCoverageTables(SqliteDb& db);
-// CREATE TABLE of kDemLodTable, and of kDemLodMetaTable, in `schema` ("main", an ATTACH name).
-std::string createTileTableSql(const std::string& schema);
+// CREATE TABLE of kDemLodMetaTable in `schema` ("main", an ATTACH name).
 std::string createMetaTableSql(const std::string& schema);
 // Whether `schema` of `db` has a table `table`.
 bool hasTableIn(SqliteDb& db, const std::string& schema, const std::string& table);

@@ -10,6 +10,7 @@
 
 #include "io/dem_lod.h"
 #include "io/dem_lod_internal.h"
+#include "io/gpkg_coverage.h"
 #include "io/sqlite_db.h"
 #include "io/tile_codec.h"
 
@@ -25,7 +26,6 @@ namespace {
 // nulls of the padding and of the inherited samples compress away).
 constexpr int kTileDeflateLevel = 6;
 constexpr bool kTileFloatPredictor = true;
-constexpr const char* kGriddedDef = "http://docs.opengeospatial.org/is/17-066r1/17-066r1.html";
 
 }  // namespace
 
@@ -50,55 +50,28 @@ DemLodWriter::DemLodWriter(SqliteDb& db, const DemLodLayout& layout, int srsId) 
         if (!s.step())
             throw std::invalid_argument("DemLodWriter: no gpkg_spatial_ref_sys row of srs_id " + std::to_string(srsId));
     }
-    const std::string table = kDemLodTable, srs = std::to_string(srsId);
+    const std::string table = kDemLodTable;
     const int bs = layout.blockSide, n = layout.levels;
     const double side = double(std::int64_t(bs) << (n - 1)) * layout.cell;  // the padded grid, metres
     const Vec2 o = layout.origin;
+    GpkgTileTable t;
+    t.name = table;
+    t.dataType = GpkgTileTable::DataType::GriddedCoverage;
+    t.description = "Lacet DEM: non-redundant LOD blocks (heights in m; null where a coarser level holds the sample)";
     // grid-value-is-corner: a pixel's value is at its top-left corner, so the data's bounds run from
     // the top-left sample to one cell beyond the last sample.
-    const std::string contents = sqlReal(o.x) + ", " + sqlReal(o.y - double(layout.height) * layout.cell) + ", " +
-                                 sqlReal(o.x + double(layout.width) * layout.cell) + ", " + sqlReal(o.y);
-    const std::string matrixSet = sqlReal(o.x) + ", " + sqlReal(o.y - side) + ", " + sqlReal(o.x + side) + ", " + sqlReal(o.y);
-    ensureCoverageTables(db);
-    db.exec(createTileTableSql("main"));
-    db.exec("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, min_x, min_y, max_x, "
-            "max_y, srs_id) VALUES ('" +
-            table + "', '2d-gridded-coverage', '" + table +
-            "', 'Lacet DEM: non-redundant LOD blocks (heights in m; null where a coarser level holds the sample)', "
-            "strftime('%Y-%m-%dT%H:%M:%fZ','now'), " +
-            contents + ", " + srs + ")");
-    db.exec("INSERT INTO gpkg_tile_matrix_set (table_name, srs_id, min_x, min_y, max_x, max_y) VALUES ('" + table + "', " +
-            srs + ", " + matrixSet + ")");
-    {
-        auto s = db.prepare(
-            "INSERT INTO gpkg_tile_matrix (table_name, zoom_level, matrix_width, matrix_height, tile_width, tile_height, "
-            "pixel_x_size, pixel_y_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
-        for (int l = 0; l < n; ++l) {
-            s.bindText(1, table);
-            s.bind(2, std::int64_t(l));
-            s.bind(3, std::int64_t(layout.blocksPerSide(l)));
-            s.bind(4, std::int64_t(layout.blocksPerSide(l)));
-            s.bind(5, std::int64_t(bs));
-            s.bind(6, std::int64_t(bs));
-            s.bind(7, layout.levelCell(l));
-            s.bind(8, layout.levelCell(l));
-            s.step();
-            s.reset();
-        }
-    }
-    for (const char* t : {"gpkg_2d_gridded_coverage_ancillary", "gpkg_2d_gridded_tile_ancillary"})
-        db.exec(std::string("INSERT OR IGNORE INTO gpkg_extensions VALUES ('") + t + "', NULL, 'gpkg_2d_gridded_coverage', '" +
-                kGriddedDef + "', 'read-write')");
-    db.exec("INSERT OR IGNORE INTO gpkg_extensions VALUES ('" + table + "', 'tile_data', 'gpkg_2d_gridded_coverage', '" +
-            kGriddedDef + "', 'read-write')");
-    {
-        auto s = db.prepare(
-            "INSERT INTO gpkg_2d_gridded_coverage_ancillary (tile_matrix_set_name, datatype, scale, offset, precision, "
-            "data_null, grid_cell_encoding, uom) VALUES (?, 'float', 1.0, 0.0, 0.0, ?, 'grid-value-is-corner', 'm')");
-        s.bindText(1, table);
-        s.bind(2, double(kDemNull));
-        s.step();
-    }
+    t.contents = {{o.x, o.y - double(layout.height) * layout.cell}, {o.x + double(layout.width) * layout.cell, o.y}};
+    t.matrixSet = {{o.x, o.y - side}, {o.x + side, o.y}};
+    t.srsId = srsId;
+    for (int l = 0; l < n; ++l)
+        t.matrices.push_back({.zoomLevel = l,
+                              .matrixWidth = layout.blocksPerSide(l),
+                              .matrixHeight = layout.blocksPerSide(l),
+                              .tileWidth = bs,
+                              .tileHeight = bs,
+                              .pixelXSize = layout.levelCell(l),
+                              .pixelYSize = layout.levelCell(l)});
+    createGpkgTileTable(db, t, {.precision = 0.0, .dataNull = double(kDemNull), .gridCellEncoding = "grid-value-is-corner", .uom = "m"});
     insert_ = db.prepareKept("INSERT INTO \"" + table + "\" (id, zoom_level, tile_column, tile_row, tile_data) VALUES (?, ?, ?, ?, ?)");
     ancillary_ = db.prepareKept(
         "INSERT INTO gpkg_2d_gridded_tile_ancillary (tpudt_name, tpudt_id, scale, offset, min, max, mean, std_dev) VALUES "

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 
+#include "io/gpkg_coverage.h"
 #include "io/gpkg_dem.h"
 
 namespace lacet {
@@ -15,13 +16,6 @@ namespace {
 constexpr const char* kInfoTable = "lacet_pyramid";
 constexpr const char* kQuadsTable = "lacet_pyramid_quads";
 constexpr int kBusyTimeoutMs = 30000;  // ms a statement waits for another connection's lock
-constexpr const char* kGriddedDef = "http://docs.opengeospatial.org/is/17-066r1/17-066r1.html";
-
-std::string exact(double v) {
-    char s[64];
-    std::snprintf(s, sizeof s, "%.17g", v);
-    return s;
-}
 
 const std::string& ensureGpkg(const std::string& path, PyramidStore::Mode mode) {
     if (mode == PyramidStore::Mode::ReadWrite && !std::filesystem::exists(path)) createEmptyGpkg(path);
@@ -120,16 +114,7 @@ SqliteStatement& PyramidStore::statement(const std::string& sql) {
 
 void PyramidStore::dropPyramid() {
     statements_.clear();  // no statement may hold a table being dropped
-    for (const char* t : {kAppearanceTable, kWaterTable, kElevationTable}) {
-        db_.exec(std::string("DROP TABLE IF EXISTS \"") + t + "\"");
-        for (const char* meta : {"gpkg_tile_matrix", "gpkg_tile_matrix_set", "gpkg_contents"})
-            if (db_.hasTable(meta)) db_.exec(std::string("DELETE FROM ") + meta + " WHERE table_name = '" + t + "'");
-        if (db_.hasTable("gpkg_extensions")) db_.exec(std::string("DELETE FROM gpkg_extensions WHERE table_name = '") + t + "'");
-        if (db_.hasTable("gpkg_2d_gridded_coverage_ancillary"))
-            db_.exec(std::string("DELETE FROM gpkg_2d_gridded_coverage_ancillary WHERE tile_matrix_set_name = '") + t + "'");
-        if (db_.hasTable("gpkg_2d_gridded_tile_ancillary"))
-            db_.exec(std::string("DELETE FROM gpkg_2d_gridded_tile_ancillary WHERE tpudt_name = '") + t + "'");
-    }
+    for (const char* t : {kAppearanceTable, kWaterTable, kElevationTable}) dropGpkgTileTable(db_, t);
     for (const char* t : {kInfoTable, kQuadsTable}) {
         db_.exec(std::string("DROP TABLE IF EXISTS ") + t);
         db_.exec(std::string("DELETE FROM gpkg_contents WHERE table_name = '") + t + "'");
@@ -158,75 +143,30 @@ void PyramidStore::create(const PyramidInfo& info) {
         }
     }
     const Box& e = info.extent;
-    const std::string box = exact(e.min.x) + ", " + exact(e.min.y) + ", " + exact(e.max.x) + ", " + exact(e.max.y);
-    const auto tileTable = [&](const char* name, const char* dataType, const std::string& description, int tilePixels) {
-        db_.exec(std::string("CREATE TABLE \"") + name +
-                 "\" (id INTEGER PRIMARY KEY AUTOINCREMENT, zoom_level INTEGER NOT NULL, tile_column INTEGER NOT NULL, "
-                 "tile_row INTEGER NOT NULL, tile_data BLOB NOT NULL, UNIQUE (zoom_level, tile_column, tile_row))");
-        db_.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change, min_x, "
-                             "min_y, max_x, max_y, srs_id) VALUES ('") +
-                 name + "', '" + dataType + "', '" + name + "', '" + description +
-                 "', strftime('%Y-%m-%dT%H:%M:%fZ','now'), " + box + ", " + std::to_string(srs) + ")");
-        db_.exec(std::string("INSERT INTO gpkg_tile_matrix_set (table_name, srs_id, min_x, min_y, max_x, max_y) VALUES ('") +
-                 name + "', " + std::to_string(srs) + ", " + box + ")");
-        auto st = db_.prepare(
-            "INSERT INTO gpkg_tile_matrix (table_name, zoom_level, matrix_width, matrix_height, tile_width, tile_height, "
-            "pixel_x_size, pixel_y_size) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+    const auto tileTable = [&](const char* name, GpkgTileTable::DataType dataType, const std::string& description, int tilePixels) {
+        GpkgTileTable t{.name = name, .dataType = dataType, .description = description, .contents = e, .matrixSet = e, .srsId = srs, .matrices = {}};
         for (int l = info.minLevel; l <= info.maxLevel; ++l) {
             const std::int64_t n = std::int64_t(1) << l;
-            const double px = (e.max.x - e.min.x) / double(n) / double(tilePixels);
-            const double py = (e.max.y - e.min.y) / double(n) / double(tilePixels);
-            st.bindText(1, name);
-            st.bind(2, std::int64_t(l));
-            st.bind(3, n);
-            st.bind(4, n);
-            st.bind(5, std::int64_t(tilePixels));
-            st.bind(6, std::int64_t(tilePixels));
-            st.bind(7, px);
-            st.bind(8, py);
-            st.step();
-            st.reset();
+            t.matrices.push_back({.zoomLevel = l,
+                                  .matrixWidth = n,
+                                  .matrixHeight = n,
+                                  .tileWidth = tilePixels,
+                                  .tileHeight = tilePixels,
+                                  .pixelXSize = (e.max.x - e.min.x) / double(n) / double(tilePixels),
+                                  .pixelYSize = (e.max.y - e.min.y) / double(n) / double(tilePixels)});
         }
-    };
-    const auto extensionsTable = [&] {
-        db_.exec(
-            "CREATE TABLE IF NOT EXISTS gpkg_extensions (table_name TEXT, column_name TEXT, extension_name TEXT NOT NULL, "
-            "definition TEXT NOT NULL, scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name))");
+        createGpkgTileTable(db_, t, {.precision = 0.0, .dataNull = std::nullopt, .gridCellEncoding = "grid-value-is-center", .uom = "m"});
     };
     if (info.appearance) {
-        tileTable(kAppearanceTable, "tiles", "Lacet appearance pyramid: colour (RGB)", info.tileSize);
-        tileTable(kWaterTable, "tiles", "Lacet appearance pyramid: water mask (0 land, 255 water; missing tiles: no water)",
-                  info.tileSize);
-        if (info.encoding.rfind("webp", 0) == 0) {
-            extensionsTable();
-            db_.exec(std::string("INSERT INTO gpkg_extensions VALUES ('") + kAppearanceTable +
-                     "', 'tile_data', 'gpkg_webp', 'http://www.geopackage.org/spec120/#extension_tiles_webp', 'read-write')");
-        }
+        tileTable(kAppearanceTable, GpkgTileTable::DataType::Tiles, "Lacet appearance pyramid: colour (RGB)", info.tileSize);
+        tileTable(kWaterTable, GpkgTileTable::DataType::Tiles,
+                  "Lacet appearance pyramid: water mask (0 land, 255 water; missing tiles: no water)", info.tileSize);
+        if (info.encoding.rfind("webp", 0) == 0)
+            addGpkgExtension(db_, kAppearanceTable, "tile_data", "gpkg_webp", "http://www.geopackage.org/spec120/#extension_tiles_webp");
     }
-    if (info.elevation) {
-        tileTable(kElevationTable, "2d-gridded-coverage", "Lacet elevation pyramid: z_m (m) at cell centres", info.elevationSize);
-        extensionsTable();
-        db_.exec(
-            "CREATE TABLE IF NOT EXISTS gpkg_2d_gridded_coverage_ancillary (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
-            "tile_matrix_set_name TEXT NOT NULL UNIQUE, datatype TEXT NOT NULL DEFAULT 'integer', scale REAL NOT NULL DEFAULT 1.0, "
-            "offset REAL NOT NULL DEFAULT 0.0, precision REAL DEFAULT 1.0, data_null REAL, grid_cell_encoding TEXT DEFAULT "
-            "'grid-value-is-center', uom TEXT, field_name TEXT DEFAULT 'Height', quantity_definition TEXT DEFAULT 'Height', "
-            "CONSTRAINT fk_g2dgtct_name FOREIGN KEY(tile_matrix_set_name) REFERENCES gpkg_tile_matrix_set ( table_name ) "
-            "CHECK (datatype in ('integer','float')))");
-        db_.exec(
-            "CREATE TABLE IF NOT EXISTS gpkg_2d_gridded_tile_ancillary (id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
-            "tpudt_name TEXT NOT NULL, tpudt_id INTEGER NOT NULL, scale REAL NOT NULL DEFAULT 1.0, offset REAL NOT NULL DEFAULT "
-            "0.0, min REAL DEFAULT NULL, max REAL DEFAULT NULL, mean REAL DEFAULT NULL, std_dev REAL DEFAULT NULL, CONSTRAINT "
-            "fk_g2dgtat_name FOREIGN KEY (tpudt_name) REFERENCES gpkg_contents(table_name), UNIQUE (tpudt_name, tpudt_id))");
-        for (const char* t : {"gpkg_2d_gridded_coverage_ancillary", "gpkg_2d_gridded_tile_ancillary"})
-            db_.exec(std::string("INSERT OR IGNORE INTO gpkg_extensions VALUES ('") + t + "', NULL, 'gpkg_2d_gridded_coverage', '" +
-                     kGriddedDef + "', 'read-write')");
-        db_.exec(std::string("INSERT OR IGNORE INTO gpkg_extensions VALUES ('") + kElevationTable +
-                 "', 'tile_data', 'gpkg_2d_gridded_coverage', '" + kGriddedDef + "', 'read-write')");
-        db_.exec(std::string("INSERT INTO gpkg_2d_gridded_coverage_ancillary (tile_matrix_set_name, datatype, scale, offset, "
-                             "precision, grid_cell_encoding, uom) VALUES ('") +
-                 kElevationTable + "', 'float', 1.0, 0.0, 0.0, 'grid-value-is-center', 'm')");
-    }
+    if (info.elevation)
+        tileTable(kElevationTable, GpkgTileTable::DataType::GriddedCoverage, "Lacet elevation pyramid: z_m (m) at cell centres",
+                  info.elevationSize);
     db_.exec(std::string("CREATE TABLE ") + kInfoTable + " (key TEXT PRIMARY KEY NOT NULL, value TEXT NOT NULL)");
     db_.exec(std::string("CREATE TABLE ") + kQuadsTable +
              " (level INTEGER NOT NULL, quad_x INTEGER NOT NULL, quad_y INTEGER NOT NULL, digest INTEGER NOT NULL, "
@@ -248,9 +188,9 @@ void PyramidStore::writeInfo(const PyramidInfo& i) {
         {"max_level", std::to_string(i.maxLevel)},           {"vector_level", std::to_string(i.vectorLevel)},
         {"appearance", i.appearance ? "1" : "0"},            {"elevation", i.elevation ? "1" : "0"},
         {"tile_size", std::to_string(i.tileSize)},           {"elevation_size", std::to_string(i.elevationSize)},
-        {"encoding", i.encoding},                            {"min_x", exact(i.extent.min.x)},
-        {"min_y", exact(i.extent.min.y)},                    {"max_x", exact(i.extent.max.x)},
-        {"max_y", exact(i.extent.max.y)},                    {"crs_wkt", i.crsWkt},
+        {"encoding", i.encoding},                            {"min_x", gpkgReal(i.extent.min.x)},
+        {"min_y", gpkgReal(i.extent.min.y)},                    {"max_x", gpkgReal(i.extent.max.x)},
+        {"max_y", gpkgReal(i.extent.max.y)},                    {"crs_wkt", i.crsWkt},
         {"inputs", inputs},                                  {"complete", i.complete ? "1" : "0"},
         {"scene_checksum", i.sceneChecksum}};
     auto st = db_.prepare(std::string("INSERT OR REPLACE INTO ") + kInfoTable + " (key, value) VALUES (?, ?)");
