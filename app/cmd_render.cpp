@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "app/commands.h"
@@ -16,6 +17,7 @@
 #include "io/dem_stream.h"
 #include "io/image_file.h"
 #include "io/scene_file.h"
+#include "io/scene_region.h"
 #include "model/graph_step.h"
 #include "model/view_params.h"
 #include "raster/parallel_producers.h"
@@ -166,8 +168,17 @@ void run(const RenderOptions& o) {
 
     auto t0 = Clock::now();
     SceneDocument doc;
+    std::optional<SceneRegionStats> regionStats;
     if (!o.scene.empty()) {
-        doc = loadScene(o.scene);
+        // A region reads only the vector data its tiles need, found through the feature tables'
+        // R-trees (io/scene_region.h): the same tiles as the whole scene, in memory that follows
+        // the region.
+        if (o.region.empty()) {
+            doc = loadScene(o.scene);
+        } else {
+            regionStats.emplace();
+            doc = loadSceneRegion(o.scene, region, refine, o.level, &*regionStats);
+        }
         if (!doc.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
     } else {
         const double side = syntheticExtentSide(o.curves);
@@ -255,6 +266,14 @@ void run(const RenderOptions& o) {
               << " (" << graphStep.counters().importedBridgesOverRivers << " over a river), roads at roundabouts "
               << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
               << counters.curvesOnStructures << "\n";
+    if (regionStats) {
+        const SceneRegionStats& r = *regionStats;
+        std::cout << "Vector data of the region: " << r.curves << " of " << r.sceneCurves << " curves, " << r.areas << " of "
+                  << r.sceneAreas << " areas, " << r.nodes << " of " << r.sceneNodes << " nodes read ("
+                  << r.found << " found within " << r.reach << " m of its quads through the R-trees, the rest what they depend on)"
+                  << (r.wholeScene ? "; the file has no feature index (saved before it): the whole scene was read" : "")
+                  << "\n";
+    }
     if (const auto* streamed = dynamic_cast<const StreamedDem*>(demSource.get())) {
         const DemStreamStats d = streamed->stats();
         std::cout << "Streamed DEM: " << d.windows << " windows at the level each quad needs (" << d.fallbacks

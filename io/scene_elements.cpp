@@ -2,6 +2,7 @@
 #include <sqlite3.h>
 
 #include <cmath>
+#include <functional>
 #include <span>
 #include <sstream>
 #include <vector>
@@ -12,7 +13,6 @@
 namespace lacet::scene_format {
 namespace {
 
-constexpr std::int64_t kMaxId = 0xffffffffLL;  // ElementId is 32 bits
 constexpr std::uint8_t kOnCurveBit = 1u, kClosingBit = 2u;
 
 // ---- writing ----
@@ -264,28 +264,36 @@ void readLayers(SqliteDb& db, Scene& scene) {
     }
 }
 
-void readNodes(SqliteDb& db, Scene& scene) {
+// Columns: layer, id, x, y, alive, curves, exact, roundabout.
+Node decodeNode(const SqliteStatement& s, const Row& row) {
+    Node n;
+    if (const auto exact = exactColumn(s, 6, 16, row); !exact.empty()) {
+        ByteReader r(exact);
+        r.f64(n.p.x);
+        r.f64(n.p.y);
+    } else {
+        n.p = {realColumn(s, 2, "x", row), realColumn(s, 3, "y", row)};
+    }
+    n.alive = boolColumn(s, 4, "alive", row);
+    n.curves = idListColumn(s, 5, "curves", row);
+    n.roundabout = floatColumn(s, 7, "roundabout", row);
+    if (!std::isfinite(n.roundabout) || n.roundabout < 0.0f) row.fail("roundabout is not a finite radius >= 0");
+    return n;
+}
+
+std::string nodeColumns(SqliteDb& db) {
     // Files written before roundabouts have no roundabout column: their nodes have none.
     const bool hasRoundabout =
         db.queryInteger("SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'") != 0;
-    auto s = db.prepare(std::string("SELECT layer, id, x, y, alive, curves, exact, ") +
-                        (hasRoundabout ? "roundabout" : "0.0") + " FROM lacet_nodes ORDER BY layer, id");
+    return std::string("layer, id, x, y, alive, curves, exact, ") + (hasRoundabout ? "roundabout" : "0.0");
+}
+
+void readNodes(SqliteDb& db, Scene& scene) {
+    auto s = db.prepare("SELECT " + nodeColumns(db) + " FROM lacet_nodes ORDER BY layer, id");
     while (s.step()) {
         Row row{"lacet_nodes"};
         Layer& layer = rowLayer(s, scene.layers, &Layer::nodes, row);
-        Node n;
-        if (const auto exact = exactColumn(s, 6, 16, row); !exact.empty()) {
-            ByteReader r(exact);
-            r.f64(n.p.x);
-            r.f64(n.p.y);
-        } else {
-            n.p = {realColumn(s, 2, "x", row), realColumn(s, 3, "y", row)};
-        }
-        n.alive = boolColumn(s, 4, "alive", row);
-        n.curves = idListColumn(s, 5, "curves", row);
-        n.roundabout = floatColumn(s, 7, "roundabout", row);
-        if (!std::isfinite(n.roundabout) || n.roundabout < 0.0f) row.fail("roundabout is not a finite radius >= 0");
-        layer.nodes.push_back(std::move(n));
+        layer.nodes.push_back(decodeNode(s, row));
     }
 }
 
@@ -309,30 +317,34 @@ std::vector<Vertex> verticesColumn(const SqliteStatement& s, int col, const Row&
     return v;
 }
 
+constexpr const char* kCurveColumns = "layer, id, start, \"end\", w, wf, cls, flags, alive, vertices, areas, exact";
+
+Curve decodeCurve(const SqliteStatement& s, const Row& row) {
+    Curve c;
+    c.start = ElementId(integerColumn(s, 2, 0, kMaxId, "start", row));
+    c.end = ElementId(integerColumn(s, 3, 0, kMaxId, "end", row));
+    if (const auto exact = exactColumn(s, 11, 8, row); !exact.empty()) {
+        ByteReader r(exact);
+        r.f32(c.w);
+        r.f32(c.wf);
+    } else {
+        c.w = floatColumn(s, 4, "w", row);
+        c.wf = floatColumn(s, 5, "wf", row);
+    }
+    c.cls = std::uint16_t(integerColumn(s, 6, 0, 0xffff, "cls", row));
+    c.flags = std::uint16_t(integerColumn(s, 7, 0, 0xffff, "flags", row));
+    c.alive = boolColumn(s, 8, "alive", row);
+    c.vertices = verticesColumn(s, 9, row);
+    c.areas = idListColumn(s, 10, "areas", row);
+    return c;
+}
+
 void readCurves(SqliteDb& db, Scene& scene) {
-    auto s = db.prepare(
-        "SELECT layer, id, start, \"end\", w, wf, cls, flags, alive, vertices, areas, exact FROM lacet_curves "
-        "ORDER BY layer, id");
+    auto s = db.prepare(std::string("SELECT ") + kCurveColumns + " FROM lacet_curves ORDER BY layer, id");
     while (s.step()) {
         Row row{"lacet_curves"};
         Layer& layer = rowLayer(s, scene.layers, &Layer::curves, row);
-        Curve c;
-        c.start = ElementId(integerColumn(s, 2, 0, kMaxId, "start", row));
-        c.end = ElementId(integerColumn(s, 3, 0, kMaxId, "end", row));
-        if (const auto exact = exactColumn(s, 11, 8, row); !exact.empty()) {
-            ByteReader r(exact);
-            r.f32(c.w);
-            r.f32(c.wf);
-        } else {
-            c.w = floatColumn(s, 4, "w", row);
-            c.wf = floatColumn(s, 5, "wf", row);
-        }
-        c.cls = std::uint16_t(integerColumn(s, 6, 0, 0xffff, "cls", row));
-        c.flags = std::uint16_t(integerColumn(s, 7, 0, 0xffff, "flags", row));
-        c.alive = boolColumn(s, 8, "alive", row);
-        c.vertices = verticesColumn(s, 9, row);
-        c.areas = idListColumn(s, 10, "areas", row);
-        layer.curves.push_back(std::move(c));
+        layer.curves.push_back(decodeCurve(s, row));
     }
 }
 
@@ -359,44 +371,29 @@ std::vector<std::vector<AreaEdge>> loopsColumn(const SqliteStatement& s, int col
     return loops;
 }
 
+constexpr const char* kAreaColumns = "layer, id, wf, cls, axial, alive, loops, exact";
+
+Area decodeArea(const SqliteStatement& s, const Row& row) {
+    Area a;
+    if (const auto exact = exactColumn(s, 7, 4, row); !exact.empty()) {
+        ByteReader r(exact);
+        r.f32(a.wf);
+    } else {
+        a.wf = floatColumn(s, 2, "wf", row);
+    }
+    a.cls = std::uint16_t(integerColumn(s, 3, 0, 0xffff, "cls", row));
+    a.axial = ElementId(integerColumn(s, 4, 0, kMaxId, "axial", row));
+    a.alive = boolColumn(s, 5, "alive", row);
+    a.loops = loopsColumn(s, 6, row);
+    return a;
+}
+
 void readAreas(SqliteDb& db, Scene& scene) {
-    auto s = db.prepare("SELECT layer, id, wf, cls, axial, alive, loops, exact FROM lacet_areas ORDER BY layer, id");
+    auto s = db.prepare(std::string("SELECT ") + kAreaColumns + " FROM lacet_areas ORDER BY layer, id");
     while (s.step()) {
         Row row{"lacet_areas"};
         Layer& layer = rowLayer(s, scene.layers, &Layer::areas, row);
-        Area a;
-        if (const auto exact = exactColumn(s, 7, 4, row); !exact.empty()) {
-            ByteReader r(exact);
-            r.f32(a.wf);
-        } else {
-            a.wf = floatColumn(s, 2, "wf", row);
-        }
-        a.cls = std::uint16_t(integerColumn(s, 3, 0, 0xffff, "cls", row));
-        a.axial = ElementId(integerColumn(s, 4, 0, kMaxId, "axial", row));
-        a.alive = boolColumn(s, 5, "alive", row);
-        a.loops = loopsColumn(s, 6, row);
-        layer.areas.push_back(std::move(a));
-    }
-}
-
-// Attributes must name an existing element slot.
-void readAttributes(SqliteDb& db, SceneDocument& doc) {
-    auto s = db.prepare("SELECT layer, kind, id, key, value FROM lacet_attributes ORDER BY fid");
-    while (s.step()) {
-        Row row{"lacet_attributes"};
-        ElementAttribute a;
-        const std::int64_t layer = integerColumn(s, 0, 0, std::int64_t(doc.scene.layers.size()) - 1, "layer", row);
-        row.layer = layer;
-        a.layer = LayerId(layer);
-        a.kind = ElementKind(integerColumn(s, 1, 0, 2, "kind", row));
-        const Layer& l = doc.scene.layers[a.layer];
-        const std::size_t count = a.kind == ElementKind::Node ? l.nodes.size() : a.kind == ElementKind::Curve ? l.curves.size() : l.areas.size();
-        if (count == 0) row.fail("names an element of an empty kind");
-        a.id = ElementId(integerColumn(s, 2, 0, std::int64_t(count) - 1, "id", row));
-        if (s.type(3) != SQLITE_TEXT || s.type(4) != SQLITE_TEXT) row.fail("key and value must be text");
-        a.key = s.text(3);
-        a.value = s.text(4);
-        doc.attributes.push_back(std::move(a));
+        layer.areas.push_back(decodeArea(s, row));
     }
 }
 
@@ -415,7 +412,57 @@ void readElementTables(SqliteDb& db, SceneDocument& doc) {
     readNodes(db, doc.scene);
     readCurves(db, doc.scene);
     readAreas(db, doc.scene);
-    readAttributes(db, doc);
+    readAttributesOf(db, doc, [](const ElementAttribute&) { return true; });
+}
+
+ElementRows::ElementRows(SqliteDb& db)
+    : node_(db.prepareKept("SELECT " + nodeColumns(db) + " FROM lacet_nodes WHERE layer = ? AND id = ?")),
+      curve_(db.prepareKept(std::string("SELECT ") + kCurveColumns + " FROM lacet_curves WHERE layer = ? AND id = ?")),
+      area_(db.prepareKept(std::string("SELECT ") + kAreaColumns + " FROM lacet_areas WHERE layer = ? AND id = ?")) {}
+
+ElementRows::~ElementRows() = default;
+
+namespace {
+template <class Element, class Decode>
+Element readOne(SqliteStatement& s, const char* table, LayerId layer, ElementId id, Decode decode) {
+    s.reset();
+    s.bind(1, std::int64_t(layer));
+    s.bind(2, std::int64_t(id));
+    Row row{table, std::int64_t(layer), std::int64_t(id)};
+    if (!s.step()) row.fail("missing");
+    Element e = decode(s, row);
+    s.reset();
+    return e;
+}
+}  // namespace
+
+Node ElementRows::node(LayerId layer, ElementId id) { return readOne<Node>(*node_, "lacet_nodes", layer, id, decodeNode); }
+Curve ElementRows::curve(LayerId layer, ElementId id) {
+    return readOne<Curve>(*curve_, "lacet_curves", layer, id, decodeCurve);
+}
+Area ElementRows::area(LayerId layer, ElementId id) { return readOne<Area>(*area_, "lacet_areas", layer, id, decodeArea); }
+
+void readLayerTable(SqliteDb& db, Scene& scene) { readLayers(db, scene); }
+
+void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool(const ElementAttribute&)>& wanted) {
+    auto s = db.prepare("SELECT layer, kind, id, key, value FROM lacet_attributes ORDER BY fid");
+    while (s.step()) {
+        Row row{"lacet_attributes"};
+        ElementAttribute a;
+        const std::int64_t layer = integerColumn(s, 0, 0, std::int64_t(doc.scene.layers.size()) - 1, "layer", row);
+        row.layer = layer;
+        a.layer = LayerId(layer);
+        a.kind = ElementKind(integerColumn(s, 1, 0, 2, "kind", row));
+        const Layer& l = doc.scene.layers[a.layer];
+        const std::size_t count = a.kind == ElementKind::Node ? l.nodes.size() : a.kind == ElementKind::Curve ? l.curves.size() : l.areas.size();
+        if (count == 0) row.fail("names an element of an empty kind");
+        a.id = ElementId(integerColumn(s, 2, 0, std::int64_t(count) - 1, "id", row));
+        if (s.type(3) != SQLITE_TEXT || s.type(4) != SQLITE_TEXT) row.fail("key and value must be text");
+        if (!wanted(a)) continue;
+        a.key = s.text(3);
+        a.value = s.text(4);
+        doc.attributes.push_back(std::move(a));
+    }
 }
 
 }  // namespace lacet::scene_format

@@ -242,7 +242,7 @@ Envelope insertFeatures(SqliteDb& db, const SceneDocument& doc, const FeatureTab
     sql += ") VALUES (?";
     for (std::size_t k = 1; k < std::size_t(fixed) + columns.size(); ++k) sql += ", ?";
     auto s = db.prepare(sql + ")");
-    auto rtree = db.prepare("INSERT INTO " + quoted("rtree_" + t.name + "_" + kGeometryColumn) + " VALUES (?, ?, ?, ?, ?)");
+    auto rtree = db.prepare("INSERT INTO " + quoted(featureRtreeName(t.name)) + " VALUES (?, ?, ?, ?, ?)");
     const Layer& layer = doc.scene.layers[t.layer];
     const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
     ByteWriter blob;
@@ -321,9 +321,43 @@ void registerTable(SqliteDb& db, const Layer& layer, const FeatureTable& t, cons
     g.step();
 }
 
+// kFeatureIndexTable: which table holds which layer's curves or areas, for loadSceneRegion.
+void writeFeatureIndex(SqliteDb& db, const SceneDocument& doc, const std::vector<FeatureTable>& tables, double tolerance) {
+    db.exec(std::string("CREATE TABLE ") + kFeatureIndexTable +
+            " (table_name TEXT PRIMARY KEY NOT NULL, layer INTEGER NOT NULL, polygons BOOLEAN NOT NULL, tolerance REAL NOT "
+            "NULL, max_curve_wf REAL NOT NULL, max_area_wf REAL NOT NULL)");
+    db.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) VALUES ('") +
+            kFeatureIndexTable + "', 'attributes', '" + kFeatureIndexTable +
+            "', 'Lacet scene: the layer of each feature table (derived)', strftime('%Y-%m-%dT%H:%M:%fZ', 'now'))");
+    auto s = db.prepare(std::string("INSERT INTO ") + kFeatureIndexTable + " VALUES (?, ?, ?, ?, ?, ?)");
+    for (const FeatureTable& t : tables) {
+        const Layer& layer = doc.scene.layers[t.layer];
+        double curveWf = 0.0, areaWf = 0.0;
+        for (ElementId id : t.elements) {
+            if (!t.polygons) {
+                curveWf = std::max(curveWf, double(layer.curves[id].wf));
+                continue;
+            }
+            const Area& a = layer.areas[id];
+            areaWf = std::max(areaWf, double(a.wf));
+            for (const auto& loop : a.loops)
+                for (const AreaEdge& e : loop) curveWf = std::max(curveWf, double(layer.curves[e.curve].wf));
+            if (a.axial != kNoElement) curveWf = std::max(curveWf, double(layer.curves[a.axial].wf));
+        }
+        s.bindText(1, t.name);
+        s.bind(2, std::int64_t(t.layer));
+        s.bind(3, std::int64_t(t.polygons));
+        s.bind(4, tolerance);
+        s.bind(5, curveWf);
+        s.bind(6, areaWf);
+        s.step();
+        s.reset();
+    }
+}
+
 // The R-tree and its extension row; the triggers come after the features, which fill it directly.
 void createRtree(SqliteDb& db, const FeatureTable& t) {
-    db.exec("CREATE VIRTUAL TABLE " + quoted("rtree_" + t.name + "_" + kGeometryColumn) +
+    db.exec("CREATE VIRTUAL TABLE " + quoted(featureRtreeName(t.name)) +
             " USING rtree(id, minx, maxx, miny, maxy)");
     auto s = db.prepare(
         "INSERT INTO gpkg_extensions (table_name, column_name, extension_name, definition, scope) "
@@ -338,8 +372,8 @@ void createRtree(SqliteDb& db, const FeatureTable& t) {
 // GIS tool edits the table.
 void createRtreeTriggers(SqliteDb& db, const FeatureTable& t) {
     const std::string table = quoted(t.name), c = std::string("\"") + kGeometryColumn + "\"",
-                      rtree = quoted("rtree_" + t.name + "_" + kGeometryColumn),
-                      prefix = "rtree_" + t.name + "_" + kGeometryColumn;
+                      rtree = quoted(featureRtreeName(t.name)),
+                      prefix = featureRtreeName(t.name);
     const std::string insertRow = "INSERT OR REPLACE INTO " + rtree + " VALUES (NEW.\"fid\", ST_MinX(NEW." + c +
                                   "), ST_MaxX(NEW." + c + "), ST_MinY(NEW." + c + "), ST_MaxY(NEW." + c + "));";
     const std::string nonEmpty = "(NEW." + c + " NOTNULL AND NOT ST_IsEmpty(NEW." + c + "))";
@@ -483,6 +517,7 @@ std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& 
         createRtreeTriggers(db, t);
         if (gdalCounts) recordFeatureCount(db, t);
     }
+    writeFeatureIndex(db, doc, tables, params.tolerance);
     return tables;
 }
 

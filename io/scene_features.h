@@ -37,6 +37,11 @@
 // WKT in a new row (srs_id 100000 or above, as GDAL numbers CRSs it cannot identify); without a
 // georeference, -1 ("undefined Cartesian coordinate reference system").
 //
+// Table kFeatureIndexTable (table_name, layer, polygons, tolerance, max_curve_wf, max_area_wf) lists
+// the tables written, with the largest wf of their curves (a polygon table's: of its areas' loops and
+// axial curves) and of their areas, so that io/scene_region.h finds a layer's curves and areas by
+// bounding box through their R-trees, and knows how far around a region they may reach.
+//
 // Each table gets an R-tree spatial index (GeoPackage extension gpkg_rtree_index, with the standard
 // triggers, which call the ST_* functions GIS tools register) and, when the file has GDAL's
 // gpkg_ogr_contents table, its feature count and GDAL's count triggers, as GDAL writes them.
@@ -51,6 +56,10 @@
 #include "io/sqlite_db.h"
 
 namespace lacet {
+
+inline constexpr const char* kFeatureIndexTable = "lacet_feature_tables";
+// The name of the R-tree of feature table `table`.
+inline std::string featureRtreeName(const std::string& table) { return "rtree_" + table + "_geom"; }
 
 struct FeatureTableParams {
     // Largest distance (metres, > 0) between a feature's polyline and its Bezier spline, both ways.

@@ -115,12 +115,12 @@ bool isLacetScene(const std::string& path) {
     }
 }
 
-SceneDocument loadScene(const std::string& path) {
+std::string scene_format::loadSceneParts(const std::string& path, SceneDocument& doc,
+                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw SceneFileError(path + ": cannot open: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw SceneFileError(path + ": is a directory, not a Lacet scene");
     if (st.st_size == 0) throw SceneFileError(path + ": empty file, not a Lacet scene");
-    SceneDocument doc;
     std::string checksum;
     try {
         SqliteDb db(path, SqliteDb::Mode::ReadOnly);
@@ -133,7 +133,7 @@ SceneDocument loadScene(const std::string& path) {
                                         metaDouble(meta, "georeference_origin_shift_y")};
         doc.georeference.crsWkt = metaValue(meta, "crs_wkt");
         checksum = metaValue(meta, "checksum");
-        readElementTables(db, doc);
+        readElements(db, doc);
         const std::string& dem = metaValue(meta, "dem");
         std::int64_t demWidth = 0, demHeight = 0;
         if (dem == kDemRasterTable || dem == kDemLodTable) {
@@ -179,6 +179,12 @@ SceneDocument loadScene(const std::string& path) {
     }
     if (auto problems = validate(doc.scene); !problems.empty())
         throw SceneFileError(path + ": invalid scene: " + ValidationError(std::move(problems)).what());
+    return checksum;
+}
+
+SceneDocument loadScene(const std::string& path) {
+    SceneDocument doc;
+    const std::string checksum = scene_format::loadSceneParts(path, doc, readElementTables);
     if (const std::string sum = sceneChecksumText(doc); sum != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum: " + sum + ", not " +
                              checksum + ")");

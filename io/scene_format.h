@@ -5,11 +5,14 @@
 //   scene_elements.cpp  the element tables: lacet_layers, lacet_nodes, lacet_curves, lacet_areas,
 //                       lacet_attributes, written and read back
 //   scene_file.cpp      saveScene (atomically, io/atomic_file.h), loadScene (with its DEM), isLacetScene
+//   scene_region.cpp    loadSceneRegion (io/scene_region.h): the part of a scene a region needs
 // Order of calls. Save: writeSceneTables (one transaction: the schema, lacet_meta, writeElementTables,
 // the feature tables). Load: openSceneTables (returns lacet_meta), readElementTables, then the DEM.
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -22,6 +25,7 @@ namespace lacet::scene_format {
 inline constexpr const char* kFormatName = "lacet-scene";
 inline constexpr std::int64_t kGpkgApplicationId = 0x47504B47;  // 'GPKG'
 inline constexpr std::size_t kMaxLayers = 65536;                // LayerId is 16 bits
+inline constexpr std::int64_t kMaxId = 0xffffffffLL;            // ElementId is 32 bits
 
 // A problem with the file's contents (reason only); loadScene adds the file name.
 class FormatError : public std::runtime_error {
@@ -54,5 +58,31 @@ void writeElementTables(SqliteDb& db, const SceneDocument& doc);
 
 // Reads them back into doc.scene's layers and doc.attributes; throws FormatError naming the row.
 void readElementTables(SqliteDb& db, SceneDocument& doc);
+
+// For partial loads (io/scene_region.h): lacet_layers alone; the rows of single elements, each
+// checked as readElementTables checks it (FormatError naming the row, also when it is missing);
+// the attributes `wanted` keeps, of elements whose slots doc.scene's layers hold.
+void readLayerTable(SqliteDb& db, Scene& scene);
+class ElementRows {
+public:
+    explicit ElementRows(SqliteDb& db);
+    ~ElementRows();
+    Node node(LayerId layer, ElementId id);
+    Curve curve(LayerId layer, ElementId id);
+    Area area(LayerId layer, ElementId id);
+
+private:
+    std::unique_ptr<SqliteStatement> node_, curve_, area_;
+};
+// Attributes must name an existing element slot.
+void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool(const ElementAttribute&)>& wanted);
+
+// ---- scene_file.cpp ----
+
+// What loadScene does but the checksum: opens and checks `path`, reads lacet_meta, calls
+// `readElements`, reads the DEM, validates the model; returns lacet_meta's checksum text. Throws
+// SceneFileError naming the file.
+std::string loadSceneParts(const std::string& path, SceneDocument& doc,
+                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements);
 
 }  // namespace lacet::scene_format

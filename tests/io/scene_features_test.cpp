@@ -654,6 +654,42 @@ TEST_F(SceneFeatures, TheSpatialIndexHoldsTheFeaturesEnvelopes) {
     EXPECT_EQ(db.queryInteger("SELECT feature_count FROM gpkg_ogr_contents WHERE table_name = 'roads'"), 4);
 }
 
+TEST_F(SceneFeatures, TheIndexNamesEachTablesLayerAndLargestWidths) {
+    const std::string path = file("scene.gpkg");
+    const SceneDocument doc = handDocument(true, true);
+    saveScene(path, doc);
+    SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+    std::vector<std::string> taken;  // planFeatureTables() as if the file held no feature table
+    for (const char* t : {"dem", "lacet_meta", "lacet_layers", "lacet_nodes", "lacet_curves", "lacet_areas", "lacet_attributes"})
+        taken.push_back(t);
+    const auto planned = planFeatureTables(doc, taken);
+    EXPECT_EQ(db.queryInteger(std::string("SELECT count(*) FROM ") + kFeatureIndexTable), std::int64_t(planned.size()));
+    for (const FeatureTable& t : planned) {
+        SCOPED_TRACE(t.name);
+        const Layer& layer = doc.scene.layers[t.layer];
+        double curveWf = 0.0, areaWf = 0.0;
+        for (ElementId id : t.elements) {
+            if (!t.polygons) {
+                curveWf = std::max(curveWf, double(layer.curves[id].wf));
+                continue;
+            }
+            areaWf = std::max(areaWf, double(layer.areas[id].wf));
+            for (const auto& loop : layer.areas[id].loops)
+                for (const AreaEdge& e : loop) curveWf = std::max(curveWf, double(layer.curves[e.curve].wf));
+        }
+        auto s = db.prepare(std::string("SELECT layer, polygons, tolerance, max_curve_wf, max_area_wf FROM ") + kFeatureIndexTable +
+                            " WHERE table_name = ?");
+        s.bindText(1, t.name);
+        ASSERT_TRUE(s.step());
+        EXPECT_EQ(s.integer(0), std::int64_t(t.layer));
+        EXPECT_EQ(s.integer(1) != 0, t.polygons);
+        EXPECT_EQ(s.real(2), FeatureTableParams{}.tolerance);
+        EXPECT_EQ(s.real(3), curveWf);
+        EXPECT_EQ(s.real(4), areaWf);
+        EXPECT_TRUE(db.hasTable(featureRtreeName(t.name)));
+    }
+}
+
 TEST_F(SceneFeatures, WithoutADemTheGeoreferenceIsANewSrsRow) {
     const std::string path = file("nodem.gpkg");
     const SceneDocument doc = handDocument(false, true);

@@ -472,9 +472,9 @@ TEST_F(SceneFile, IsAGeoPackage12WithAttributeTablesAndAGriddedCoverage) {
     EXPECT_EQ(dumpQuery(path, "PRAGMA user_version"), "1:10200|\n");
     EXPECT_EQ(dumpQuery(path, "SELECT table_name, data_type FROM gpkg_contents ORDER BY table_name"),
               "3:dem|3:2d-gridded-coverage|\n3:lacet_areas|3:attributes|\n3:lacet_attributes|3:attributes|\n"
-              "3:lacet_curves|3:attributes|\n3:lacet_layers|3:attributes|\n3:lacet_meta|3:attributes|\n"
-              "3:lacet_nodes|3:attributes|\n3:lakes|3:features|\n3:lakes_lines|3:features|\n"
-              "3:roads_t|3:features|\n");  // feature tables: tests/io/scene_features_test.cpp
+              "3:lacet_curves|3:attributes|\n3:lacet_feature_tables|3:attributes|\n3:lacet_layers|3:attributes|\n"
+              "3:lacet_meta|3:attributes|\n3:lacet_nodes|3:attributes|\n3:lakes|3:features|\n3:lakes_lines|3:features|\n"
+              "3:roads_t|3:features|\n");  // feature tables and their index: tests/io/scene_features_test.cpp
     EXPECT_EQ(dumpQuery(path, "SELECT datatype FROM gpkg_2d_gridded_coverage_ancillary"), "3:float|\n");
     // -0.0 and NaN, which a REAL column cannot keep, have their exact bytes beside.
     EXPECT_EQ(dumpQuery(path, "SELECT layer, id FROM lacet_nodes WHERE exact IS NOT NULL ORDER BY layer, id"),

@@ -1,0 +1,279 @@
+#include "io/scene_region.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+#include "io/scene_features.h"
+#include "io/scene_file.h"
+#include "io/scene_format.h"
+
+namespace lacet {
+
+using namespace scene_format;
+
+namespace {
+
+struct FeatureTableRef {
+    std::string name;
+    LayerId layer = 0;
+    bool polygons = false;
+};
+
+// One element to load, and whether it lies within the region's reach (its nodes' curves are loaded).
+struct Pending {
+    LayerId layer = 0;
+    ElementId id = 0;
+    bool near = false;
+};
+
+class RegionLoader {
+public:
+    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables)
+        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)) {
+        const std::size_t n = doc.scene.layers.size();
+        nodeLoaded_.resize(n);
+        curveLoaded_.resize(n);
+        curveNear_.resize(n);
+        areaLoaded_.resize(n);
+        for (const char* table : {"lacet_nodes", "lacet_curves", "lacet_areas"}) {
+            auto s = db.prepare(std::string("SELECT layer, max(id) + 1, count(*), min(id) FROM ") + table + " GROUP BY layer");
+            while (s.step()) {
+                const std::int64_t layer = s.integer(0), count = s.integer(1);
+                if (layer < 0 || std::size_t(layer) >= n || count < 0 || count > kMaxId + 1 || s.integer(2) != count ||
+                    s.integer(3) != 0)
+                    throw FormatError(std::string(table) + ": layer " + std::to_string(layer) +
+                                      ": ids are not 0, 1, 2... or out of range");
+                Layer& l = doc.scene.layers[std::size_t(layer)];
+                if (table[6] == 'n') l.nodes.resize(std::size_t(count));
+                else if (table[6] == 'c') l.curves.resize(std::size_t(count));
+                else l.areas.resize(std::size_t(count));
+            }
+        }
+        for (std::size_t l = 0; l < n; ++l) {
+            Layer& layer = doc.scene.layers[l];
+            for (Node& x : layer.nodes) x.alive = false;  // slots not loaded: dead and empty
+            for (Curve& x : layer.curves) x.alive = false;
+            for (Area& x : layer.areas) x.alive = false;
+            nodeLoaded_[l].assign(layer.nodes.size(), false);
+            curveLoaded_[l].assign(layer.curves.size(), false);
+            curveNear_[l].assign(layer.curves.size(), false);
+            areaLoaded_[l].assign(layer.areas.size(), false);
+        }
+    }
+
+    // Everything whose feature box meets `box`.
+    std::size_t findIn(const Box& box) {
+        std::size_t found = 0;
+        for (const FeatureTableRef& t : tables_)
+            for (ElementId id : query(t, box)) {
+                ++found;
+                if (t.polygons) addArea(t.layer, id, true);
+                else addCurve(t.layer, id, true);
+            }
+        return found;
+    }
+
+    // Loads what the loaded elements depend on, until nothing is added.
+    void close() {
+        while (!todo_.empty()) {
+            const Pending p = todo_.front();
+            todo_.pop_front();
+            closeCurve(p);
+        }
+    }
+
+    // Node lists of curves and curve lists of areas keep what was loaded.
+    void trimLists() {
+        for (std::size_t l = 0; l < doc_.scene.layers.size(); ++l) {
+            Layer& layer = doc_.scene.layers[l];
+            for (std::size_t n = 0; n < layer.nodes.size(); ++n)
+                if (nodeLoaded_[l][n])
+                    std::erase_if(layer.nodes[n].curves, [&](ElementId c) { return c >= layer.curves.size() || !curveLoaded_[l][c]; });
+            for (std::size_t c = 0; c < layer.curves.size(); ++c)
+                if (curveLoaded_[l][c])
+                    std::erase_if(layer.curves[c].areas, [&](ElementId a) { return a >= layer.areas.size() || !areaLoaded_[l][a]; });
+        }
+    }
+
+    bool loaded(const ElementAttribute& a) const {
+        const auto& flags = a.kind == ElementKind::Node ? nodeLoaded_ : a.kind == ElementKind::Curve ? curveLoaded_ : areaLoaded_;
+        return a.layer < flags.size() && a.id < flags[a.layer].size() && flags[a.layer][a.id];
+    }
+
+    std::size_t nodes = 0, curves = 0, areas = 0;
+
+private:
+    std::vector<ElementId> query(const FeatureTableRef& t, const Box& box) {
+        auto s = db_.prepare("SELECT lacet_id FROM \"" + t.name + "\" WHERE fid IN (SELECT id FROM \"" +
+                             featureRtreeName(t.name) + "\" WHERE minx <= ? AND maxx >= ? AND miny <= ? AND maxy >= ?)");
+        s.bind(1, box.max.x);
+        s.bind(2, box.min.x);
+        s.bind(3, box.max.y);
+        s.bind(4, box.min.y);
+        std::vector<ElementId> ids;
+        const Layer& layer = doc_.scene.layers[t.layer];
+        const std::size_t count = t.polygons ? layer.areas.size() : layer.curves.size();
+        while (s.step()) {
+            const std::int64_t id = s.integer(0);
+            if (id < 0 || std::size_t(id) >= count)
+                throw FormatError("feature table '" + t.name + "': lacet_id " + std::to_string(id) + " names no element");
+            ids.push_back(ElementId(id));
+        }
+        return ids;
+    }
+
+    void addNode(LayerId l, ElementId id) {
+        if (id >= nodeLoaded_[l].size()) throw FormatError("a curve names node " + std::to_string(id) + ", which is not in lacet_nodes");
+        if (nodeLoaded_[l][id]) return;
+        nodeLoaded_[l][id] = true;
+        doc_.scene.layers[l].nodes[id] = rows_.node(l, id);
+        ++nodes;
+    }
+
+    void addCurve(LayerId l, ElementId id, bool near) {
+        if (id >= curveLoaded_[l].size()) throw FormatError("curve " + std::to_string(id) + " is not in lacet_curves");
+        if (curveLoaded_[l][id] && (!near || curveNear_[l][id])) return;
+        if (!curveLoaded_[l][id]) {
+            curveLoaded_[l][id] = true;
+            doc_.scene.layers[l].curves[id] = rows_.curve(l, id);
+            ++curves;
+        }
+        curveNear_[l][id] = curveNear_[l][id] || near;
+        todo_.push_back({l, id, near});
+    }
+
+    void addArea(LayerId l, ElementId id, bool near) {
+        if (id >= areaLoaded_[l].size()) throw FormatError("area " + std::to_string(id) + " is not in lacet_areas");
+        if (areaLoaded_[l][id]) return;
+        areaLoaded_[l][id] = true;
+        Area& a = doc_.scene.layers[l].areas[id];
+        a = rows_.area(l, id);
+        ++areas;
+        for (const auto& loop : a.loops)
+            for (const AreaEdge& e : loop) addCurve(l, e.curve, near);
+        if (a.axial != kNoElement) addCurve(l, a.axial, near);
+    }
+
+    static Box hullBox(const Curve& c) {
+        Box b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
+              {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
+        for (const Vertex& v : c.vertices) {
+            b.min = glm::min(b.min, v.p);
+            b.max = glm::max(b.max, v.p);
+        }
+        return b;
+    }
+
+    void closeCurve(const Pending& p) {
+        const Layer& layer = doc_.scene.layers[p.layer];
+        const Curve c = layer.curves[p.id];  // a copy: loading may not move it, but the layer's vectors are read below
+        if (!c.alive) return;
+        for (ElementId n : {c.start, c.end}) addNode(p.layer, n);
+        if (p.near)
+            for (ElementId n : {c.start, c.end})
+                for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) addCurve(p.layer, other, false);
+        if (layer.kind == LayerKind::Roads && !c.vertices.empty()) {
+            const Box box = hullBox(c);
+            for (const FeatureTableRef& t : tables_) {
+                const LayerKind kind = doc_.scene.layers[t.layer].kind;
+                if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && (c.flags & kBridge))) continue;
+                for (ElementId id : query(t, box)) {
+                    if (t.polygons) addArea(t.layer, id, false);
+                    else addCurve(t.layer, id, false);
+                }
+            }
+        }
+        if (layer.kind == LayerKind::Rivers)
+            for (ElementId n : {c.start, c.end})
+                for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) {
+                    if (other >= curveLoaded_[p.layer].size()) continue;
+                    if (curveLoaded_[p.layer][other]) continue;
+                    if (rows_.curve(p.layer, other).end == n) addCurve(p.layer, other, false);  // flows into n
+                }
+    }
+
+    SqliteDb& db_;
+    SceneDocument& doc_;
+    ElementRows rows_;
+    std::vector<FeatureTableRef> tables_;
+    std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_;
+    std::deque<Pending> todo_;
+};
+
+}  // namespace
+
+SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
+                              SceneRegionStats* stats) {
+    if (level < 0 || level > 30) throw std::invalid_argument("loadSceneRegion: level " + std::to_string(level) + " is not in 0..30");
+    if (!(region.min.x <= region.max.x && region.min.y <= region.max.y))
+        throw std::invalid_argument("loadSceneRegion: the region is empty");
+    SceneRegionStats local;
+    SceneRegionStats& st = stats ? *stats : local;
+    st = {};
+    bool indexed = false;
+    SceneDocument doc;
+    const auto readRegion = [&](SqliteDb& db, SceneDocument& d) {
+        indexed = db.hasTable(kFeatureIndexTable);
+        if (!indexed) {
+            readElementTables(db, d);
+            return;
+        }
+        readLayerTable(db, d.scene);
+        std::vector<FeatureTableRef> tables;
+        double curveWf = 0.0, areaWf = 0.0, tolerance = 0.0;
+        {
+            auto s = db.prepare(std::string("SELECT table_name, layer, polygons, tolerance, max_curve_wf, max_area_wf FROM ") +
+                                kFeatureIndexTable + " ORDER BY table_name");
+            while (s.step()) {
+                const std::int64_t layer = s.integer(1);
+                if (layer < 0 || std::size_t(layer) >= d.scene.layers.size() || !db.hasTable(s.text(0)) ||
+                    !db.hasTable(featureRtreeName(s.text(0))))
+                    throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) +
+                                      "' has no layer, no table or no R-tree");
+                const double tol = s.real(3), cw = s.real(4), aw = s.real(5);
+                if (!(tol >= 0.0) || !(cw >= 0.0) || !(aw >= 0.0) || !std::isfinite(tol + cw + aw))
+                    throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) + "' has a bad tolerance or wf");
+                tables.push_back({s.text(0), LayerId(layer), s.integer(2) != 0});
+                tolerance = std::max(tolerance, tol);
+                curveWf = std::max(curveWf, cw);
+                areaWf = std::max(areaWf, aw);
+            }
+        }
+        const Vec2 extent = d.scene.extent.size();
+        const double quadSize = std::max(extent.x, extent.y) / double(std::int64_t(1) << level);
+        // The largest margin of any element at this quad size (a curve's delta is never above the
+        // level's), plus the features' distance from their splines, plus a float's rounding.
+        st.reach = std::max(params.curveMargin(std::numeric_limits<double>::max(), curveWf, quadSize),
+                            params.areaMargin(areaWf, quadSize)) +
+                   tolerance;
+        st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
+                                     std::fabs(region.max.y)});
+        RegionLoader loader(db, d, std::move(tables));
+        st.found = loader.findIn(region.dilated(quadSize + st.reach));
+        loader.close();
+        loader.trimLists();
+        readAttributesOf(db, d, [&](const ElementAttribute& a) { return loader.loaded(a); });
+        st.nodes = loader.nodes;
+        st.curves = loader.curves;
+        st.areas = loader.areas;
+    };
+    loadSceneParts(path, doc, readRegion);
+    st.wholeScene = !indexed;
+    for (const Layer& l : doc.scene.layers) {
+        st.sceneNodes += l.nodes.size();
+        st.sceneCurves += l.curves.size();
+        st.sceneAreas += l.areas.size();
+        if (!indexed) {
+            st.nodes += l.nodes.size();
+            st.curves += l.curves.size();
+            st.areas += l.areas.size();
+        }
+    }
+    return doc;
+}
+
+}  // namespace lacet

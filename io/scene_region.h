@@ -1,0 +1,46 @@
+#pragma once
+// The part of a scene file that a region's tiles need (§7, vector data out of core): the curves and
+// areas found by bounding box through the R-trees of the feature tables (io/scene_features.h), and
+// what their tiles depend on, so that the tiles of any quad inside the region are the same, bit for
+// bit, as with the whole scene loaded. Memory and time follow the region, not the scene.
+//
+// What is loaded, by id (ids are kept: the scene's layers have every slot, the ones not loaded dead
+// and empty):
+//   - every curve and area whose feature box meets the quads of the level that meet the region
+//     (the region dilated by a quad's side), dilated by the reach: the largest clipping margin
+//     (RefineParams::curveMargin, areaMargin) of the file's curves and areas at the level's quad
+//     size, plus the features' tolerance; an area brings its loop and axial curves;
+//   - at both end nodes of those curves, every curve there (roundabouts, junctions, stop lines);
+//   - for every road curve loaded, the river curves and areas whose boxes meet its box (the graph
+//     step's bridges; for an imported bridge, kBridge, the roads too);
+//   - for every river curve loaded, every river curve upstream of its end nodes (a river node is no
+//     higher than any node upstream of it);
+//   - the end nodes of every curve loaded, their lists of curves and the curves' lists of areas
+//     keeping what was loaded; the attributes of what was loaded.
+// The DEM is opened as loadScene opens it. Each row read is checked as loadScene checks it and the
+// partial model is validated; the whole file's checksum is not (it needs every row).
+//
+// A file without the feature index (written before it) is loaded whole (stats.wholeScene).
+
+#include <string>
+
+#include "io/document.h"
+#include "model/clip_and_refine.h"
+
+namespace lacet {
+
+struct SceneRegionStats {
+    bool wholeScene = false;  // the file has no feature index: everything was loaded
+    double reach = 0.0;       // m around the region's quads searched through the R-trees
+    std::size_t found = 0;    // curves and areas found in the region through the R-trees
+    std::size_t nodes = 0, curves = 0, areas = 0;                 // loaded
+    std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // slots of the whole scene
+};
+
+// Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with
+// `params` (above). Throws SceneFileError naming the file and the reason, std::invalid_argument for a
+// level out of 0..30 or an empty region.
+SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
+                              SceneRegionStats* stats = nullptr);
+
+}  // namespace lacet
