@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "io/scene_features.h"
-#include "io/scene_file.h"
 #include "io/scene_format.h"
 
 namespace lacet {
