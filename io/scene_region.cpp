@@ -7,7 +7,9 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/scene_checksum.h"
 #include "io/scene_features.h"
+#include "io/scene_file.h"
 #include "io/scene_format.h"
 
 namespace lacet {
@@ -31,12 +33,13 @@ struct Pending {
 
 class RegionLoader {
 public:
-    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables)
-        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)) {
+    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables, double tolerance)
+        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance) {
         const std::size_t n = doc.scene.layers.size();
         nodeLoaded_.resize(n);
         curveLoaded_.resize(n);
         curveNear_.resize(n);
+        upstreamChecked_.resize(n);
         areaLoaded_.resize(n);
         for (const char* table : {"lacet_nodes", "lacet_curves", "lacet_areas"}) {
             auto s = db.prepare(std::string("SELECT layer, max(id) + 1, count(*), min(id) FROM ") + table + " GROUP BY layer");
@@ -60,6 +63,7 @@ public:
             nodeLoaded_[l].assign(layer.nodes.size(), false);
             curveLoaded_[l].assign(layer.curves.size(), false);
             curveNear_[l].assign(layer.curves.size(), false);
+            upstreamChecked_[l].assign(layer.curves.size(), false);
             areaLoaded_[l].assign(layer.areas.size(), false);
         }
     }
@@ -176,7 +180,7 @@ private:
             for (ElementId n : {c.start, c.end})
                 for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) addCurve(p.layer, other, false);
         if (layer.kind == LayerKind::Roads && !c.vertices.empty()) {
-            const Box box = hullBox(c);
+            const Box box = hullBox(c).dilated(tolerance_);  // a feature's box may lie within the tolerance of its spline
             for (const FeatureTableRef& t : tables_) {
                 const LayerKind kind = doc_.scene.layers[t.layer].kind;
                 if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && (c.flags & kBridge))) continue;
@@ -190,7 +194,8 @@ private:
             for (ElementId n : {c.start, c.end})
                 for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) {
                     if (other >= curveLoaded_[p.layer].size()) continue;
-                    if (curveLoaded_[p.layer][other]) continue;
+                    if (curveLoaded_[p.layer][other] || upstreamChecked_[p.layer][other]) continue;
+                    upstreamChecked_[p.layer][other] = true;  // each curve's row read once for this test
                     if (rows_.curve(p.layer, other).end == n) addCurve(p.layer, other, false);  // flows into n
                 }
     }
@@ -199,7 +204,8 @@ private:
     SceneDocument& doc_;
     ElementRows rows_;
     std::vector<FeatureTableRef> tables_;
-    std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_;
+    double tolerance_ = 0.0;
+    std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_, upstreamChecked_;
     std::deque<Pending> todo_;
 };
 
@@ -249,9 +255,16 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         st.reach = std::max(params.curveMargin(std::numeric_limits<double>::max(), curveWf, quadSize),
                             params.areaMargin(areaWf, quadSize)) +
                    tolerance;
+        // A roundabout's ring reaches its radius beyond the roads at its node.
+        {
+            auto s = db.prepare("SELECT max(roundabout) FROM lacet_nodes WHERE alive");
+            const double radius = s.step() ? s.real(0) : 0.0;
+            if (!(radius >= 0.0) || !std::isfinite(radius)) throw FormatError("lacet_nodes: a roundabout radius is not finite and >= 0");
+            st.reach += radius;
+        }
         st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
                                      std::fabs(region.max.y)});
-        RegionLoader loader(db, d, std::move(tables));
+        RegionLoader loader(db, d, std::move(tables), tolerance);
         st.found = loader.findIn(region.dilated(quadSize + st.reach));
         loader.close();
         loader.trimLists();
@@ -260,7 +273,10 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         st.curves = loader.curves;
         st.areas = loader.areas;
     };
-    loadSceneParts(path, doc, readRegion);
+    const std::string checksum = loadSceneParts(path, doc, readRegion);
+    // Read whole: checked whole, as loadScene checks it.
+    if (!indexed && sceneChecksumText(doc) != checksum)
+        throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
     for (const Layer& l : doc.scene.layers) {
         st.sceneNodes += l.nodes.size();

@@ -2,7 +2,7 @@
 // The part of a scene file that a region's tiles need (§7, vector data out of core): the curves and
 // areas found by bounding box through the R-trees of the feature tables (io/scene_features.h), and
 // what their tiles depend on, so that the tiles of any quad inside the region are the same, bit for
-// bit, as with the whole scene loaded. Memory and time follow the region, not the scene.
+// bit, as with the whole scene loaded. The rows read and the work on them follow the region (see below for what does not yet).
 //
 // What is loaded, by id (ids are kept: the scene's layers have every slot, the ones not loaded dead
 // and empty):
@@ -10,6 +10,7 @@
 //     (the region dilated by a quad's side), dilated by the reach: the largest clipping margin
 //     (RefineParams::curveMargin, areaMargin) of the file's curves and areas at the level's quad
 //     size, plus the features' tolerance; an area brings its loop and axial curves;
+//     the reach also holds the largest roundabout radius (a ring reaches that far beyond its roads);
 //   - at both end nodes of those curves, every curve there (roundabouts, junctions, stop lines);
 //   - for every road curve loaded, the river curves and areas whose boxes meet its box (the graph
 //     step's bridges; for an imported bridge, kBridge, the roads too);
@@ -20,7 +21,10 @@
 // The DEM is opened as loadScene opens it. Each row read is checked as loadScene checks it and the
 // partial model is validated; the whole file's checksum is not (it needs every row).
 //
-// A file without the feature index (written before it) is loaded whole (stats.wholeScene).
+// A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
+// checksum checked. Not yet out of core: every slot of the scene is allocated (dead when not read),
+// and the element tables are scanned once for their counts; a river area's water level, which
+// follows its axial river curves beyond the quads, may need rivers downstream that are not read.
 
 #include <string>
 
