@@ -82,9 +82,9 @@ public:
 
     // Loads what the loaded elements depend on, until nothing is added.
     void close() {
-        while (!todo_.empty()) {
-            const Pending p = todo_.front();
-            todo_.pop_front();
+        while (!pending_.empty()) {
+            const Pending p = pending_.front();
+            pending_.pop_front();
             closeCurve(p);
         }
     }
@@ -146,7 +146,7 @@ private:
             ++curves;
         }
         curveNear_[l][id] = curveNear_[l][id] || near;
-        todo_.push_back({l, id, near});
+        pending_.push_back({l, id, near});
     }
 
     void addArea(LayerId l, ElementId id, bool near) {
@@ -173,12 +173,13 @@ private:
 
     void closeCurve(const Pending& p) {
         const Layer& layer = doc_.scene.layers[p.layer];
-        const Curve c = layer.curves[p.id];  // a copy: loading may not move it, but the layer's vectors are read below
+        // The layers' vectors were sized once (constructor): loading others never moves this one.
+        const Curve& c = layer.curves[p.id];
         if (!c.alive) return;
         for (ElementId n : {c.start, c.end}) addNode(p.layer, n);
         if (p.near)
             for (ElementId n : {c.start, c.end})
-                for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) addCurve(p.layer, other, false);
+                for (ElementId other : layer.nodes[n].curves) addCurve(p.layer, other, false);
         if (layer.kind == LayerKind::Roads && !c.vertices.empty()) {
             const Box box = hullBox(c).dilated(tolerance_);  // a feature's box may lie within the tolerance of its spline
             for (const FeatureTableRef& t : tables_) {
@@ -192,7 +193,7 @@ private:
         }
         if (layer.kind == LayerKind::Rivers)
             for (ElementId n : {c.start, c.end})
-                for (ElementId other : std::vector<ElementId>(layer.nodes[n].curves)) {
+                for (ElementId other : layer.nodes[n].curves) {
                     if (other >= curveLoaded_[p.layer].size()) continue;
                     if (curveLoaded_[p.layer][other] || upstreamChecked_[p.layer][other]) continue;
                     upstreamChecked_[p.layer][other] = true;  // each curve's row read once for this test
@@ -206,7 +207,7 @@ private:
     std::vector<FeatureTableRef> tables_;
     double tolerance_ = 0.0;
     std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_, upstreamChecked_;
-    std::deque<Pending> todo_;
+    std::deque<Pending> pending_;
 };
 
 }  // namespace
