@@ -44,6 +44,9 @@ struct CachedTile {
     // With a streamed DEM (io/dem_stream.h): the level its DEM window was cut from and the one
     // it wanted (-1: the DEM in memory whole); the tile is remade when finer blocks arrive.
     int demLevel = -1, demWanted = -1;
+    // The appearance's texels as the window uploads them: stride x stride RGBA (the water mask in
+    // alpha), uniform tiles expanded (raster/appearance_producer.h: tileTexels).
+    std::vector<std::uint8_t> texels() const { return tileTexels(appearance); }
 };
 
 // How far skirts hang below the leaves' edges.

@@ -111,6 +111,40 @@ bool EditingController::setRoundabout(ElementId node, float radius) {
     return execute(SetRoundaboutCmd{current_, node, radius});
 }
 
+const Curve* EditingController::selectedCurve() const {
+    const Scene& scene = session_.document().scene;
+    if (selected_.kind != Pick::Kind::Curve || selected_.layer >= scene.layers.size()) return nullptr;
+    const Layer& layer = scene.layers[selected_.layer];
+    return selected_.id < layer.curves.size() && layer.curves[selected_.id].alive ? &layer.curves[selected_.id] : nullptr;
+}
+
+bool EditingController::setSelectedWidth(float w) {
+    const Curve* c = selectedCurve();
+    return c && execute(SetCurveWidthCmd{selected_.layer, selected_.id, w, std::max(w, c->wf)});
+}
+
+bool EditingController::setSelectedFootprint(float wf) {
+    const Curve* c = selectedCurve();
+    return c && execute(SetCurveWidthCmd{selected_.layer, selected_.id, c->w, wf});
+}
+
+bool EditingController::setSelectedClass(int cls) {
+    return selectedCurve() && execute(SetCurveClassCmd{selected_.layer, selected_.id, std::uint16_t(std::clamp(cls, 0, 65535))});
+}
+
+bool EditingController::setSelectedFlag(std::uint16_t bit, bool on) {
+    const Curve* c = selectedCurve();
+    return c && execute(SetCurveFlagsCmd{selected_.layer, selected_.id, std::uint16_t(on ? (c->flags | bit) : (c->flags & ~bit))});
+}
+
+std::size_t EditingController::selectedBridges() const {
+    if (!selectedCurve()) return 0;
+    const Quadtree& qt = session_.quadtree();
+    std::size_t bridges = 0;
+    for (AncestorId a : qt.expansionOf(selected_.layer, selected_.id)) bridges += (qt.ancestorCurve(selected_.layer, a).flags & kBridge) != 0;
+    return bridges;
+}
+
 void EditingController::cancel() {
     if (!drawn_.empty()) drawn_.clear(), drawnNodes_.clear();
     else selected_ = {};

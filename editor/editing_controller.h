@@ -17,6 +17,7 @@
 // session itself (editor/edit_session.h) knows no locks: it is the programming interface, for
 // tools such as benchmarks that edit without a user.
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -120,6 +121,19 @@ public:
     // roundabout tool does: through the lock policy; a radius that does not fit is refused with
     // the reason (false).
     bool setRoundabout(ElementId node, float radius);
+    // The selected curve's properties, each one undoable command through the lock policy (false:
+    // nothing selected, or refused). The width w (m) raises the footprint wf to it when wf would
+    // be narrower; the footprint is set as given (the command refuses wf < w); the class is
+    // clamped to 0..65535; a flag bit (model/graph.h: kBridge, kTunnel, kNoBridge, kAlwaysBridge:
+    // the graph step's inputs) is set or cleared alone.
+    bool setSelectedWidth(float w);
+    bool setSelectedFootprint(float wf);
+    bool setSelectedClass(int cls);
+    bool setSelectedFlag(std::uint16_t bit, bool on);
+    // The selected curve, alive (nullptr: none).
+    const Curve* selectedCurve() const;
+    // Bridges the graph step made from the selected curve (0 when none is selected).
+    std::size_t selectedBridges() const;
     void cancel();
     bool finishDrawing();
 

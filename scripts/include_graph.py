@@ -1,11 +1,26 @@
 #!/usr/bin/env python3
 """The include graph by folder: prints `from -> to  count` for every #include "folder/file.h" whose
 folder differs from the including file's, then the folders in layer order; exits 1 when the folders
-include each other in a cycle. Usage: scripts/include_graph.py [SOURCE_ROOT]"""
+include each other in a cycle, or when a folder includes one the layering below does not allow it
+(docs/ARCHITECTURE.md: the window, ui/, sees the editor and the files it opens, never a producer or
+the pyramid). Run by ctest (include_layering). Usage: scripts/include_graph.py [SOURCE_ROOT]"""
 import collections
 import pathlib
 import re
 import sys
+
+# The folders each folder may include (besides itself); a folder not listed may include any.
+ALLOWED = {
+    "model": set(),
+    "raster": {"model"},
+    "synth": {"model", "raster"},
+    "io": {"model", "raster"},
+    "pyramid": {"model", "raster", "io"},
+    "editor": {"model", "raster", "io", "pyramid"},
+    "ui": {"model", "io", "editor"},
+    "bench": {"model", "raster", "synth", "io", "pyramid", "editor"},
+    "fuzz": {"model", "io"},
+}
 
 root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).resolve().parent.parent)
 include = re.compile(r'^\s*#\s*include\s+"([^"/]+)/[^"]+"', re.M)
@@ -25,6 +40,10 @@ for path in sorted(root.rglob("*")):
 
 for (source, target), count in sorted(edges.items()):
     print(f"{source:8} -> {target:8} {count:4}")
+
+forbidden = [(s, t) for (s, t) in sorted(edges) if s in ALLOWED and t not in ALLOWED[s]]
+for source, target in forbidden:
+    print(f"not allowed: {source} includes {target} (scripts/include_graph.py: ALLOWED)")
 
 graph = collections.defaultdict(set)
 for source, target in edges:
@@ -53,3 +72,5 @@ if cycle:
     print("cycle: " + " -> ".join(cycle))
     sys.exit(1)
 print("layers (each includes only folders before it): " + " <- ".join(order))
+if forbidden:
+    sys.exit(1)

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -105,8 +104,7 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
     objects_ = std::make_unique<ObjectRenderer>();
     overlay_ = std::make_unique<OverlayRenderer>();
     scenePath_ = document.path;
-    pyramidPath_ = options_.noPyramid ? std::string() : options_.pyramid;
-    pyramidScene_ = document.path;
+    pyramid_.setFiles(options_.noPyramid ? std::string() : options_.pyramid, document.path);
     log_["scene"] = document.label;
     const Box ext = document.document.scene.extent;
     resetSession(std::move(document.document));
@@ -120,7 +118,6 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
 }
 
 EditorApp::~EditorApp() {
-    if (pyramidUpdate_ && pyramidUpdate_->thread.joinable()) pyramidUpdate_->thread.join();
     script_.reset();
     overlay_.reset();
     objects_.reset();
@@ -151,8 +148,7 @@ void EditorApp::resetSession(SceneDocument doc) {
     adaptive_.reset();
     if (options_.adaptiveMs > 0.0 && options_.script.empty())
         adaptive_.emplace(sessionParams_.view.K, AdaptiveQualityParams{.targetMs = options_.adaptiveMs});
-    ++sessionSerial_;
-    lastPyramidUpdate_.reset();
+    pyramid_.sessionStarted();
     openPyramid();
     controller_ = std::make_unique<EditingController>(*session_);
     controller_->onMessage = [this](const std::string& m) { status(m); };
@@ -269,14 +265,7 @@ void EditorApp::save(const std::string& path) {
         status(std::string("Not saved: ") + e.what());
         return;
     }
-    // The pyramid goes with its scene file: saved elsewhere, that file is another scene.
-    std::error_code e1, e2;
-    const bool sameFile = !pyramidScene_.empty() &&
-                          std::filesystem::weakly_canonical(target, e1) == std::filesystem::weakly_canonical(pyramidScene_, e2) && !e1 && !e2;
-    if (session_->pyramid() && sameFile)
-        startPyramidUpdate(std::make_shared<const SceneDocument>(session_->document()), session_->editCount());
-    else if (session_->pyramid())
-        status(std::string("Saved to another file than ") + pyramidScene_ + ": its pyramid " + pyramidPath_ + " was not updated");
+    if (const std::string m = pyramid_.afterSave(*session_, target); !m.empty()) status(m);
 }
 
 void EditorApp::setWorkClock(WorkClock clock) {
@@ -285,91 +274,50 @@ void EditorApp::setWorkClock(WorkClock clock) {
 }
 
 void EditorApp::open(const std::string& path) {
-    while (pyramidUpdate_) pollPyramidUpdate(true);  // the updates of the scene being left end first
-    const std::string pyramid = defaultPyramidPath(path);
-    pyramidPath_ = !options_.noPyramid && std::filesystem::exists(pyramid) ? pyramid : std::string();
-    pyramidScene_ = path;
+    while (pyramid_.updating()) pollPyramidUpdate(true);  // the updates of the scene being left end first
+    if (options_.noPyramid) pyramid_.setFiles({}, path);
+    else pyramid_.setDefaultFiles(path);
     resetSession(loadScene(path));
     scenePath_ = path;
     status("Opened " + path);
 }
 
 void EditorApp::openPyramid() {
-    if (pyramidPath_.empty()) return;
-    try {
-        auto reader = std::make_shared<PyramidReader>(pyramidPath_, session_->document());
-        session_->setPyramid(reader);
-        log_["pyramid"] = {{"file", pyramidPath_}, {"vector_level", reader->vectorLevel()}, {"max_level", reader->maxLevel()},
-                           {"encoding", reader->encoding()}};
-        std::cerr << "lacet edit: pyramid " << pyramidPath_ << ": the appearance of levels " << reader->minLevel() << " to "
-                  << reader->vectorLevel() - 1 << " is read from it\n";
-    } catch (const std::exception& e) {
-        std::cerr << "lacet edit: warning: " << e.what() << "; going on without the pyramid (every tile made live)\n";
-        status(std::string("No pyramid: ") + e.what());
-        log_["pyramid_refused"] = e.what();
-        pyramidPath_.clear();
+    const PyramidOpened o = pyramid_.open(*session_);
+    if (const auto& l = o.levels) {
+        log_["pyramid"] = {{"file", l->path}, {"vector_level", l->vectorLevel}, {"max_level", l->maxLevel}, {"encoding", l->encoding}};
+        std::cerr << "lacet edit: pyramid " << l->path << ": the appearance of levels " << l->minLevel << " to " << l->vectorLevel - 1
+                  << " is read from it\n";
+    } else if (!o.error.empty()) {
+        std::cerr << "lacet edit: warning: " << o.error << "; going on without the pyramid (every tile made live)\n";
+        status("No pyramid: " + o.error);
+        log_["pyramid_refused"] = o.error;
     }
-}
-
-void EditorApp::startPyramidUpdate(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt) {
-    if (pyramidUpdate_) {  // one update at a time: this one after it (a later save replaces it)
-        pyramidQueued_ = std::move(saved);
-        pyramidQueuedAt_ = madeAt;
-        return;
-    }
-    pyramidUpdate_ = std::make_unique<PyramidUpdate>();
-    PyramidUpdate* u = pyramidUpdate_.get();
-    u->document = std::move(saved);
-    u->madeAt = madeAt;
-    u->session = sessionSerial_;
-    const std::string path = pyramidPath_;
-    status(std::string("Updating the pyramid ") + path + "...");
-    u->thread = std::thread([u, path] {
-        try {
-            u->figures = updatePyramid(*u->document, path, nullptr);
-        } catch (const std::exception& e) {
-            u->error = e.what();
-        }
-        u->done = true;
-    });
 }
 
 void EditorApp::pollPyramidUpdate(bool wait) {
-    if (!pyramidUpdate_ || (!wait && !pyramidUpdate_->done)) return;
-    pyramidUpdate_->thread.join();
-    const std::unique_ptr<PyramidUpdate> u = std::move(pyramidUpdate_);
-    if (u->session == sessionSerial_ && !pyramidPath_.empty()) {
-        const PyramidStats& f = u->figures;
-        nlohmann::json entry = {{"file", pyramidPath_}, {"edit_count", u->madeAt}};
-        if (!u->error.empty()) {
-            entry["error"] = u->error;
-            std::cerr << "lacet edit: warning: the pyramid was not updated: " << u->error << "\n";
-            status(std::string("Pyramid not updated: ") + u->error);
-        } else {
-            entry.update({{"quads", f.quads}, {"quads_changed", f.quadsChanged}, {"tiles_made", f.tilesMade},
-                          {"tiles_written", f.tilesWritten}, {"rebuilt", f.rebuilt}, {"seconds", f.wallSeconds}});
-            try {
-                // The saved document, which the pyramid now shows (edits made since stay live).
-                session_->setPyramid(std::make_shared<PyramidReader>(pyramidPath_, *u->document), u->madeAt);
-                std::ostringstream m;
-                m.precision(3);
-                m << "Pyramid updated: " << f.quadsChanged << " of " << f.quads << " quads changed, " << f.tilesMade << " tiles made, "
-                  << f.tilesWritten << " written in " << f.wallSeconds << " s";
-                status(m.str());
-            } catch (const std::exception& e) {
-                entry["error"] = e.what();
-                std::cerr << "lacet edit: warning: " << e.what() << "; the edited quads stay live\n";
-                status(std::string("Pyramid not reopened: ") + e.what());
-            }
-        }
-        log_["pyramid_updates"].push_back(entry);
-        lastPyramidUpdate_ = PyramidUpdateResult{f, u->madeAt, entry.value("error", std::string())};
+    const std::optional<PyramidUpdateResult> r = pyramid_.poll(*session_, wait);
+    if (!r) return;
+    nlohmann::json entry = {{"file", r->path}, {"edit_count", r->madeAt}};
+    if (r->updated)
+        entry.update({{"quads", r->quads}, {"quads_changed", r->quadsChanged}, {"tiles_made", r->tilesMade},
+                      {"tiles_written", r->tilesWritten}, {"rebuilt", r->rebuilt}, {"seconds", r->seconds}});
+    if (!r->updated) {
+        entry["error"] = r->error;
+        std::cerr << "lacet edit: warning: the pyramid was not updated: " << r->error << "\n";
+        status("Pyramid not updated: " + r->error);
+    } else if (!r->ok()) {
+        entry["error"] = r->error;
+        std::cerr << "lacet edit: warning: " << r->error << "; the edited quads stay live\n";
+        status("Pyramid not reopened: " + r->error);
+    } else {
+        std::ostringstream m;
+        m.precision(3);
+        m << "Pyramid updated: " << r->quadsChanged << " of " << r->quads << " quads changed, " << r->tilesMade << " tiles made, "
+          << r->tilesWritten << " written in " << r->seconds << " s";
+        status(m.str());
     }
-    if (pyramidQueued_ && u->session == sessionSerial_) {
-        std::shared_ptr<const SceneDocument> next = std::move(pyramidQueued_);
-        startPyramidUpdate(std::move(next), pyramidQueuedAt_);
-    }
-    pyramidQueued_.reset();
+    log_["pyramid_updates"].push_back(entry);
 }
 
 void EditorApp::requestScreenshot(const std::string& path, bool panels, bool overlay) {
@@ -449,21 +397,13 @@ int EditorApp::run() {
         const glm::dvec3 eye = camera_.position();
         const double h = viewerHeight();
         clip_ = Camera::clipRange(h);
-        const glm::dvec3 viewer(eye.x, eye.y, h);
-        velocity_ = frames_ > 0 ? eye - lastEye_ : glm::dvec3(0.0);
-        lastEye_ = eye;
-        std::optional<glm::dvec3> predicted;
-        if (glm::length(velocity_) > 1e-3 * h) {
-            // Half a second ahead at 60 frames per second (§8: prefetch along the predicted path).
-            const glm::dvec3 ahead = eye + velocity_ * 30.0;
-            predicted = glm::dvec3(ahead.x, ahead.y, std::max(1.0, h + (ahead.z - eye.z)));
-        }
+        const FrameViewers viewers = lookAhead_.next(eye, h);  // §8: prefetch along the predicted path
         const double aspect = double(width_) / double(height_);
         if (!demRange_) demRange_ = frustumHeightRange(*session_->document().dem);
         const QuadVisibility visible = frustumVisibility(camera_, aspect, clip_, *demRange_);
         auto t0 = Clock::now();
-        session_->setRefineBudget(0.5 * options_.budgetMs);  // 0 (no budget): refine completely
-        lastFrame_ = session_->frame(viewer, options_.budgetMs, visible, predicted);
+        session_->setRefineBudget(lookAhead_.refineBudgetMs(options_.budgetMs));  // 0 (no budget): refine completely
+        lastFrame_ = session_->frame(viewers.viewer, options_.budgetMs, visible, viewers.predicted);
         lastUpdateMs_ = msSince(t0);
         tilesProduced_ += lastFrame_.produced + lastFrame_.prefetched;
 
@@ -520,10 +460,10 @@ int EditorApp::run() {
         glfwSwapBuffers(window_);
         ++frames_;
     }
-    while (pyramidUpdate_) pollPyramidUpdate(true);  // a script's log says how the last save's update went
+    while (pyramid_.updating()) pollPyramidUpdate(true);  // a script's log says how the last save's update went
     if (script_) {
         const PyramidUse& p = session_->pyramidUse();
-        if (session_->pyramid())
+        if (pyramid_.levels())
             log_["pyramid_use"] = {{"read", p.read}, {"failed", p.failed}, {"touched", p.touched}, {"live", p.live}};
         script_->finish(*this);
     }

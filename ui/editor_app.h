@@ -20,19 +20,15 @@
 // Enter ends the road being drawn, Escape cancels it or clears the selection, F toggles fly mode
 // (W A S D, Q E to move; Shift faster).
 //
-// The pyramid (§7; pyramid/pyramid_reader.h): with `EditorOptions::pyramid`, the session reads
-// the appearance of the quads below the pyramid's first vector level from that file (a pyramid
-// that does not match the scene is refused with a warning on stderr, and the editor goes on
-// without). Each save to the scene's own file then updates the pyramid (`lacet pyramid update`,
-// pyramid/pyramid_build.h) on a copy of the saved document in a background thread; the quads
-// edited since the pyramid was made stay live until the update is done and the reader reopened
-// (EditSession::setPyramid with the edit count of the save), and edits made meanwhile after.
+// The pyramid (§7): with `EditorOptions::pyramid`, the session reads the appearance of the quads
+// below the pyramid's first vector level from that file, and each save to the scene's own file
+// updates it in the background (editor/pyramid_link.h, which decides all of it); a pyramid that
+// does not match the scene is refused with a warning on stderr, and the editor goes on without.
+// The camera's predicted path and the frame's refine budget are editor/look_ahead.h's.
 
-#include <atomic>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -41,7 +37,8 @@
 #include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "editor/editing_controller.h"
-#include "pyramid/pyramid_build.h"
+#include "editor/look_ahead.h"
+#include "editor/pyramid_link.h"
 #include "ui/input_event.h"
 #include "ui/script_host.h"
 
@@ -132,11 +129,9 @@ private:
     void drawPanels();
     void writeScreenshot(const Screenshot& s);
     void status(const std::string& message);
-    // The pyramid: opened for the session (a warning and none when it does not fit), updated
-    // after a save in the background, and reopened when the update is done (checked each frame;
-    // `wait`: until it is).
+    // The pyramid: opened for the session (a warning and none when it does not fit); an update
+    // that ended (checked each frame; `wait`: until the one in flight has) logged and shown.
     void openPyramid();
-    void startPyramidUpdate(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt);
     void pollPyramidUpdate(bool wait);
 
     EditorOptions options_;
@@ -165,34 +160,12 @@ private:
     std::optional<AdaptiveQuality> adaptive_;  // null: K fixed
     double lastUpdateMs_ = 0.0, lastRenderMs_ = 0.0;
     std::size_t tilesProduced_ = 0, frames_ = 0;
-    glm::dvec3 lastEye_{0.0}, velocity_{0.0};
+    LookAhead lookAhead_;
     std::vector<Screenshot> screenshots_;
     nlohmann::json log_;
     std::string status_;
     bool confirmClose_ = false, closing_ = false;
-    // The pyramid and its update after a save.
-    std::string pyramidPath_;   // the file (empty: none)
-    std::string pyramidScene_;  // the scene file it goes with: saves there update it
-    std::uint64_t sessionSerial_ = 0;  // resetSession() count: an update applies to its own session only
-    struct PyramidUpdate {
-        std::thread thread;
-        std::atomic<bool> done{false};
-        std::shared_ptr<const SceneDocument> document;  // as saved
-        std::uint64_t madeAt = 0, session = 0;  // the session's edit count at the save, and which session
-        PyramidStats figures;
-        std::string error;
-    };
-    std::unique_ptr<PyramidUpdate> pyramidUpdate_;
-    // The last update of this session's pyramid that ended (the Statistics panel; none yet: empty).
-    struct PyramidUpdateResult {
-        PyramidStats figures;
-        std::uint64_t madeAt = 0;  // the session's edit count at the save it updated to
-        std::string error;         // empty: updated
-    };
-    std::optional<PyramidUpdateResult> lastPyramidUpdate_;
-    // A save while an update ran: the document it saved, updated after.
-    std::shared_ptr<const SceneDocument> pyramidQueued_;
-    std::uint64_t pyramidQueuedAt_ = 0;
+    PyramidLink pyramid_;  // the pyramid and its updates after saves
 };
 
 }  // namespace lacet::ui

@@ -2,6 +2,7 @@
 // properties, statistics and the accuracy knobs, and the prompt before losing unsaved changes.
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <epoxy/gl.h>
@@ -9,7 +10,6 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
-#include "pyramid/pyramid_reader.h"
 #include "ui/editor_app.h"
 #include "ui/terrain_renderer.h"
 
@@ -60,32 +60,27 @@ void EditorApp::drawPanels() {
     ImGui::SetNextWindowPos({10, 230}, ImGuiCond_FirstUseEver);
     ImGui::Begin("Selection", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     const Pick sel = ctl.selection();
-    if (sel.kind == Pick::Kind::Curve && sel.id < scene.layers[sel.layer].curves.size() && scene.layers[sel.layer].curves[sel.id].alive) {
-        const Curve& curve = scene.layers[sel.layer].curves[sel.id];
-        ImGui::Text("Curve %u of %s: %zu vertices", sel.id, scene.layers[sel.layer].name.c_str(), curve.vertices.size());
-        float w = curve.w, wf = curve.wf;
-        int cls = curve.cls;
+    if (const Curve* curve = ctl.selectedCurve()) {
+        ImGui::Text("Curve %u of %s: %zu vertices", sel.id, scene.layers[sel.layer].name.c_str(), curve->vertices.size());
+        float w = curve->w, wf = curve->wf;
+        int cls = curve->cls;
         ImGui::InputFloat("width (m)", &w);
-        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveWidthCmd{sel.layer, sel.id, w, std::max(w, curve.wf)});
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.setSelectedWidth(w);
         ImGui::InputFloat("footprint (m)", &wf);
-        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveWidthCmd{sel.layer, sel.id, curve.w, wf});
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.setSelectedFootprint(wf);
         ImGui::InputInt("class", &cls);
-        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.execute(SetCurveClassCmd{sel.layer, sel.id, std::uint16_t(std::clamp(cls, 0, 65535))});
+        if (ImGui::IsItemDeactivatedAfterEdit()) ctl.setSelectedClass(cls);
         if (scene.layers[sel.layer].kind == LayerKind::Roads) {
             // The graph step's inputs (model/graph_step.h): each box is one undoable command.
             auto flag = [&](const char* label, std::uint16_t bit) {
-                bool on = (curve.flags & bit) != 0;
-                if (ImGui::Checkbox(label, &on))
-                    ctl.execute(SetCurveFlagsCmd{sel.layer, sel.id, std::uint16_t(on ? (curve.flags | bit) : (curve.flags & ~bit))});
+                bool on = (curve->flags & bit) != 0;
+                if (ImGui::Checkbox(label, &on)) ctl.setSelectedFlag(bit, on);
             };
             flag("bridge (the whole curve)", kBridge);
             flag("tunnel", kTunnel);
             flag("no bridge over rivers (ford)", kNoBridge);
             flag("bridge even narrow rivers", kAlwaysBridge);
-            std::size_t bridges = 0;
-            for (AncestorId a : session_->quadtree().expansionOf(sel.layer, sel.id))
-                bridges += (session_->quadtree().ancestorCurve(sel.layer, a).flags & kBridge) != 0;
-            ImGui::Text("%zu bridge(s) made by the graph step", bridges);
+            ImGui::Text("%zu bridge(s) made by the graph step", ctl.selectedBridges());
         }
         if (ImGui::Button("Delete curve")) ctl.deleteSelection();
     } else {
@@ -113,23 +108,21 @@ void EditorApp::drawPanels() {
     ImGui::Text("Viewer %.1f m above the ground%s", viewerHeight(), camera_.fly ? " (fly)" : "");
     ImGui::Separator();
     const PyramidUse& pu = session_->pyramidUse();
-    if (const std::shared_ptr<PyramidReader>& pyramid = session_->pyramid())
-        ImGui::Text("Pyramid: open, levels %d to %d read (L = %d, %s)", pyramid->minLevel(), pyramid->vectorLevel() - 1,
-                    pyramid->vectorLevel(), pyramid->encoding().c_str());
+    if (const std::optional<PyramidLevels>& pyramid = pyramid_.levels())
+        ImGui::Text("Pyramid: open, levels %d to %d read (L = %d, %s)", pyramid->minLevel, pyramid->vectorLevel - 1, pyramid->vectorLevel,
+                    pyramid->encoding.c_str());
     else
         ImGui::TextUnformatted("Pyramid: none (every tile made live)");
     ImGui::Text("  appearance tiles: %zu read, %zu failed, %zu live (%zu touched by edits)", pu.read, pu.failed, pu.live, pu.touched);
-    if (pyramidUpdate_) {
+    if (pyramid_.updating()) {
         ImGui::TextUnformatted("  updating after the last save...");
-    } else if (lastPyramidUpdate_) {
-        const PyramidStats& f = lastPyramidUpdate_->figures;
-        if (!lastPyramidUpdate_->error.empty())
-            ImGui::TextWrapped("  last update (edit %llu) failed: %s", static_cast<unsigned long long>(lastPyramidUpdate_->madeAt),
-                               lastPyramidUpdate_->error.c_str());
+    } else if (const std::optional<PyramidUpdateResult>& u = pyramid_.last()) {
+        if (!u->ok())
+            ImGui::TextWrapped("  last update (edit %llu) failed: %s", static_cast<unsigned long long>(u->madeAt), u->error.c_str());
         else
             ImGui::Text("  last update (edit %llu): %zu of %zu quads changed, %zu tiles made, %zu written in %.1f s%s",
-                        static_cast<unsigned long long>(lastPyramidUpdate_->madeAt), f.quadsChanged, f.quads, f.tilesMade,
-                        f.tilesWritten, f.wallSeconds, f.rebuilt ? " (rebuilt)" : "");
+                        static_cast<unsigned long long>(u->madeAt), u->quadsChanged, u->quads, u->tilesMade, u->tilesWritten, u->seconds,
+                        u->rebuilt ? " (rebuilt)" : "");
     }
     if (const DemStream* dem = session_->demStream()) {
         const DemStreamStats st = dem->stats();

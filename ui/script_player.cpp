@@ -1,7 +1,5 @@
 #include "ui/script_player.h"
 
-#include "model/work_clock.h"
-
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -13,7 +11,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "raster/appearance_producer.h"
+#include "model/work_clock.h"
 #include "ui/script_host.h"
 
 namespace lacet::ui {
@@ -281,7 +279,7 @@ bool ScriptPlayer::probe(ScriptHost& app) {
         const std::size_t k = e.index(ij.x, ij.y);
         const AppearanceTile& a = t->appearance;
         const glm::ivec2 ai = glm::ivec2(glm::floor((p - a.bounds.min) / a.delta));
-        const std::vector<std::uint8_t> texels = tileTexels(a);
+        const std::vector<std::uint8_t> texels = t->texels();
         const std::size_t ak = a.index(ai.x, ai.y);
         out[name] = {{"level", std::get<0>(shown->tileKey)}, {"b", e.b[k]}, {"zo", e.zo[k]}, {"ze", e.ze[k]}, {"zm", e.zm[k]},
                      {"rgb", {texels[ak], texels[ak + 1], texels[ak + 2]}}};

@@ -6,8 +6,6 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include "raster/appearance_producer.h"
-
 namespace lacet::ui {
 namespace {
 
@@ -166,7 +164,7 @@ const TerrainRenderer::GpuTile* TerrainRenderer::upload(const QuadKey& key, cons
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     const AppearanceTile& a = tile.appearance;
-    const std::vector<std::uint8_t> texels = tileTexels(a);
+    const std::vector<std::uint8_t> texels = tile.texels();
     g.water = false;
     for (std::size_t k = 3; k < texels.size() && !g.water; k += 4) g.water = texels[k] > 0;
     glBindTexture(GL_TEXTURE_2D, g.appearance);

@@ -189,6 +189,58 @@ TEST(EditingController, ALockedLayerRefusesEveryEditButNotTheHistory) {
     EXPECT_TRUE(f.controller.execute(MoveVertexCmd{kRoadsLayer, v.pick.id, v.pick.index, before + Vec2(9.0, 0.0)}));
 }
 
+TEST(EditingController, TheSelectedCurvesPropertiesAreOneUndoableCommandEach) {
+    Fixture f;
+    EXPECT_EQ(f.controller.selectedCurve(), nullptr);
+    EXPECT_FALSE(f.controller.setSelectedWidth(4.0f)) << "nothing selected";
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
+    ASSERT_TRUE(f.controller.press(v.pixel));
+    f.controller.release();
+    const Curve* c = f.controller.selectedCurve();
+    ASSERT_NE(c, nullptr);
+    EXPECT_EQ(c, &f.roads().curves[v.pick.id]);
+    const Curve before = *c;
+    const std::size_t depth = f.session.undoDepth();
+    // A width wider than the footprint takes the footprint with it; a narrower one leaves it.
+    ASSERT_TRUE(f.controller.setSelectedWidth(before.wf + 4.0f));
+    EXPECT_EQ(c->w, before.wf + 4.0f);
+    EXPECT_EQ(c->wf, before.wf + 4.0f);
+    ASSERT_TRUE(f.controller.setSelectedWidth(2.0f));
+    EXPECT_EQ(c->w, 2.0f);
+    EXPECT_EQ(c->wf, before.wf + 4.0f);
+    // The footprint as given; one narrower than the width is refused by the command.
+    ASSERT_TRUE(f.controller.setSelectedFootprint(30.0f));
+    EXPECT_EQ(c->wf, 30.0f);
+    EXPECT_FALSE(f.controller.setSelectedFootprint(1.0f));
+    EXPECT_EQ(c->wf, 30.0f);
+    // The class is clamped to 16 bits.
+    ASSERT_TRUE(f.controller.setSelectedClass(70000));
+    EXPECT_EQ(c->cls, 65535);
+    ASSERT_TRUE(f.controller.setSelectedClass(-3));
+    EXPECT_EQ(c->cls, 0);
+    // A flag is set and cleared alone; a bridge flag makes the graph step bridge the curve.
+    ASSERT_TRUE(f.controller.setSelectedFlag(kNoBridge, true));
+    ASSERT_TRUE(f.controller.setSelectedFlag(kBridge, true));
+    EXPECT_EQ(c->flags, before.flags | kNoBridge | kBridge);
+    EXPECT_GT(f.controller.selectedBridges(), 0u);
+    ASSERT_TRUE(f.controller.setSelectedFlag(kNoBridge, false));
+    EXPECT_EQ(c->flags, before.flags | kBridge);
+    EXPECT_EQ(f.session.undoDepth(), depth + 8);
+    // A locked layer refuses each of them.
+    f.controller.setLayerLocked(kRoadsLayer, true);
+    EXPECT_FALSE(f.controller.setSelectedWidth(6.0f));
+    EXPECT_FALSE(f.controller.setSelectedFlag(kTunnel, true));
+    EXPECT_EQ(f.session.undoDepth(), depth + 8);
+    f.controller.setLayerLocked(kRoadsLayer, false);
+    // Undone one by one, the curve is as it was (undo clears the selection, not the curve).
+    for (int i = 0; i < 8; ++i) ASSERT_TRUE(f.session.undo());
+    const Curve& after = f.roads().curves[v.pick.id];
+    EXPECT_EQ(after.w, before.w);
+    EXPECT_EQ(after.wf, before.wf);
+    EXPECT_EQ(after.cls, before.cls);
+    EXPECT_EQ(after.flags, before.flags);
+}
+
 TEST(EditingController, ADragMovesThePointOntoTheGroundAsOneUndoStep) {
     Fixture f;
     const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
