@@ -1,6 +1,6 @@
-// EditSession with a streamed DEM (io/dem_stream.h): each quad's window, and the tiles remade
+// The live loop with a streamed DEM (io/dem_stream.h): each quad's window, and the tiles remade
 // when the finer blocks they wanted arrive.
-#include "editor/edit_session.h"
+#include "editor/tile_loop.h"
 
 namespace lacet {
 
@@ -11,12 +11,12 @@ double demPriority(const Quad& q, glm::dvec3 viewer) { return Quadtree::viewDist
 
 }  // namespace
 
-DemWindow EditSession::demWindow(const Quad& q, glm::dvec3 viewer) {
+DemWindow TileLoop::demWindow(const Quad& q, glm::dvec3 viewer) {
     const DemNeed n = quadDemNeed(q.bounds, params_.demSamplesPerQuad);
-    return demStream_->window(n.box, n.spacing, demPriority(q, viewer));
+    return stream_->window(n.box, n.spacing, demPriority(q, viewer));
 }
 
-DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow) {
+DemWindow TileLoop::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow) {
     // A bridge is made whole in the quad holding its middle (raster/object_meshes.h), its pillars
     // standing on the DEM anywhere along it: the window covers its ancestor curves too.
     DemNeed n = quadDemNeed(q.bounds, params_.demSamplesPerQuad);
@@ -24,7 +24,7 @@ DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemW
     bool wider = false;
     for (std::size_t l = 0; l < q.layers.size(); ++l)
         for (const auto& [a, pieces] : q.layers[l].curves) {
-            const Curve& c = quadtree_->ancestorCurve(LayerId(l), a);
+            const Curve& c = tree_->ancestorCurve(LayerId(l), a);
             if (!(c.flags & kBridge)) continue;
             const double reach = double(c.w) + double(c.wf) + 10.0;  // the deck's and the pillars' half-widths, and more
             for (const Vertex& v : c.vertices) {
@@ -37,20 +37,20 @@ DemWindow EditSession::objectWindow(const Quad& q, glm::dvec3 viewer, const DemW
             }
         }
     if (!wider) return quadWindow;
-    return demStream_->window(n.box, n.spacing, demPriority(q, viewer));
+    return stream_->window(n.box, n.spacing, demPriority(q, viewer));
 }
 
-void EditSession::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r) {
-    demStream_->beginFrame();
+void TileLoop::followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r) {
+    stream_->beginFrame();
     for (const Quad* q : fit.shown) {
         const auto it = cache_.find(keyOf(*q));
         if (it == cache_.end() || it->second.dirty || it->second.demLevel >= it->second.demWanted) continue;
         const DemNeed n = quadDemNeed(q->bounds, params_.demSamplesPerQuad);
-        if (demStream_->availableLevel(n.box, n.spacing) > it->second.demLevel) {
+        if (stream_->availableLevel(n.box, n.spacing) > it->second.demLevel) {
             it->second.dirty = true;
             ++r.demRemade;
         } else {
-            demStream_->request(n.box, n.spacing, demPriority(*q, viewer));
+            stream_->request(n.box, n.spacing, demPriority(*q, viewer));
         }
     }
 }

@@ -1,0 +1,73 @@
+#include "editor/command_history.h"
+
+#include <chrono>
+#include <utility>
+#include <variant>
+
+namespace lacet {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Whether `next` continues `last` as a drag of the same vertex or node.
+bool continuesDrag(const Command& last, const Command& next) {
+    if (const auto* a = std::get_if<MoveVertexCmd>(&last))
+        if (const auto* b = std::get_if<MoveVertexCmd>(&next))
+            return a->layer == b->layer && a->curve == b->curve && a->index == b->index;
+    if (const auto* a = std::get_if<MoveNodeCmd>(&last))
+        if (const auto* b = std::get_if<MoveNodeCmd>(&next)) return a->layer == b->layer && a->node == b->node;
+    return false;
+}
+
+}  // namespace
+
+void CommandHistory::execute(Scene& scene, const Command& command, bool merge, const AfterEdit& after) {
+    const auto t0 = Clock::now();
+    Applied a = lacet::apply(scene, command);
+    const double ms = msSince(t0);
+    undone_.clear();
+    const Changeset cs = a.changeset;
+    if (merge && !done_.empty() && continuesDrag(done_.back().command, command) && done_.back().serial != savedSerial_) {
+        // One undo step: the first command's snapshot, both changesets.
+        Done& last = done_.back();
+        last.command = command;
+        last.applied.changeset.append(a.changeset);
+        last.applied.changeset.normalize();
+        last.serial = ++serial_;
+    } else {
+        done_.push_back({command, std::move(a), group_, ++serial_});
+    }
+    after(cs, ms);
+}
+
+bool CommandHistory::undo(Scene& scene, const AfterEdit& after) {
+    if (done_.empty()) return false;
+    const std::uint64_t group = done_.back().group;
+    do {
+        const auto t0 = Clock::now();
+        const Changeset cs = lacet::undo(scene, done_.back().applied);
+        const double ms = msSince(t0);
+        undone_.push_back(std::move(done_.back()));
+        done_.pop_back();
+        after(cs, ms);
+    } while (group != 0 && !done_.empty() && done_.back().group == group);
+    return true;
+}
+
+bool CommandHistory::redo(Scene& scene, const AfterEdit& after) {
+    if (undone_.empty()) return false;
+    const std::uint64_t group = undone_.back().group;
+    do {
+        Done d = std::move(undone_.back());
+        undone_.pop_back();
+        const auto t0 = Clock::now();
+        d.applied = lacet::apply(scene, d.command);
+        const double ms = msSince(t0);
+        done_.push_back(std::move(d));
+        after(done_.back().applied.changeset, ms);
+    } while (group != 0 && !undone_.empty() && undone_.back().group == group);
+    return true;
+}
+
+}  // namespace lacet
