@@ -11,6 +11,7 @@
 #include "io/scene_features.h"
 #include "io/scene_file.h"
 #include "io/scene_format.h"
+#include "raster/elevation_producer.h"
 
 namespace lacet {
 
@@ -86,6 +87,34 @@ public:
             const Pending p = pending_.front();
             pending_.pop_front();
             closeCurve(p);
+        }
+    }
+
+    // A river area's water follows its river on through the area (raster/elevation_producer.h:
+    // axialRiver), whatever quad its tile is in: every curve at the nodes the walk looks at, and
+    // the areas those curves border (so that the walk over the part read, whose lists trimLists()
+    // keeps to what was read, sees what it sees over the whole scene), until no walk finds more.
+    void closeAxialRivers() {
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (LayerId l = 0; l < doc_.scene.layers.size(); ++l) {
+                Layer& layer = doc_.scene.layers[l];
+                if (layer.kind != LayerKind::Rivers) continue;
+                for (ElementId a = 0; a < layer.areas.size(); ++a) {
+                    if (!areaLoaded_[l][a] || layer.areas[a].axial == kNoElement) continue;
+                    const std::size_t before = nodes + curves + areas;
+                    const AxialRiver walk = axialRiver(layer, layer.areas[a]);
+                    for (ElementId n : walk.nodes) {
+                        addNode(l, n);
+                        for (ElementId c : layer.nodes[n].curves) {
+                            addCurve(l, c, false);
+                            for (ElementId border : layer.curves[c].areas) addArea(l, border, false);
+                        }
+                    }
+                    close();
+                    changed = changed || nodes + curves + areas != before;
+                }
+            }
         }
     }
 
@@ -268,6 +297,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         RegionLoader loader(db, d, std::move(tables), tolerance);
         st.found = loader.findIn(region.dilated(quadSize + st.reach));
         loader.close();
+        loader.closeAxialRivers();
         loader.trimLists();
         readAttributesOf(db, d, [&](const ElementAttribute& a) { return loader.loaded(a); });
         st.nodes = loader.nodes;

@@ -16,6 +16,9 @@
 //     step's bridges; for an imported bridge, kBridge, the roads too);
 //   - for every river curve loaded, every river curve upstream of its end nodes (a river node is no
 //     higher than any node upstream of it);
+//   - for every river area loaded with an axial curve, the river its water follows on through the
+//     area (raster/elevation_producer.h: axialRiver): every curve at the nodes of that walk and the
+//     areas those curves border, and so on for those areas;
 //   - the end nodes of every curve loaded, their lists of curves and the curves' lists of areas
 //     keeping what was loaded; the attributes of what was loaded.
 // The DEM is opened as loadScene opens it. Each row read is checked as loadScene checks it and the
@@ -23,8 +26,7 @@
 //
 // A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
 // checksum checked. Not yet out of core: every slot of the scene is allocated (dead when not read),
-// and the element tables are scanned once for their counts; a river area's water level, which
-// follows its axial river curves beyond the quads, may need rivers downstream that are not read.
+// and the element tables are scanned once for their counts.
 
 #include <string>
 

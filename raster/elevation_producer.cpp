@@ -156,36 +156,6 @@ void drawAreaFootprint(FootprintCanvas& canvas, ElevationTile& tile, const std::
     }
 }
 
-// The river curves a river area's water follows: its axial curve, and the curves of the axial
-// curve's class joined to them at nodes inside the area (the area's root loops, their on-curve
-// vertices), in id order. The river through a long river area is split into several curves at
-// its confluences (and Area holds one axial curve): beyond its axial curve's ends, the area
-// follows the river on, rather than stay level at an end's height.
-std::vector<ElementId> axialRiver(const Layer& layer, const Area& area) {
-    constexpr std::size_t kMaxCurves = 256;  // a bound on the walk, far above a river area's confluences
-    std::vector<ClippedLoop> loops;
-    for (const auto& loop : area.loops) loops.push_back({loopVertices(layer, loop), false});
-    const Curve& axial = layer.curves[area.axial];
-    std::vector<ElementId> curves{area.axial}, pending{axial.start, axial.end}, seen;
-    while (!pending.empty() && curves.size() < kMaxCurves) {
-        const ElementId n = pending.back();
-        pending.pop_back();
-        if (n == kNoElement || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
-        seen.push_back(n);
-        if (!insideLoops(loops, layer.nodes[n].p)) continue;
-        for (ElementId c : layer.nodes[n].curves) {
-            const Curve& cv = layer.curves[c];
-            if (!cv.alive || !cv.areas.empty() || cv.cls != axial.cls || (cv.flags & (kBridge | kTunnel)) ||
-                std::find(curves.begin(), curves.end(), c) != curves.end())
-                continue;
-            curves.push_back(c);
-            pending.push_back(cv.start == n ? cv.end : cv.start);
-        }
-    }
-    std::sort(curves.begin(), curves.end());
-    return curves;
-}
-
 // A river area's z_e (§5.2: "z_e <- z(u) ... by drawing a strip based on the axial curve"): at
 // every sample of the tile, the z-profile of the area's river (axialRiver: its axial curve and
 // the river on through the area) at its point nearest to the sample. The curves are the root
@@ -318,6 +288,37 @@ void halfResolution(ElevationTile& t) {
 
 }  // namespace
 
+AxialRiver axialRiver(const Layer& layer, const Area& area) {
+    constexpr std::size_t kMaxCurves = 256;  // a bound on the walk, far above a river area's confluences
+    std::vector<ClippedLoop> loops;
+    for (const auto& loop : area.loops) loops.push_back({loopVertices(layer, loop), false});
+    const Curve& axial = layer.curves[area.axial];
+    AxialRiver out;
+    std::vector<ElementId>& curves = out.curves;
+    curves.push_back(area.axial);
+    std::vector<ElementId> pending{axial.start, axial.end}, seen;
+    while (!pending.empty() && curves.size() < kMaxCurves) {
+        const ElementId n = pending.back();
+        pending.pop_back();
+        if (n == kNoElement || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+        seen.push_back(n);
+        if (!insideLoops(loops, layer.nodes[n].p)) continue;
+        out.nodes.push_back(n);
+        for (ElementId c : layer.nodes[n].curves) {
+            const Curve& cv = layer.curves[c];
+            if (!cv.alive || !cv.areas.empty() || cv.cls != axial.cls || (cv.flags & (kBridge | kTunnel)) ||
+                std::find(curves.begin(), curves.end(), c) != curves.end())
+                continue;
+            curves.push_back(c);
+            pending.push_back(cv.start == n ? cv.end : cv.start);
+        }
+    }
+    std::sort(curves.begin(), curves.end());
+    std::sort(out.nodes.begin(), out.nodes.end());
+    return out;
+}
+
+
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                const Dem& dem, const ElevationParams& params, ElevationCounters* counters) {
     const TileGrid& grid = quadtree.params().grid();  // validated by the Quadtree
@@ -363,7 +364,7 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
                 const Area& area = scene.layers[l].areas[a];
                 const double wf = double(area.wf);
                 if (kind == LayerKind::Rivers && area.axial != kNoElement) {
-                    const AxialHeights axial(t, l, scene.layers[l], axialRiver(scene.layers[l], area), curveData);
+                    const AxialHeights axial(t, l, scene.layers[l], axialRiver(scene.layers[l], area).curves, curveData);
                     drawAreaFootprint(canvas, t, pieces, wf, axial);
                 } else {
                     const float level = float(curveData.lakeLevel(l, a));

@@ -48,6 +48,18 @@ struct ElevationCounters {
     std::atomic<std::size_t> lakesDrawn{0};
 };
 
+// The river curves a river area's water follows (`area.axial` must name a curve): its axial curve,
+// and the curves of the axial curve's class joined to them at nodes inside the area (the area's
+// root loops, their on-curve vertices), in id order, bridges and tunnels and area borders left
+// out; the river through a long river area is split into several curves at its confluences, and
+// beyond its axial curve's ends the area follows the river on rather than stay level. `nodes`:
+// the nodes inside the area the walk looked at (every curve at them was considered). What the
+// area's tiles read of its layer, whatever quad they are in (io/scene_region.h loads it).
+struct AxialRiver {
+    std::vector<ElementId> curves, nodes;
+};
+AxialRiver axialRiver(const Layer& layer, const Area& area);
+
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
                                const Dem& dem, const ElevationParams& params, ElevationCounters* counters = nullptr);
 

@@ -134,6 +134,63 @@ TEST_F(SceneRegion, ARegionOnTheQuadBordersAtEveryLevelGivesTheSameTiles) {
     EXPECT_TRUE(a.elevation == b.elevation);
 }
 
+// A wide river area whose water follows its river on through it (raster/elevation_producer.cpp:
+// axialRiver): the axial curve A, then B and C, split at confluence nodes inside the area. A
+// region at the area's far bank, 280 m from C and farther from everything else the R-trees find,
+// needs C: the water level there is C's z-profile at its nearest point.
+SceneDocument riverAreaScene() {
+    SceneDocument doc;
+    doc.scene.extent = {{0.0, 0.0}, {4096.0, 4096.0}};
+    Layer rivers;
+    rivers.name = "rivers";
+    rivers.kind = LayerKind::Rivers;
+    auto line = [&](ElementId a, ElementId b, float w, float wf, std::uint16_t cls) {
+        Curve c;
+        c.vertices = {Vertex{rivers.nodes[a].p}, Vertex{rivers.nodes[b].p}};
+        c.start = a, c.end = b, c.w = w, c.wf = wf, c.cls = cls;
+        return rivers.addCurve(c);
+    };
+    const ElementId n0 = rivers.addNode({100.0, 1000.0}), n1 = rivers.addNode({3100.0, 1000.0}), n2 = rivers.addNode({3100.0, 1600.0}),
+                    n3 = rivers.addNode({100.0, 1600.0});
+    const ElementId banks[4] = {line(n0, n1, 0.0f, 10.0f, 1), line(n1, n2, 0.0f, 10.0f, 1), line(n2, n3, 0.0f, 10.0f, 1),
+                                line(n3, n0, 0.0f, 10.0f, 1)};
+    const ElementId a0 = rivers.addNode({150.0, 1300.0}), a1 = rivers.addNode({1100.0, 1300.0}), a2 = rivers.addNode({2100.0, 1300.0}),
+                    a3 = rivers.addNode({3050.0, 1300.0});
+    const ElementId axial = line(a0, a1, 20.0f, 30.0f, 0);
+    line(a1, a2, 20.0f, 30.0f, 0);
+    line(a2, a3, 20.0f, 30.0f, 0);
+    Area area;
+    area.loops = {{{banks[0]}, {banks[1]}, {banks[2]}, {banks[3]}}};
+    area.wf = 10.0f;
+    area.axial = axial;
+    rivers.addArea(area);
+    doc.scene.layers.push_back(std::move(rivers));
+    // Ground falling 30 m a km to the east: the river's z-profile falls with it.
+    constexpr int kSide = 257;
+    std::vector<float> z(std::size_t(kSide) * kSide);
+    for (int j = 0; j < kSide; ++j)
+        for (int i = 0; i < kSide; ++i) z[std::size_t(j) * kSide + std::size_t(i)] = float(500.0 - 0.03 * 16.0 * i);
+    doc.dem.emplace(doc.scene.extent, kSide, kSide, std::move(z));
+    return doc;
+}
+
+TEST_F(SceneRegion, ARiverAreasWaterFollowsItsRiverOnThroughTheAreaWhereverTheRegionIs) {
+    const std::string path = (*dir_ / "river_area.gpkg").string();
+    saveScene(path, riverAreaScene());
+    const SceneDocument whole = loadScene(path);
+    for (const Box region : {Box{{2590.0, 1570.0}, {2610.0, 1590.0}}, Box{{600.0, 1020.0}, {640.0, 1040.0}}}) {
+        SceneRegionStats stats;
+        const SceneDocument part = loadSceneRegion(path, region, {}, 7, &stats);
+        const RegionTiles a = tilesOf(whole, region, 7), b = tilesOf(part, region, 7);
+        ASSERT_FALSE(a.elevation.empty());
+        EXPECT_TRUE(a.elevation == b.elevation) << "region at " << region.min.x << ", " << region.min.y << ": " << stats.curves
+                                                << " of " << stats.sceneCurves << " curves read";
+        EXPECT_TRUE(a.appearance == b.appearance);
+        // The river through the area is read whole: its three curves and the banks.
+        EXPECT_EQ(stats.curves, 7u);
+    }
+}
+
 TEST_F(SceneRegion, AFileWithoutTheFeatureIndexIsReadWhole) {
     const std::string copy = (*dir_ / "old.gpkg").string();
     std::filesystem::copy_file(*path_, copy, std::filesystem::copy_options::overwrite_existing);
