@@ -216,7 +216,9 @@ struct PyramidJob::Impl {
         std::vector<std::uint64_t> dig(all.size());
         std::vector<char> changed(all.size());
         tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
-            dig[i] = digest.time([&] { return digests.of(*all[i].first); });
+            // Below the vector levels only the elevation follows from the quad's graph.
+            const QuadDigestScope scope = all[i].first->level < vl ? QuadDigestScope::Elevation : QuadDigestScope::All;
+            dig[i] = digest.time([&] { return digests.of(*all[i].first, scope); });
             auto it = previous.find(keyOf(*all[i].first));
             changed[i] = it == previous.end() || it->second != dig[i];
         });

@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "io/digest.h"
+#include "raster/elevation_producer.h"
 
 namespace lacet {
 namespace {
@@ -43,8 +44,7 @@ QuadDigests::QuadDigests(const Quadtree& quadtree, const CurveDataCache& curveDa
       data_(curveData),
       curves_(quadtree.scene().layers.size()),
       areas_(quadtree.scene().layers.size()),
-      nodes_(quadtree.scene().layers.size()),
-      riverLayers_(quadtree.scene().layers.size(), 0) {}
+      nodes_(quadtree.scene().layers.size()) {}
 
 std::uint64_t QuadDigests::curve(LayerId layer, AncestorId id) const {
     return cached(mutex_, curves_[layer], id, [&] { return computeCurve(layer, id); });
@@ -108,21 +108,6 @@ std::uint64_t QuadDigests::computeCurve(LayerId layer, AncestorId id) const {
     return d.value();
 }
 
-std::uint64_t QuadDigests::riverLayer(LayerId layer) const {
-    {
-        std::lock_guard lock(mutex_);
-        if (riverLayers_[layer] != 0) return riverLayers_[layer];
-    }
-    const Layer& l = qt_.scene().layers[layer];
-    Digest d;
-    for (ElementId c = 0; c < l.curves.size(); ++c)
-        if (l.curves[c].alive) d.word(c).word(curve(layer, AncestorId(c)));
-    const std::uint64_t v = d.value() | 1;  // never 0, the "not computed" mark
-    std::lock_guard lock(mutex_);
-    riverLayers_[layer] = v;
-    return v;
-}
-
 std::uint64_t QuadDigests::computeArea(LayerId layer, ElementId id) const {
     const Layer& l = qt_.scene().layers[layer];
     const Area& a = l.areas[id];
@@ -136,17 +121,32 @@ std::uint64_t QuadDigests::computeArea(LayerId layer, ElementId id) const {
         }
     }
     if (l.kind == LayerKind::Lakes || (l.kind == LayerKind::Rivers && a.axial == kNoElement)) d.real(data_.lakeLevel(layer, id));
-    if (l.kind == LayerKind::Rivers && a.axial != kNoElement) d.word(riverLayer(layer));
+    if (l.kind == LayerKind::Rivers && a.axial != kNoElement) {  // the river its water follows through it
+        const AxialRiver river = axialRiver(l, a);
+        d.word(river.curves.size());
+        for (ElementId c : river.curves) d.word(c).word(curve(layer, AncestorId(c)));
+    }
     return d.value();
 }
 
-std::uint64_t QuadDigests::of(const Quad& quad) const {
+std::uint64_t QuadDigests::of(const Quad& quad, QuadDigestScope scope) const {
+    const bool elevationOnly = scope == QuadDigestScope::Elevation;
+    const double delta = quad.bounds.size().x / double(qt_.params().grid().elevationResolution);
     Digest d;
-    d.word(std::uint64_t(quad.level)).word(quad.tx).word(quad.ty).word(quad.layers.size());
+    d.word(std::uint64_t(quad.level)).word(quad.tx).word(quad.ty).word(quad.layers.size()).word(std::uint64_t(scope));
     for (LayerId l = 0; l < quad.layers.size(); ++l) {
         const QuadLayer& ql = quad.layers[l];
-        d.word(0xC0FFEE).word(ql.curves.size());
-        for (AncestorId a : sortedKeys(ql.curves)) {
+        const LayerKind kind = qt_.scene().layers[l].kind;
+        d.word(0xC0FFEE);
+        std::vector<AncestorId> curves = sortedKeys(ql.curves);
+        if (elevationOnly)  // as the elevation producer draws them: roads and rivers, not on structures, >= 2 samples wide
+            std::erase_if(curves, [&](AncestorId a) {
+                const Curve& c = qt_.ancestorCurve(l, a);
+                return (kind != LayerKind::Roads && kind != LayerKind::Rivers) || (c.flags & (kBridge | kTunnel)) ||
+                       double(c.w) < 2.0 * delta;
+            });
+        d.word(curves.size());
+        for (AncestorId a : curves) {
             d.word(a).word(curve(l, a));
             const auto& pieces = ql.curves.at(a);
             d.word(pieces.size());
@@ -155,8 +155,10 @@ std::uint64_t QuadDigests::of(const Quad& quad) const {
                 d.reals(std::span<const double>(p.s)).word(p.startsAtNode).word(p.endsAtNode);
             }
         }
-        d.word(ql.areas.size());
-        for (ElementId a : sortedKeys(ql.areas)) {
+        std::vector<ElementId> areas = sortedKeys(ql.areas);
+        if (elevationOnly && kind != LayerKind::Lakes && kind != LayerKind::Rivers) areas.clear();
+        d.word(areas.size());
+        for (ElementId a : areas) {
             d.word(a).word(area(l, a));
             const auto& pieces = ql.areas.at(a);
             d.word(pieces.size());
@@ -168,6 +170,7 @@ std::uint64_t QuadDigests::of(const Quad& quad) const {
                 }
             }
         }
+        if (elevationOnly) continue;  // the elevation producer reads no node
         d.word(ql.nodes.size());
         for (ElementId n : sortedKeys(ql.nodes)) {
             const Vec2 p = ql.nodes.at(n);

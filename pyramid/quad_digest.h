@@ -14,7 +14,14 @@
 //   terrain under it, the rivers upstream, the water a bridge spans), and for each end node
 //   the node and every curve meeting there (stop lines and junction radii read them);
 // - for each area: its loops' curves, attributes and axial curve; a lake's computed level; a
-//   river area, every river curve's digest of its layer (its heights follow the river through it).
+//   river area, the digests of the river curves its water follows through it (raster/
+//   elevation_producer.h: axialRiver).
+// With QuadDigestScope::Elevation (a quad whose appearance is mipmapped, not made from vector
+// data: only its elevation tile follows from its digest), only what the elevation producer reads:
+// the road and river curves it draws (not bridges or tunnels, at least two elevation samples
+// wide) and the lakes and river areas; so that the digest is the same whether the thinner curves
+// and the other layers are loaded or not (pyramid/pyramid_build.h builds the levels above the
+// shards from a scene file without them).
 // These are conservative: an edit of a curve changes the digest of the quads of its neighbours at
 // its nodes too, never fewer quads than the tiles that changed.
 //
@@ -34,12 +41,14 @@ namespace lacet {
 // The version of what a digest covers: a pyramid's inputs digest (pyramid/pyramid_build.h) includes
 // it, so that an update by a program that digests differently remakes everything instead of
 // remaking whatever happens to differ. Raise it with every change of the formula below.
-inline constexpr int kQuadDigestVersion = 3;
+inline constexpr int kQuadDigestVersion = 4;
+
+enum class QuadDigestScope { All, Elevation };
 
 class QuadDigests {
 public:
     QuadDigests(const Quadtree& quadtree, const CurveDataCache& curveData);
-    std::uint64_t of(const Quad& quad) const;
+    std::uint64_t of(const Quad& quad, QuadDigestScope scope = QuadDigestScope::All) const;
 
     std::uint64_t curve(LayerId layer, AncestorId id) const;
     std::uint64_t area(LayerId layer, ElementId id) const;
@@ -49,13 +58,11 @@ private:
     std::uint64_t computeCurve(LayerId layer, AncestorId id) const;
     std::uint64_t computeArea(LayerId layer, ElementId id) const;
     std::uint64_t computeNode(LayerId layer, ElementId id) const;
-    std::uint64_t riverLayer(LayerId layer) const;
 
     const Quadtree& qt_;
     const CurveDataCache& data_;
     mutable std::mutex mutex_;
     mutable std::vector<std::unordered_map<AncestorId, std::uint64_t>> curves_, areas_, nodes_;
-    mutable std::vector<std::uint64_t> riverLayers_;  // 0: not computed yet
 };
 
 }  // namespace lacet
