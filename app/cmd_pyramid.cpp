@@ -31,7 +31,16 @@ struct PyramidOptions {
     bool force = false;
     bool json = false;
     bool shards = false;
+    std::string vectors = "region";  // how the vector data is read: by shard from the file (region), or whole
 };
+
+// The pyramid's vector data out of core (PyramidJob over the scene file: each shard reads its
+// part) or the whole document in memory; the same tiles either way.
+bool readsByRegion(const PyramidOptions& o) {
+    if (o.vectors != "region" && o.vectors != "whole")
+        throw std::invalid_argument("--vectors: '" + o.vectors + "' is neither region nor whole");
+    return o.vectors == "region";
+}
 
 PyramidParams paramsOf(const PyramidOptions& o) {
     PyramidParams p;
@@ -99,17 +108,21 @@ void addPyramidCommand(CLI::App& app) {
     build->add_flag("--force", b->force, "Replace a pyramid built for another scene in --out");
     build->add_flag("--shards", b->shards, "Run the shards on the ranks of an MPI job (mpirun -np N lacet pyramid build ... --shards)");
     build->add_flag("--json", b->json, "Print the figures as JSON");
+    build->add_option("--vectors", b->vectors,
+                      "region (default): each shard reads only its part of the scene file (out of core); whole: the scene "
+                      "read into memory once. The same tiles");
     build->callback([b] {
         const std::string out = b->out.empty() ? defaultPyramidPath(b->scene) : b->out;
         checkOut(*b, out);
         const PyramidParams params = paramsOf(*b);
+        const bool region = readsByRegion(*b);
         if (b->shards) {
-            runShardedPyramidBuild(b->scene, out, params, b->force, b->json);
+            runShardedPyramidBuild(b->scene, out, params, b->force, b->json, region);
             return;
         }
-        const SceneDocument doc = loadForPyramid(b->scene);
         TerminalProgress progress;
-        const PyramidStats s = buildPyramid(doc, out, params, b->force, &progress);
+        const PyramidStats s = region ? buildPyramid(b->scene, out, params, b->force, &progress)
+                                      : buildPyramid(loadForPyramid(b->scene), out, params, b->force, &progress);
         printPyramidStats(s, "built", out, b->json);
     });
 
@@ -119,11 +132,12 @@ void addPyramidCommand(CLI::App& app) {
     update->add_option("--pyramid", u->out, "Pyramid file (default: SCENE with .pyramid.gpkg)");
     update->add_option("--dem-budget", u->demBudgetMiB, "MiB of a streamed DEM's blocks held at once");
     update->add_flag("--json", u->json, "Print the figures as JSON");
+    update->add_option("--vectors", u->vectors, "region (default): out of core, by shard; whole: the scene in memory. The same tiles");
     update->callback([u] {
         const std::string path = u->out.empty() ? defaultPyramidPath(u->scene) : u->out;
-        const SceneDocument doc = loadForPyramid(u->scene);
         TerminalProgress progress;
-        const PyramidStats s = updatePyramid(doc, path, &progress, u->demBudgetMiB);
+        const PyramidStats s = readsByRegion(*u) ? updatePyramid(u->scene, path, &progress, u->demBudgetMiB)
+                                                 : updatePyramid(loadForPyramid(u->scene), path, &progress, u->demBudgetMiB);
         printPyramidStats(s, "updated", path, u->json);
     });
 
@@ -192,7 +206,7 @@ void printPyramidInfo(const std::string& path) {
 }
 
 #ifndef LACET_MPI
-void runShardedPyramidBuild(const std::string&, const std::string&, const PyramidParams&, bool, bool) {
+void runShardedPyramidBuild(const std::string&, const std::string&, const PyramidParams&, bool, bool, bool) {
     throw std::invalid_argument("--shards needs MPI: this lacet was built without it (cmake -DLACET_MPI=ON, Open MPI from Debian's libopenmpi-dev)");
 }
 #endif

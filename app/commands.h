@@ -26,6 +26,8 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path);
 void printPyramidStats(const PyramidStats& s, const std::string& what, const std::string& path, bool json);
 // `lacet pyramid build --shards`: the build over the ranks of an MPI job (app/pyramid_mpi.cpp when
 // built with LACET_MPI; otherwise it refuses, saying so).
-void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json);
+// `region`: each rank's shards read only their part of the scene file (PyramidJob over the file).
+void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json,
+                            bool region);
 
 }  // namespace lacet::app

@@ -4,7 +4,9 @@
 //
 //   mpirun -np N lacet pyramid build SCENE --out OUT --shards      (or srun, samples/slurm/)
 //
-// Every rank loads the scene and makes the same PyramidJob; shard k of job.shards() goes to rank
+// Every rank makes the same PyramidJob, over the scene file (the default, --vectors region: each
+// shard reads only its part of the file, so a rank's memory follows its shard, not the scene) or
+// over the whole scene loaded (--vectors whole); shard k of job.shards() goes to rank
 // k % N, which writes it into its own GeoPackage OUT.shards/shard-L-X-Y.gpkg (written as .part,
 // renamed once committed, so a half-written shard never looks finished). After a barrier rank 0
 // merges: the final pyramid at OUT gets every shard's tiles, elevation statistics and quad digests,
@@ -236,16 +238,24 @@ const char* env(const char* name) {
     return v && *v ? v : nullptr;
 }
 
-void run(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json, int rank, int size) {
+void run(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json, bool region, int rank,
+         int size) {
     const auto t0 = Clock::now();
     const auto since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
     std::unique_ptr<TerminalProgress> progress;
     if (rank == 0) progress = std::make_unique<TerminalProgress>();
 
-    SceneDocument doc = loadScene(scene);
-    if (!doc.dem && rank == 0) std::cerr << "lacet pyramid: warning: " << scene << " holds no DEM: the ground is flat at 0 m\n";
+    // Out of core (`region`): the job reads each shard's part of the file; else every rank holds
+    // the whole scene.
+    std::optional<SceneDocument> doc;
+    if (!region) {
+        doc = loadScene(scene);
+        if (!doc->dem && rank == 0) std::cerr << "lacet pyramid: warning: " << scene << " holds no DEM: the ground is flat at 0 m\n";
+    }
     const std::string checksum = sceneChecksum(scene);
-    PyramidJob job(doc, params);
+    const std::unique_ptr<PyramidJob> jobOwner =
+        region ? std::make_unique<PyramidJob>(scene, params) : std::make_unique<PyramidJob>(*doc, params);
+    PyramidJob& job = *jobOwner;
     const PyramidInfo wanted = job.info();
     const PyramidParams& p = job.params();
     if (rank == 0 && fs::exists(out) && !force) {
@@ -382,7 +392,8 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
 
 }  // namespace
 
-void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json) {
+void runShardedPyramidBuild(const std::string& scene, const std::string& out, const PyramidParams& params, bool force, bool json,
+                            bool region) {
     int provided = 0;
     MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     int rank = 0, size = 1;
@@ -390,7 +401,7 @@ void runShardedPyramidBuild(const std::string& scene, const std::string& out, co
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     try {
         if (provided < MPI_THREAD_FUNNELED) throw std::runtime_error("the MPI library does not provide MPI_THREAD_FUNNELED");
-        run(scene, out, params, force, json, rank, size);
+        run(scene, out, params, force, json, region, rank, size);
     } catch (const std::exception& e) {
         std::cout.flush();
         std::fprintf(stderr, "lacet: rank %d: %s\n", rank, e.what());

@@ -116,7 +116,8 @@ bool isLacetScene(const std::string& path) {
 }
 
 std::string scene_format::loadSceneParts(const std::string& path, SceneDocument& doc,
-                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements) {
+                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
+                                          bool wholeFileCheck) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw SceneFileError(path + ": cannot open: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw SceneFileError(path + ": is a directory, not a Lacet scene");
@@ -124,7 +125,7 @@ std::string scene_format::loadSceneParts(const std::string& path, SceneDocument&
     std::string checksum;
     try {
         SqliteDb db(path, SqliteDb::Mode::ReadOnly);
-        const Meta meta = openSceneTables(db, std::int64_t(st.st_size));
+        const Meta meta = openSceneTables(db, std::int64_t(st.st_size), wholeFileCheck);
         doc.scene.extent = metaBox(meta, "extent");
         doc.georeference.valid = metaInteger(meta, "georeference_valid", 0, 1) != 0;
         doc.georeference.lon0 = metaDouble(meta, "georeference_lon0");
@@ -134,7 +135,7 @@ std::string scene_format::loadSceneParts(const std::string& path, SceneDocument&
         doc.georeference.crsWkt = metaValue(meta, "crs_wkt");
         checksum = metaValue(meta, "checksum");
         readElements(db, doc);
-        const std::string& dem = metaValue(meta, "dem");
+        const std::string& dem = readDem ? metaValue(meta, "dem") : std::string("none");
         std::int64_t demWidth = 0, demHeight = 0;
         if (dem == kDemRasterTable || dem == kDemLodTable) {
             demWidth = metaInteger(meta, "dem_width", 1, INT32_MAX);

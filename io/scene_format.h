@@ -42,8 +42,10 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc);
 using Meta = std::map<std::string, std::string>;
 
 // Checks that `db` is an intact GeoPackage holding a Lacet scene of a known version (its size is
-// `fileSize` bytes); returns its lacet_meta. Throws FormatError.
-Meta openSceneTables(SqliteDb& db, std::int64_t fileSize);
+// `fileSize` bytes; with `wholeFileCheck`, every page read by SQLite's quick_check, O(file); a
+// reader of a small part of a large file leaves it to SQLite's checks of the pages it reads);
+// returns its lacet_meta. Throws FormatError.
+Meta openSceneTables(SqliteDb& db, std::int64_t fileSize, bool wholeFileCheck = true);
 
 // Values of lacet_meta; each throws FormatError naming the key when it is missing or malformed.
 const std::string& metaValue(const Meta& meta, const std::string& key);
@@ -80,9 +82,11 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool
 // ---- scene_file.cpp ----
 
 // What loadScene does but the checksum: opens and checks `path`, reads lacet_meta, calls
-// `readElements`, reads the DEM, validates the model; returns lacet_meta's checksum text. Throws
+// `readElements`, reads the DEM (unless `readDem` is false: the caller has it), validates the
+// model; returns lacet_meta's checksum text. `wholeFileCheck`: openSceneTables'. Throws
 // SceneFileError naming the file.
 std::string loadSceneParts(const std::string& path, SceneDocument& doc,
-                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements);
+                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem = true,
+                           bool wholeFileCheck = true);
 
 }  // namespace lacet::scene_format

@@ -1,5 +1,7 @@
 #include "io/scene_region.h"
 
+#include <sqlite3.h>
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -34,23 +36,25 @@ struct Pending {
 
 class RegionLoader {
 public:
-    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables, double tolerance)
-        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance) {
+    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables, double tolerance, SceneRegionOptions filter)
+        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance), filter_(filter) {
         const std::size_t n = doc.scene.layers.size();
         nodeLoaded_.resize(n);
         curveLoaded_.resize(n);
         curveNear_.resize(n);
         upstreamChecked_.resize(n);
         areaLoaded_.resize(n);
+        // Each layer's slots: its largest id + 1, through the (layer, id) index, not a scan of the
+        // table (a region reads a small part of it). A row missing below it is found when read.
         for (const char* table : {"lacet_nodes", "lacet_curves", "lacet_areas"}) {
-            auto s = db.prepare(std::string("SELECT layer, max(id) + 1, count(*), min(id) FROM ") + table + " GROUP BY layer");
-            while (s.step()) {
-                const std::int64_t layer = s.integer(0), count = s.integer(1);
-                if (layer < 0 || std::size_t(layer) >= n || count < 0 || count > kMaxId + 1 || s.integer(2) != count ||
-                    s.integer(3) != 0)
-                    throw FormatError(std::string(table) + ": layer " + std::to_string(layer) +
-                                      ": ids are not 0, 1, 2... or out of range");
-                Layer& l = doc.scene.layers[std::size_t(layer)];
+            auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
+            for (std::size_t layer = 0; layer < n; ++layer) {
+                s.reset();
+                s.bind(1, std::int64_t(layer));
+                const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
+                if (count < 0 || count > kMaxId + 1)
+                    throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
+                Layer& l = doc.scene.layers[layer];
                 if (table[6] == 'n') l.nodes.resize(std::size_t(count));
                 else if (table[6] == 'c') l.curves.resize(std::size_t(count));
                 else l.areas.resize(std::size_t(count));
@@ -72,12 +76,26 @@ public:
     // Everything whose feature box meets `box`.
     std::size_t findIn(const Box& box) {
         std::size_t found = 0;
-        for (const FeatureTableRef& t : tables_)
+        for (const FeatureTableRef& t : tables_) {
+            const LayerKind kind = doc_.scene.layers[t.layer].kind;
+            if (filter_.elevationOnly && (t.polygons ? kind != LayerKind::Lakes && kind != LayerKind::Rivers
+                                                     : kind != LayerKind::Roads && kind != LayerKind::Rivers))
+                continue;
             for (ElementId id : query(t, box)) {
                 ++found;
-                if (t.polygons) addArea(t.layer, id, true);
-                else addCurve(t.layer, id, true);
+                if (t.polygons) {
+                    addArea(t.layer, id, true);
+                } else if (!filter_.elevationOnly) {
+                    addCurve(t.layer, id, true);
+                } else if (id < curveLoaded_[t.layer].size() && !curveLoaded_[t.layer][id]) {
+                    // Drawn by the elevation producer: read once, kept only then.
+                    const Curve c = rows_.curve(t.layer, id);
+                    if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth) addCurve(t.layer, id, true);
+                } else {
+                    addCurve(t.layer, id, true);
+                }
             }
+        }
         return found;
     }
 
@@ -235,6 +253,7 @@ private:
     ElementRows rows_;
     std::vector<FeatureTableRef> tables_;
     double tolerance_ = 0.0;
+    SceneRegionOptions filter_;
     std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_, upstreamChecked_;
     std::deque<Pending> pending_;
 };
@@ -242,10 +261,12 @@ private:
 }  // namespace
 
 SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
-                              SceneRegionStats* stats) {
+                              SceneRegionStats* stats, const SceneRegionOptions& filter) {
     if (level < 0 || level > 30) throw std::invalid_argument("loadSceneRegion: level " + std::to_string(level) + " is not in 0..30");
     if (!(region.min.x <= region.max.x && region.min.y <= region.max.y))
         throw std::invalid_argument("loadSceneRegion: the region is empty");
+    if (!(filter.minCurveWidth >= 0.0) || !std::isfinite(filter.minCurveWidth))
+        throw std::invalid_argument("loadSceneRegion: SceneRegionOptions::minCurveWidth must be finite and >= 0");
     SceneRegionStats local;
     SceneRegionStats& st = stats ? *stats : local;
     st = {};
@@ -257,6 +278,19 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
             readElementTables(db, d);
             return;
         }
+        // One read transaction: the file's shared lock taken once, not at each of the many
+        // single-row statements below (per statement, SQLite locks and checks for a hot journal:
+        // most of a small region's time). A read changes nothing: the end is a plain COMMIT.
+        db.exec("BEGIN");
+        struct End {
+            SqliteDb& db;
+            ~End() {
+                try {
+                    db.exec("COMMIT");
+                } catch (...) {
+                }
+            }
+        } end{db};
         readLayerTable(db, d.scene);
         std::vector<FeatureTableRef> tables;
         double curveWf = 0.0, areaWf = 0.0, tolerance = 0.0;
@@ -294,8 +328,15 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         }
         st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
                                      std::fabs(region.max.y)});
-        RegionLoader loader(db, d, std::move(tables), tolerance);
-        st.found = loader.findIn(region.dilated(quadSize + st.reach));
+        RegionLoader loader(db, d, std::move(tables), tolerance, filter);
+        // The quads of the level that meet the region (closed boxes: a quad touching its border
+        // counts), on the root's grid, then the reach around them.
+        const double cells = double(std::int64_t(1) << level);
+        const auto cell = [&](double v, double origin) { return std::clamp(std::floor((v - origin) / quadSize), 0.0, cells - 1.0); };
+        const Vec2 origin = d.scene.extent.min;
+        const Box quads{origin + Vec2(cell(region.min.x, origin.x), cell(region.min.y, origin.y)) * quadSize,
+                        origin + (Vec2(cell(region.max.x, origin.x), cell(region.max.y, origin.y)) + 1.0) * quadSize};
+        st.found = loader.findIn(quads.dilated(st.reach));
         loader.close();
         loader.closeAxialRivers();
         loader.trimLists();
@@ -304,9 +345,10 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         st.curves = loader.curves;
         st.areas = loader.areas;
     };
-    const std::string checksum = loadSceneParts(path, doc, readRegion);
+    const std::string checksum = loadSceneParts(path, doc, readRegion, filter.dem, filter.wholeFileCheck);
+    st.checksum = checksum;
     // Read whole: checked whole, as loadScene checks it.
-    if (!indexed && sceneChecksumText(doc) != checksum)
+    if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
     for (const Layer& l : doc.scene.layers) {
@@ -320,6 +362,12 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         }
     }
     return doc;
+}
+
+Box loadSceneExtent(const std::string& path) {
+    SceneDocument doc;
+    loadSceneParts(path, doc, [](SqliteDb&, SceneDocument&) {}, /*readDem=*/false, /*wholeFileCheck=*/false);
+    return doc.scene.extent;
 }
 
 }  // namespace lacet

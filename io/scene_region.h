@@ -7,7 +7,7 @@
 // What is loaded, by id (ids are kept: the scene's layers have every slot, the ones not loaded dead
 // and empty):
 //   - every curve and area whose feature box meets the quads of the level that meet the region
-//     (the region dilated by a quad's side), dilated by the reach: the largest clipping margin
+//     (closed boxes: a quad touching the region's border counts), dilated by the reach: the largest clipping margin
 //     (RefineParams::curveMargin, areaMargin) of the file's curves and areas at the level's quad
 //     size, plus the features' tolerance; an area brings its loop and axial curves;
 //     the reach also holds the largest roundabout radius (a ring reaches that far beyond its roads);
@@ -25,7 +25,7 @@
 // partial model is validated; the whole file's checksum is not (it needs every row).
 //
 // A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
-// checksum checked. Not yet out of core: every slot of the scene is allocated (dead when not read),
+// checksum checked (when the DEM is read: the checksum covers it). Not yet out of core: every slot of the scene is allocated (dead when not read),
 // and the element tables are scanned once for their counts.
 
 #include <string>
@@ -41,12 +41,34 @@ struct SceneRegionStats {
     std::size_t found = 0;    // curves and areas found in the region through the R-trees
     std::size_t nodes = 0, curves = 0, areas = 0;                 // loaded
     std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // slots of the whole scene
+    std::string checksum;  // the whole file's stored checksum (loadScene checks it; a region load cannot)
+};
+
+// What a region load starts from. By default every curve and area the R-trees find; with
+// `elevationOnly`, only what the elevation producer draws (raster/elevation_producer.h): road and
+// river curves at least `minCurveWidth` metres wide (two elevation samples of the deepest quads
+// that will be made) and not whole bridges or tunnels, and lake and river areas; what those depend
+// on is loaded as always. For tiles whose appearance is not made from vector data (the levels of a
+// pyramid above its vector levels, pyramid/pyramid_build.h), whose elevation is then the same as
+// with the whole scene.
+struct SceneRegionOptions {
+    bool elevationOnly = false;
+    double minCurveWidth = 0.0;  // m, >= 0
+    bool dem = true;  // open the DEM as loadScene does; false: none (the caller has it, e.g. for many regions)
+    // SQLite's quick_check of every page of the file, as loadScene does: O(file), so that a reader
+    // of many regions of one file (pyramid/pyramid_build.h) does it on its first read only; without
+    // it, SQLite still checks each page it reads, and every row read is checked.
+    bool wholeFileCheck = true;
 };
 
 // Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with
 // `params` (above). Throws SceneFileError naming the file and the reason, std::invalid_argument for a
-// level out of 0..30 or an empty region.
+// level out of 0..30, an empty region or a bad filter.
 SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
-                              SceneRegionStats* stats = nullptr);
+                              SceneRegionStats* stats = nullptr, const SceneRegionOptions& filter = {});
+
+// The extent of the scene file at `path` (its root quad), read from its metadata alone. Throws
+// SceneFileError naming the file.
+Box loadSceneExtent(const std::string& path);
 
 }  // namespace lacet

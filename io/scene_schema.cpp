@@ -211,7 +211,7 @@ Box metaBox(const Meta& meta, const std::string& prefix) {
             {metaDouble(meta, prefix + "_max_x"), metaDouble(meta, prefix + "_max_y")}};
 }
 
-Meta openSceneTables(SqliteDb& db, std::int64_t fileSize) {
+Meta openSceneTables(SqliteDb& db, std::int64_t fileSize, bool wholeFileCheck) {
     const std::int64_t applicationId = db.queryInteger("PRAGMA application_id");
     if (applicationId != kGpkgApplicationId) {
         char hex[16];
@@ -224,8 +224,10 @@ Meta openSceneTables(SqliteDb& db, std::int64_t fileSize) {
         throw FormatError("truncated file (" + std::to_string(fileSize) + " bytes, its SQLite header says " +
                           std::to_string(expectedSize) + ")");
     // Reads every page: finds a damaged file before anything is trusted.
-    const std::string check = db.queryText("PRAGMA quick_check(1)");
-    if (check != "ok") throw FormatError("corrupt file (SQLite quick_check: " + check + ")");
+    if (wholeFileCheck) {
+        const std::string check = db.queryText("PRAGMA quick_check(1)");
+        if (check != "ok") throw FormatError("corrupt file (SQLite quick_check: " + check + ")");
+    }
     if (!db.hasTable("lacet_meta")) throw FormatError("not a Lacet scene (a GeoPackage without a lacet_meta table)");
     Meta meta = readMeta(db);
     const auto format = meta.find("format");

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <stdexcept>
@@ -15,6 +16,7 @@
 
 #include "io/dem_stream.h"
 #include "io/scene_checksum.h"
+#include "io/scene_region.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "io/digest.h"
@@ -91,21 +93,65 @@ struct MadeTile {
     bool hasElevation = false;
 };
 
+// The scene a job's tiles are made from, clipped: the caller's whole document, or a part of a
+// scene file (io/scene_region.h) read for the levels above the shards or for one shard. Every
+// model reads the job's one DEM source.
+struct SceneModel {
+    SceneDocument part;  // the part read (empty when the model borrows a document)
+    const SceneDocument& doc;
+    GraphStep graphStep;
+    Quadtree qt;
+    CurveDataCache data;
+    QuadDigests digests;
+    SceneModel(const SceneDocument* borrowed, SceneDocument read, const RefineParams& refine, const HeightField& heights)
+        : part(std::move(read)),
+          doc(borrowed ? *borrowed : part),
+          graphStep(doc.scene),
+          qt(doc.scene, refine, &graphStep),
+          data(qt, heights),
+          digests(qt, data) {}
+};
+
+// What the levels above the shards read of a scene file: their elevation only, when their
+// appearance is mipmapped (the road and river curves at least two elevation samples wide at the
+// deepest of them, lakes and river areas, and what those depend on), else everything; with the
+// DEM. `checksum`: the file's stored checksum; `whole`: the file has no feature index and was read
+// whole.
+SceneDocument readTopPart(const std::string& path, PyramidParams params, const RefineParams& refine, std::string& checksum,
+                          bool& whole) {
+    const Box extent = loadSceneExtent(path);
+    params.resolve(extent.size().x, refine.resolution);
+    const int vectorLevel = std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1);
+    const int deepest = std::max(0, params.shardLevel - 1);
+    SceneRegionOptions filter;
+    filter.elevationOnly = vectorLevel >= params.shardLevel || !params.appearance;
+    const double quad = extent.size().x / double(std::int64_t(1) << deepest);
+    filter.minCurveWidth = 2.0 * quad / double(refine.elevationResolution);
+    SceneRegionStats st;
+    SceneDocument part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
+    checksum = st.checksum;
+    whole = st.wholeScene;
+    return part;
+}
+
 }  // namespace
 
 struct PyramidJob::Impl {
-    const SceneDocument& doc;
     PyramidParams params;
     QuadDigestMap previous;
     RefineParams refine;
-    GraphStep graphStep;
-    Quadtree qt;
+    // A job over a scene file (not empty): each shard reads its part of it; the levels above read
+    // topPart. Otherwise the caller's whole document.
+    std::string scenePath;
+    std::string fileChecksum;  // the scene file's stored checksum (a job over a file)
+    SceneDocument topPart;
+    const SceneDocument& doc;  // the caller's document, or topPart
     // Each quad's DEM and the z-profiles' heights: a streamed DEM's (doc.demLod) window at the level
     // the quad needs within params.demBudgetMiB, as the editor reads it; else the DEM in memory,
     // else flat ground at 0 m.
     std::unique_ptr<DemSource> demSource;
-    CurveDataCache data;
-    QuadDigests digests;
+    std::unique_ptr<SceneModel> top;  // the model of `doc`: the shards (whole document) and the levels above
+    SceneModel* cur = nullptr;        // the model being made: `top`, or a shard's part
     AppearanceParams appearanceParams;
     ElevationParams elevationParams;
     PyramidStats stats;
@@ -118,15 +164,58 @@ struct PyramidJob::Impl {
     std::future<void> pendingWrite;    // that write
 
     Impl(const SceneDocument& d, PyramidParams p, QuadDigestMap prev)
-        : doc(d),
-          params(p),
+        : params(p),
           previous(std::move(prev)),
-          graphStep(d.scene),
-          qt(d.scene, refine, &graphStep),
+          doc(d),
           demSource(batchDemSource(d, p.demBudgetMiB)),
-          data(qt, demSource->heights()),
-          digests(qt, data) {
+          top(std::make_unique<SceneModel>(&d, SceneDocument{}, refine, demSource->heights())),
+          cur(top.get()) {
         params.resolve(d.scene.extent.size().x, refine.resolution);
+    }
+
+    Impl(const std::string& path, PyramidParams p, QuadDigestMap prev)
+        : params(p), previous(std::move(prev)), scenePath(path), topPart(readTop(path, p)), doc(topPart),
+          demSource(batchDemSource(topPart, p.demBudgetMiB)),
+          top(std::make_unique<SceneModel>(&topPart, SceneDocument{}, refine, demSource->heights())),
+          cur(top.get()) {
+        params.resolve(doc.scene.extent.size().x, refine.resolution);
+    }
+
+    SceneDocument readTop(const std::string& path, const PyramidParams& p) {
+        bool whole = false;
+        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole);
+        if (whole) scenePath.clear();  // no feature index: read whole once, the shards made from it
+        return part;
+    }
+
+    // Makes the tiles of `shard`'s subtree from `part` (a job over a file) or from the whole
+    // document's tree (merged again after).
+    void runShardOn(const PyramidKey& shard, std::unique_ptr<SceneModel> part, PyramidStore& store) {
+        if (part) cur = part.get();
+        struct Back {
+            Impl& m;
+            ~Back() { m.cur = m.top.get(); }
+        } back{*this};
+        Quad& root = quadAt(shard);
+        clip.time([&] { subdivideAll(root); });
+        std::vector<std::vector<Quad*>> byLevel(std::size_t(params.maxLevel - shard.level + 1));
+        collect(root, byLevel, shard.level);
+        makeLevels(byLevel, shard.level, store, false);
+        if (!part) top->qt.merge(root);
+    }
+
+    // A shard's part of the scene file: what the tiles of its quads need (io/scene_region.h).
+    // Thread-safe (it reads the file on its own connection): runShards() reads the next while one
+    // is made.
+    std::unique_ptr<SceneModel> shardModel(const Box& bounds, int level) {
+        SceneRegionOptions filter;
+        filter.dem = false;              // the job's DEM source serves every model
+        filter.wholeFileCheck = false;   // done once, by the read of the levels above
+        // The shard's quad alone: a box inside it (its neighbours, which touch its border, are
+        // other shards).
+        const Box inside = bounds.dilated(-1e-3 * bounds.size().x);
+        SceneDocument part = clip.time([&] { return loadSceneRegion(scenePath, inside, refine, level, nullptr, filter); });
+        return std::make_unique<SceneModel>(nullptr, std::move(part), refine, demSource->heights());
     }
 
     int vectorLevel() const { return std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1); }
@@ -134,9 +223,9 @@ struct PyramidJob::Impl {
     bool lossless() const { return params.encoding.format == TileFormat::Png; }
 
     Quad& quadAt(const PyramidKey& k) {
-        Quad* q = &qt.root();
+        Quad* q = &cur->qt.root();
         for (int l = 0; l < k.level; ++l) {
-            if (q->isLeaf()) clip.time([&] { qt.subdivide(*q); });
+            if (q->isLeaf()) clip.time([&] { cur->qt.subdivide(*q); });
             const int shift = k.level - l - 1;
             const int child = int((k.tx >> shift) & 1) + 2 * int((k.ty >> shift) & 1);
             q = q->children[std::size_t(child)].get();
@@ -147,7 +236,7 @@ struct PyramidJob::Impl {
     // Subdivides q's subtree down to maxLevel, subtrees on TBB tasks.
     void subdivideAll(Quad& q) {
         if (q.level >= params.maxLevel) return;
-        qt.subdivide(q);
+        cur->qt.subdivide(q);
         tbb::parallel_for(0, 4, [&](int k) { subdivideAll(*q.children[std::size_t(k)]); });
     }
 
@@ -218,7 +307,7 @@ struct PyramidJob::Impl {
         tbb::parallel_for(std::size_t(0), all.size(), [&](std::size_t i) {
             // Below the vector levels only the elevation follows from the quad's graph.
             const QuadDigestScope scope = all[i].first->level < vl ? QuadDigestScope::Elevation : QuadDigestScope::All;
-            dig[i] = digest.time([&] { return digests.of(*all[i].first, scope); });
+            dig[i] = digest.time([&] { return cur->digests.of(*all[i].first, scope); });
             auto it = previous.find(keyOf(*all[i].first));
             changed[i] = it == previous.end() || it->second != dig[i];
         });
@@ -231,6 +320,8 @@ struct PyramidJob::Impl {
             if (!stored(q.level) || !changed[i]) return;
             std::shared_ptr<const Dem> quadDem;
             if (params.elevation || (params.appearance && q.level >= vl)) quadDem = demRead.time([&] { return demSource->quadDem(q); });
+            const Quadtree& qt = cur->qt;
+            const CurveDataCache& data = cur->data;
             if (params.elevation) {
                 ElevationTile t = elevation.time([&] { return produceElevation(q, qt, data, *quadDem, elevationParams); });
                 MadeTile& m = made[i];
@@ -363,6 +454,8 @@ struct PyramidJob::Impl {
 
 PyramidJob::PyramidJob(const SceneDocument& doc, PyramidParams params, QuadDigestMap previous)
     : impl_(std::make_unique<Impl>(doc, params, std::move(previous))) {}
+PyramidJob::PyramidJob(const std::string& scenePath, PyramidParams params, QuadDigestMap previous)
+    : impl_(std::make_unique<Impl>(scenePath, params, std::move(previous))) {}
 PyramidJob::~PyramidJob() = default;
 void PyramidJob::forgetPrevious() { impl_->previous.clear(); }
 const PyramidParams& PyramidJob::params() const { return impl_->params; }
@@ -393,8 +486,8 @@ PyramidInfo PyramidJob::info() const {
     i.encoding = encodingName(m.params.encoding);
     i.extent = m.doc.scene.extent;
     i.crsWkt = m.doc.georeference.valid ? m.doc.georeference.crsWkt : std::string();
-    i.inputs = inputsDigest(m.doc, m.params, m.refine, m.data.params(), m.graphStep.params(), m.appearanceParams);
-    i.sceneChecksum = sceneChecksumText(m.doc);
+    i.inputs = inputsDigest(m.doc, m.params, m.refine, m.top->data.params(), m.top->graphStep.params(), m.appearanceParams);
+    i.sceneChecksum = m.fileChecksum.empty() ? sceneChecksumText(m.doc) : m.fileChecksum;
     return i;
 }
 
@@ -417,24 +510,39 @@ std::size_t PyramidJob::tileTotal() const {
 void PyramidJob::runShard(const PyramidKey& shard, PyramidStore& store, Progress* progress) {
     Impl& m = *impl_;
     m.progress = progress;
-    Quad& root = m.quadAt(shard);
-    m.clip.time([&] { m.subdivideAll(root); });
-    std::vector<std::vector<Quad*>> byLevel(std::size_t(m.params.maxLevel - shard.level + 1));
-    Impl::collect(root, byLevel, shard.level);
-    m.makeLevels(byLevel, shard.level, store, false);
-    m.qt.merge(root);
+    // A job over a file: the shard's own part of it (the tree above, clipped to the shards, gives
+    // its bounds).
+    std::unique_ptr<SceneModel> part = m.scenePath.empty() ? nullptr : m.shardModel(m.quadAt(shard).bounds, shard.level);
+    m.runShardOn(shard, std::move(part), store);
 }
 
 void PyramidJob::runShards(const std::vector<PyramidKey>& shards, PyramidStore& store, Progress* progress) {
     Impl& m = *impl_;
+    m.progress = progress;
     m.deferWrites = true;
+    std::future<std::unique_ptr<SceneModel>> next;  // a job over a file: the next shard's part, read while this one is made
     try {
-        for (const PyramidKey& s : shards) runShard(s, store, progress);
+        if (m.scenePath.empty()) {
+            for (const PyramidKey& s : shards) runShard(s, store, progress);
+        } else {
+            std::vector<Box> bounds;
+            for (const PyramidKey& s : shards) bounds.push_back(m.quadAt(s).bounds);
+            const auto read = [&m, &bounds, &shards](std::size_t i) {
+                return std::async(std::launch::async, [&m, &bounds, &shards, i] { return m.shardModel(bounds[i], shards[i].level); });
+            };
+            if (!shards.empty()) next = read(0);
+            for (std::size_t i = 0; i < shards.size(); ++i) {
+                std::unique_ptr<SceneModel> part = next.get();
+                if (i + 1 < shards.size()) next = read(i + 1);
+                m.runShardOn(shards[i], std::move(part), store);
+            }
+        }
         m.deferWrites = false;
         m.flushWrites();
     } catch (...) {
         m.deferWrites = false;
-        try {  // the write in flight, if any, must end before the caller rolls back
+        try {  // the read and the write in flight, if any, must end before the caller rolls back
+            if (next.valid()) next.wait();
             m.flushWrites();
         } catch (...) {
         }
@@ -448,7 +556,7 @@ void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
     if (m.params.shardLevel <= m.params.minLevel) return;
     // The quads above the shards: their graphs are still there (runShard merges only below).
     std::vector<std::vector<Quad*>> byLevel(std::size_t(m.params.shardLevel));
-    std::vector<Quad*> stack{&m.qt.root()};
+    std::vector<Quad*> stack{&m.top->qt.root()};
     for (const PyramidKey& k : shards()) m.quadAt(k);  // a merged rank's top may not be there yet (quadAt times it)
     while (!stack.empty()) {
         Quad* q = stack.back();
@@ -504,15 +612,18 @@ PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
 
 }  // namespace
 
-PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force, Progress* progress) {
-    PyramidJob job(doc, params);
+namespace {
+
+PyramidStats build(const std::function<std::unique_ptr<PyramidJob>(PyramidParams)>& makeJob, const std::string& out,
+                   PyramidParams params, bool force, Progress* progress) {
+    const std::unique_ptr<PyramidJob> job = makeJob(params);
     PyramidStore store(out, PyramidStore::Mode::ReadWrite);
-    const PyramidInfo wanted = job.info();
+    const PyramidInfo wanted = job->info();
     if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
     try {
         store.begin();
         store.create(wanted);
-        PyramidStats st = run(job, store, progress);
+        PyramidStats st = run(*job, store, progress);
         complete(store, wanted, st);
         return st;
     } catch (...) {
@@ -521,7 +632,8 @@ PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, Pyra
     }
 }
 
-PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
+PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParams, QuadDigestMap)>& makeJob,
+                    const std::string& path, Progress* progress, double demBudgetMiB) {
     if (!std::filesystem::exists(path)) throw PyramidError(path + ": no such pyramid file (build one with lacet pyramid build)");
     PyramidStore store(path, PyramidStore::Mode::ReadWrite);
     const auto old = store.info();
@@ -529,15 +641,15 @@ PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Pr
     if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
     PyramidParams params = pyramidParams(*old);
     params.demBudgetMiB = demBudgetMiB;
-    PyramidJob job(doc, params, store.digests());
-    const PyramidInfo wanted = job.info();
+    const std::unique_ptr<PyramidJob> job = makeJob(params, store.digests());
+    const PyramidInfo wanted = job->info();
     checkPyramidMatches(*old, wanted, path);
     const bool rebuild = wanted.inputs != old->inputs;
-    if (rebuild) job.forgetPrevious();
+    if (rebuild) job->forgetPrevious();
     try {
         store.begin();
         if (rebuild) store.create(wanted);
-        PyramidStats st = run(job, store, progress);
+        PyramidStats st = run(*job, store, progress);
         st.rebuilt = rebuild;
         complete(store, wanted, st);
         return st;
@@ -545,6 +657,26 @@ PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Pr
         store.rollback();
         throw;
     }
+}
+
+}  // namespace
+
+PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force, Progress* progress) {
+    return build([&](PyramidParams p) { return std::make_unique<PyramidJob>(doc, p); }, out, params, force, progress);
+}
+
+PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, PyramidParams params, bool force, Progress* progress) {
+    return build([&](PyramidParams p) { return std::make_unique<PyramidJob>(scenePath, p); }, out, params, force, progress);
+}
+
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
+    return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(doc, p, std::move(d)); }, path, progress,
+                  demBudgetMiB);
+}
+
+PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress, double demBudgetMiB) {
+    return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(scenePath, p, std::move(d)); }, path,
+                  progress, demBudgetMiB);
 }
 
 }  // namespace lacet

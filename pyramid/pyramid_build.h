@@ -91,6 +91,13 @@ class PyramidJob {
 public:
     // `previous`: the digests of the pyramid being updated (empty for a build).
     PyramidJob(const SceneDocument& doc, PyramidParams params, QuadDigestMap previous = {});
+    // A job over the scene file at `scenePath`, out of core (§7): each shard reads only its part
+    // of the file (io/scene_region.h: what its quads' tiles need, through the feature tables'
+    // R-trees), the levels above the shards only what their tiles read (their elevation, when their
+    // appearance is mipmapped: the curves wide enough to show and the water areas), and every quad
+    // its DEM window; memory follows a shard, not the scene. The tiles and digests are those of a
+    // job over the whole document. A file without the feature index is read whole, once.
+    PyramidJob(const std::string& scenePath, PyramidParams params, QuadDigestMap previous = {});
     ~PyramidJob();
     const PyramidParams& params() const;
     PyramidInfo info() const;  // what the pyramid's lacet_pyramid says (complete = false)
@@ -128,11 +135,17 @@ std::string defaultPyramidPath(const std::string& scenePath);
 // readable until it commits). Refuses a pyramid of another scene in `out` unless `force`.
 PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force,
                           Progress* progress);
+// The same from the scene file at `scenePath`, out of core (PyramidJob above).
+PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, PyramidParams params, bool force,
+                          Progress* progress);
 
 // Updates the pyramid at `path` to `doc` (knobs as stored; a streamed DEM's blocks within
 // `demBudgetMiB`, PyramidParams::demBudgetMiB). Throws PyramidError when there is no
 // pyramid, it is incomplete, or it was made for another extent or CRS.
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress,
+                           double demBudgetMiB = PyramidParams{}.demBudgetMiB);
+// The same from the scene file at `scenePath`, out of core (PyramidJob above).
+PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress,
                            double demBudgetMiB = PyramidParams{}.demBudgetMiB);
 
 // Throws PyramidError naming `path` when a stored pyramid was made for another extent or CRS than

@@ -67,7 +67,9 @@ protected:
         return run(env + " " + LACET_MPIEXEC + " --allow-run-as-root --oversubscribe -np 2 " +
                    build(scene.empty() ? path("scene.gpkg") : scene, out) + " --shards");
     }
-    CliRun oneProcess(const std::string& out) const { return run(build(path("scene.gpkg"), out)); }
+    CliRun oneProcess(const std::string& out, const std::string& extra = "") const {
+        return run(build(path("scene.gpkg"), out) + extra);
+    }
 
     fs::path dir_;
 };
@@ -122,6 +124,10 @@ TEST_F(PyramidMpi, TwoRanksEqualOneProcessTileForTile) {
     const CliRun b = oneProcess(path("B.gpkg"));
     ASSERT_EQ(b.code, 0) << b.out << b.err;
     expectSamePyramid(path("A.gpkg"), path("B.gpkg"));
+    // The ranks read their shards' vectors from the file by region; the whole document gives the same.
+    const CliRun c = oneProcess(path("C.gpkg"), " --vectors whole");
+    ASSERT_EQ(c.code, 0) << c.out << c.err;
+    expectSamePyramid(path("A.gpkg"), path("C.gpkg"));
 }
 
 TEST_F(PyramidMpi, RerunAfterAFailedMergeResumesEveryShard) {

@@ -1,6 +1,8 @@
 // The tile pyramid (§7, pyramid/pyramid_build.h): GIS tools read what it stores, an update after
 // random edits equals a build from scratch tile for tile and remakes only what changed, and bad
 // input (another scene, an interrupted build, a corrupt tile) is refused or reported.
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -211,6 +213,51 @@ TEST(PyramidBuild, EveryShardLevelGivesTheSamePyramid) {
         buildPyramid(doc, f.path, p, false, nullptr);
         expectSamePyramid(f.path, reference.path);
     }
+}
+
+// Out of core (§7): a pyramid built from the scene file, each shard reading only its part and
+// the levels above only what their elevation reads, is the pyramid built from the whole document,
+// tile for tile and digest for digest, whether the levels above the shards are mipmapped or made
+// from vector data; an update from the file after random edits equals a rebuild.
+TEST(PyramidBuild, FromTheSceneFileOutOfCoreEqualsFromTheWholeDocument) {
+    const fs::path dir = fs::temp_directory_path() / ("lacet_pyramid_file_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string scene = (dir / "scene.gpkg").string();
+    for (std::uint64_t seed : {1u, 2u}) {
+        SceneDocument doc = smallScene(seed, 3000);
+        saveScene(scene, doc);
+        for (int vectorLevels : {2, 4}) {  // the levels above the shards mipmapped (elevation only), or not
+            PyramidParams p = smallParams();
+            p.maxLevel = 4;
+            p.shardLevel = 2;
+            p.vectorLevels = vectorLevels;
+            const std::string whole = (dir / "whole.gpkg").string(), part = (dir / "part.gpkg").string();
+            buildPyramid(loadScene(scene), whole, p, true, nullptr);
+            buildPyramid(scene, part, p, true, nullptr);
+            SCOPED_TRACE("seed " + std::to_string(seed) + ", vector levels " + std::to_string(vectorLevels));
+            expectSamePyramid(whole, part);
+            PyramidStore a(whole, PyramidStore::Mode::ReadOnly), b(part, PyramidStore::Mode::ReadOnly);
+            ASSERT_TRUE(a.info() && b.info());
+            EXPECT_EQ(a.info()->sceneChecksum, b.info()->sceneChecksum);
+            EXPECT_EQ(a.info()->inputs, b.info()->inputs);
+        }
+        // Edited and saved: the update from the file equals a rebuild of the edited document.
+        PyramidParams p = smallParams();
+        p.maxLevel = 4;
+        p.shardLevel = 2;
+        p.vectorLevels = 2;
+        const std::string updated = (dir / "updated.gpkg").string(), rebuilt = (dir / "rebuilt.gpkg").string();
+        buildPyramid(scene, updated, p, true, nullptr);
+        std::mt19937_64 rng(seed + 40);
+        for (int e = 0; e < 4; ++e) applyRandomEdit(doc.scene, rng, 60.0);
+        saveScene(scene, doc);
+        const PyramidStats up = updatePyramid(scene, updated, nullptr);
+        EXPECT_FALSE(up.rebuilt);
+        EXPECT_LT(up.quadsChanged, up.quads);
+        buildPyramid(loadScene(scene), rebuilt, p, true, nullptr);
+        expectSamePyramid(updated, rebuilt);
+    }
+    fs::remove_all(dir);
 }
 
 TEST(PyramidUpdate, NothingChangedRemakesNothing) {
