@@ -8,7 +8,10 @@ scripts/install_deps.sh
 scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DLACET_BUILD_TESTS=ON -DLACET_MPI=ON
 (cd build && ctest --output-on-failure -j 2)
 
-scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF
+# The sanitized build looks for memory errors and undefined behaviour, not speed: at -O1 with line
+# tables only (-g1: stack traces keep their files and lines) it compiles in half the time of -O2 -g.
+scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
+  -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j 2)
 
 # Incremental equals rebuild on a larger scene, through the command line.

@@ -4,9 +4,14 @@
 // SRTM-like tiles of the same height function over any lon/lat window (for mosaics), and paths of
 // the vector corpus in tests/data/vectors.
 
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
 
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
@@ -16,8 +21,16 @@ namespace lacet::test {
 
 inline std::string vectorData(const std::string& name) { return std::string(LACET_SOURCE_DIR) + "/tests/data/vectors/" + name; }
 
+// A folder of its own for the running test: its name, the test's and the process id, so that the
+// tests of a suite, which run in one process (tests/list_suites.cmake), never share one.
 inline std::filesystem::path scratchDir(const std::string& name) {
-    const auto dir = std::filesystem::temp_directory_path() / ("lacet_test_" + name + "_" + std::to_string(::getpid()));
+    std::string test = "none";
+    if (const auto* info = ::testing::UnitTest::GetInstance()->current_test_info()) {
+        test = std::string(info->test_suite_name()) + "_" + info->name();
+        for (char& c : test)
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    }
+    const auto dir = std::filesystem::temp_directory_path() / ("lacet_test_" + name + "_" + test + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     return dir;
 }
