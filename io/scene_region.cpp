@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <optional>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -83,17 +84,9 @@ public:
                 continue;
             for (ElementId id : query(t, box)) {
                 ++found;
-                if (t.polygons) {
-                    addArea(t.layer, id, true);
-                } else if (!filter_.elevationOnly) {
-                    addCurve(t.layer, id, true);
-                } else if (id < curveLoaded_[t.layer].size() && !curveLoaded_[t.layer][id]) {
-                    // Drawn by the elevation producer: read once, kept only then.
-                    const Curve c = rows_.curve(t.layer, id);
-                    if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth) addCurve(t.layer, id, true);
-                } else {
-                    addCurve(t.layer, id, true);
-                }
+                if (t.polygons) addArea(t.layer, id, true);
+                else if (filter_.elevationOnly) addElevationCurve(t.layer, id);
+                else addCurve(t.layer, id, true);
             }
         }
         return found;
@@ -184,16 +177,25 @@ private:
         ++nodes;
     }
 
-    void addCurve(LayerId l, ElementId id, bool near) {
+    // `row`: the curve's row when the caller has read it already.
+    void addCurve(LayerId l, ElementId id, bool near, std::optional<Curve> row = std::nullopt) {
         if (id >= curveLoaded_[l].size()) throw FormatError("curve " + std::to_string(id) + " is not in lacet_curves");
         if (curveLoaded_[l][id] && (!near || curveNear_[l][id])) return;
         if (!curveLoaded_[l][id]) {
             curveLoaded_[l][id] = true;
-            doc_.scene.layers[l].curves[id] = rows_.curve(l, id);
+            doc_.scene.layers[l].curves[id] = row ? std::move(*row) : rows_.curve(l, id);
             ++curves;
         }
         curveNear_[l][id] = curveNear_[l][id] || near;
         pending_.push_back({l, id, near});
+    }
+
+    // A curve found with SceneRegionOptions::elevationOnly: kept when the elevation producer draws
+    // it (its row read once to see).
+    void addElevationCurve(LayerId l, ElementId id) {
+        if (id >= curveLoaded_[l].size() || curveLoaded_[l][id]) return addCurve(l, id, true);
+        Curve c = rows_.curve(l, id);
+        if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth) addCurve(l, id, true, std::move(c));
     }
 
     void addArea(LayerId l, ElementId id, bool near) {

@@ -25,8 +25,8 @@
 // partial model is validated; the whole file's checksum is not (it needs every row).
 //
 // A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
-// checksum checked (when the DEM is read: the checksum covers it). Not yet out of core: every slot of the scene is allocated (dead when not read),
-// and the element tables are scanned once for their counts.
+// checksum checked (when the DEM is read: the checksum covers it). Not wholly out of core: every
+// slot of the scene is allocated (dead when not read), its count read through the (layer, id) index.
 
 #include <string>
 

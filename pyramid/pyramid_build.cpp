@@ -121,10 +121,9 @@ SceneDocument readTopPart(const std::string& path, PyramidParams params, const R
                           bool& whole) {
     const Box extent = loadSceneExtent(path);
     params.resolve(extent.size().x, refine.resolution);
-    const int vectorLevel = std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1);
     const int deepest = std::max(0, params.shardLevel - 1);
     SceneRegionOptions filter;
-    filter.elevationOnly = vectorLevel >= params.shardLevel || !params.appearance;
+    filter.elevationOnly = params.vectorLevel() >= params.shardLevel || !params.appearance;
     const double quad = extent.size().x / double(std::int64_t(1) << deepest);
     filter.minCurveWidth = 2.0 * quad / double(refine.elevationResolution);
     SceneRegionStats st;
@@ -218,7 +217,7 @@ struct PyramidJob::Impl {
         return std::make_unique<SceneModel>(nullptr, std::move(part), refine, demSource->heights());
     }
 
-    int vectorLevel() const { return std::max(params.minLevel, params.maxLevel - params.vectorLevels + 1); }
+    int vectorLevel() const { return params.vectorLevel(); }
     bool stored(int level) const { return level >= params.minLevel && level <= params.maxLevel; }
     bool lossless() const { return params.encoding.format == TileFormat::Png; }
 

@@ -21,6 +21,7 @@
 // layers or a knob changed (PyramidInfo::inputs), everything is remade; a pyramid of another
 // extent or CRS is refused.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -54,6 +55,8 @@ struct PyramidParams {
     // Checks ranges (and the limits above) and fills the defaults for a scene of `extent`; throws
     // std::invalid_argument.
     void resolve(double extentSize, int tileSize);
+    // The shallowest level whose appearance is made from vector data (the ones above are mipmapped).
+    int vectorLevel() const { return std::max(minLevel, maxLevel - vectorLevels + 1); }
 };
 
 // Seconds summed over threads (a stage on two cores for one second counts two).
