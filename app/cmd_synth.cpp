@@ -4,6 +4,7 @@
 #include <exception>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -37,11 +38,10 @@ struct SynthOptions {
     ViewParams view;
 };
 
-nlohmann::json layerCounts(const Scene& s) {
-    nlohmann::json layers = nlohmann::json::array();
-    for (const Layer& l : s.layers) {
-        std::map<std::string, std::size_t> classes;
-        std::size_t nodes = 0, curves = 0, areas = 0, controls = 0;
+// What a layer holds alive, counted a part at a time.
+struct LayerTally {
+    std::size_t nodes = 0, curves = 0, areas = 0, controls = 0;
+    void add(const Layer& l) {
         for (const auto& n : l.nodes) nodes += n.alive;
         for (const auto& c : l.curves) {
             if (!c.alive) continue;
@@ -49,27 +49,85 @@ nlohmann::json layerCounts(const Scene& s) {
             for (const auto& v : c.vertices) controls += !v.onCurve;
         }
         for (const auto& a : l.areas) areas += a.alive;
-        layers.push_back({{"name", l.name}, {"kind", toString(l.kind)}, {"nodes", nodes}, {"curves", curves},
-                          {"areas", areas}, {"control_points", controls}});
     }
-    return layers;
+};
+
+// A fields part of the streamed save: about 1% of the paper's dataset (a few MiB in memory).
+constexpr std::size_t kPartCurves = 8192;
+
+// The lod DEM of --dem-side beside the output (its rows made in batches on every core, written in
+// order) into doc.demLod, and its figures; `lodFile` is set once it is written.
+nlohmann::json writeFineDem(const SynthOptions& o, SceneDocument& doc, RemoveFileOnExit& lodFile) {
+    using namespace lacet::bench;
+    const auto t0 = Clock::now();
+    const Dem base = std::move(*doc.dem);
+    doc.dem.reset();
+    const FineSyntheticDem fine(doc.scene, base, {.side = o.demSide, .seed = o.seed});
+    const DemLodLayout layout = DemLodLayout::make(o.demSide, o.demSide, fine.cell(), fine.topLeft());
+    const std::string lodPath = uniqueDemLodPath(o.out);  // a new name: never a file found there
+    constexpr int kBatch = 32;
+    const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<float> batch(std::size_t(kBatch) * std::size_t(o.demSide));
+    int first = -kBatch;
+    DemLodOutput lod = writeDemLodFile(lodPath, layout, [&](int t, std::span<float> row) {
+        if (t >= first + kBatch) {
+            first = t;
+            const int rows = std::min(kBatch, o.demSide - first);
+            // A worker's exception (fine.row() throws, e.g. bad_alloc) is kept, the first one
+            // rethrown here after every worker is joined: none escapes a thread (terminate).
+            std::vector<std::thread> workers;
+            std::mutex failedMutex;
+            std::exception_ptr failed;
+            for (int w = 0; w < threads; ++w)
+                workers.emplace_back([&, w] {
+                    try {
+                        for (int k = w; k < rows; k += threads)
+                            fine.row(first + k,
+                                     std::span<float>(batch).subspan(std::size_t(k) * std::size_t(o.demSide), std::size_t(o.demSide)));
+                    } catch (...) {
+                        const std::lock_guard lock(failedMutex);
+                        if (!failed) failed = std::current_exception();
+                    }
+                });
+            for (std::thread& w : workers) w.join();
+            if (failed) std::rethrow_exception(failed);
+        }
+        const auto from = batch.begin() + std::ptrdiff_t(std::size_t(t - first) * std::size_t(o.demSide));
+        std::copy(from, from + o.demSide, row.begin());
+    });
+    lodFile.path = lodPath;  // written (writeDemLodFile removes it when it fails)
+    const double demMs = msSince(t0);
+    doc.dem = std::move(lod.coarse);
+    doc.demLod = std::make_shared<const DemLodFile>(lodFile.path);
+    return {{"dem_side", o.demSide}, {"cell_m", layout.cell}, {"levels", layout.levels}, {"block_side", layout.blockSide},
+            {"tiles", lod.tiles}, {"tile_bytes", lod.bytes}, {"lod_file_bytes", std::filesystem::file_size(lodFile.path)},
+            {"in_memory_level", lod.coarseLevel}, {"in_memory_grid", {doc.dem->width(), doc.dem->height()}},
+            {"write_s", lod.ms / 1000.0}, {"dem_s", demMs / 1000.0}};
 }
 
 void run(const SynthOptions& o) {
     using namespace lacet::bench;
     auto t0 = Clock::now();
-    const Scene s = makeSyntheticScene({o.seed, o.curves});
+    SyntheticSceneParts parts({o.seed, o.curves});
+    SceneDocument doc;
+    doc.scene = parts.takeScene();
+    // With --out alone, the fields (nearly all of the curves) are made while the file is written, a
+    // part at a time, and never held whole: memory follows the other layers and the DEM, not the
+    // scene (issue 23). The quadtree of --view-altitude needs the whole scene in memory.
+    const bool streamed = !o.out.empty() && o.altitude <= 0.0;
+    std::vector<LayerTally> tally(doc.scene.layers.size());
+    for (std::size_t l = 0; l < tally.size(); ++l) tally[l].add(doc.scene.layers[l]);
+    const auto addFields = [&](Layer&& part) {
+        tally[kFieldsLayer].add(part);
+        appendLayerPart(doc.scene.layers[kFieldsLayer], std::move(part));
+    };
+    if (!streamed) {
+        parts.fields(addFields, std::numeric_limits<std::size_t>::max());
+        validateOrThrow(doc.scene);
+    }
     const double synthMs = msSince(t0);
-    validateOrThrow(s);
-    const SceneCounts c = count(s);
-    nlohmann::json out = {{"seed", o.seed},
-                          {"extent_m", {s.extent.min.x, s.extent.min.y, s.extent.max.x, s.extent.max.y}},
-                          {"nodes", c.nodes},
-                          {"curves", c.curves},
-                          {"areas", c.areas},
-                          {"control_points", c.controlPoints},
-                          {"nodes_and_control_points", c.nodes + c.controlPoints},
-                          {"layers", layerCounts(s)},
+    const Scene& s = doc.scene;
+    nlohmann::json out = {{"seed", o.seed}, {"extent_m", {s.extent.min.x, s.extent.min.y, s.extent.max.x, s.extent.max.y}},
                           {"generate_ms", synthMs}};
     if (o.altitude > 0.0) {
         t0 = Clock::now();
@@ -89,81 +147,64 @@ void run(const SynthOptions& o) {
                            {"depth", qt.depth()}, {"build_ms", buildMs}, {"levels", levels}};
     }
     if (!o.out.empty()) {
-        SceneDocument doc;
-        doc.scene = s;
         t0 = Clock::now();
-        doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});
+        doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});  // from the rivers: the fields need not be made yet
         double demMs = msSince(t0);
         // The lod DEM's file, beside the output, once written: removed after the save (also when it
         // fails).
         RemoveFileOnExit lodFile;
         nlohmann::json lodJson;
         if (o.demSide > 0) {
-            t0 = Clock::now();
-            const Dem base = std::move(*doc.dem);
-            doc.dem.reset();
-            const FineSyntheticDem fine(s, base, {.side = o.demSide, .seed = o.seed});
-            const DemLodLayout layout = DemLodLayout::make(o.demSide, o.demSide, fine.cell(), fine.topLeft());
-            const std::string lodPath = uniqueDemLodPath(o.out);  // a new name: never a file found there
-            // Rows made in batches on every core, written in order.
-            constexpr int kBatch = 32;
-            const int threads = int(std::max(1u, std::thread::hardware_concurrency()));
-            std::vector<float> batch(std::size_t(kBatch) * std::size_t(o.demSide));
-            int first = -kBatch;
-            DemLodOutput lod = writeDemLodFile(lodPath, layout, [&](int t, std::span<float> row) {
-                if (t >= first + kBatch) {
-                    first = t;
-                    const int rows = std::min(kBatch, o.demSide - first);
-                    // A worker's exception (fine.row() throws, e.g. bad_alloc) is kept, the first one
-                    // rethrown here after every worker is joined: none escapes a thread (terminate).
-                    std::vector<std::thread> workers;
-                    std::mutex failedMutex;
-                    std::exception_ptr failed;
-                    for (int w = 0; w < threads; ++w)
-                        workers.emplace_back([&, w] {
-                            try {
-                                for (int k = w; k < rows; k += threads)
-                                    fine.row(first + k,
-                                             std::span<float>(batch).subspan(std::size_t(k) * std::size_t(o.demSide), std::size_t(o.demSide)));
-                            } catch (...) {
-                                const std::lock_guard lock(failedMutex);
-                                if (!failed) failed = std::current_exception();
-                            }
-                        });
-                    for (std::thread& w : workers) w.join();
-                    if (failed) std::rethrow_exception(failed);
-                }
-                const auto from = batch.begin() + std::ptrdiff_t(std::size_t(t - first) * std::size_t(o.demSide));
-                std::copy(from, from + o.demSide, row.begin());
-            });
-            lodFile.path = lodPath;  // written (writeDemLodFile removes it when it fails)
-            demMs = msSince(t0);
-            doc.dem = std::move(lod.coarse);
-            doc.demLod = std::make_shared<const DemLodFile>(lodFile.path);
-            lodJson = {{"dem_side", o.demSide}, {"cell_m", layout.cell}, {"levels", layout.levels}, {"block_side", layout.blockSide},
-                       {"tiles", lod.tiles}, {"tile_bytes", lod.bytes}, {"lod_file_bytes", std::filesystem::file_size(lodFile.path)},
-                       {"in_memory_level", lod.coarseLevel}, {"in_memory_grid", {doc.dem->width(), doc.dem->height()}},
-                       {"write_s", lod.ms / 1000.0}, {"dem_s", demMs / 1000.0}};
+            lodJson = writeFineDem(o, doc, lodFile);
+            demMs = lodJson["dem_s"].get<double>() * 1000.0;
         }
         t0 = Clock::now();
-        saveScene(o.out, doc);
+        if (streamed)
+            saveSceneStreamed(o.out, doc, kFieldsLayer, [&](const std::function<void(Layer&&)>& sink) {
+                parts.fields([&](Layer&& part) {
+                    tally[kFieldsLayer].add(part);
+                    sink(std::move(part));
+                }, kPartCurves);
+            });
+        else
+            saveScene(o.out, doc);
         const double saveMs = msSince(t0);
-        t0 = Clock::now();
-        const SceneDocument back = loadScene(o.out);
-        const double loadMs = msSince(t0);
         out["scene_file"] = {{"path", o.out}, {"bytes", std::filesystem::file_size(o.out)}, {"dem_ms", demMs},
-                             {"dem_samples", {doc.dem->width(), doc.dem->height()}}, {"save_ms", saveMs}, {"load_ms", loadMs},
-                             {"curves_loaded", count(back.scene).curves}};
+                             {"dem_samples", {doc.dem->width(), doc.dem->height()}}, {"save_ms", saveMs},
+                             {"fields_made_while_saving", streamed}};
+        if (streamed) out["scene_file"]["part_curves"] = kPartCurves;
+        if (!streamed) {
+            // The scene is in memory anyway: read it back whole, as a check and a figure.
+            t0 = Clock::now();
+            const SceneDocument back = loadScene(o.out);
+            out["scene_file"]["load_ms"] = msSince(t0);
+            out["scene_file"]["curves_loaded"] = count(back.scene).curves;
+        }
         if (!lodJson.is_null()) out["scene_file"]["dem_lod"] = lodJson;
     }
+    nlohmann::json layers = nlohmann::json::array();
+    LayerTally total;
+    for (std::size_t l = 0; l < tally.size(); ++l) {
+        const LayerTally& t = tally[l];
+        layers.push_back({{"name", s.layers[l].name}, {"kind", toString(s.layers[l].kind)}, {"nodes", t.nodes},
+                          {"curves", t.curves}, {"areas", t.areas}, {"control_points", t.controls}});
+        total.nodes += t.nodes, total.curves += t.curves, total.areas += t.areas, total.controls += t.controls;
+    }
+    out["nodes"] = total.nodes;
+    out["curves"] = total.curves;
+    out["areas"] = total.areas;
+    out["control_points"] = total.controls;
+    out["nodes_and_control_points"] = total.nodes + total.controls;
+    out["layers"] = layers;
     out["peak_rss_mib"] = peakRssMiB();
     if (o.json) {
         std::cout << out.dump(2) << "\n";
         return;
     }
-    std::cout << "Synthetic scene (seed " << o.seed << "): " << c.curves << " curves, " << c.areas << " areas, "
-              << c.nodes << " nodes, " << c.controlPoints << " control points, "
-              << s.extent.size().x / 1000.0 << " km wide, generated in " << synthMs << " ms\n";
+    std::cout << "Synthetic scene (seed " << o.seed << "): " << total.curves << " curves, " << total.areas << " areas, "
+              << total.nodes << " nodes, " << total.controls << " control points, "
+              << s.extent.size().x / 1000.0 << " km wide, generated in " << synthMs << " ms"
+              << (streamed ? " (the fields while saving)" : "") << "\n";
     for (const auto& l : out["layers"])
         std::cout << "  " << l["name"].get<std::string>() << ": " << l["curves"] << " curves, " << l["areas"]
                   << " areas, " << l["nodes"] << " nodes\n";

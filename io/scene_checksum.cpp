@@ -9,56 +9,65 @@
 #include "io/scene_file.h"
 
 namespace lacet {
-namespace {
+SceneChecksum::SceneChecksum(const Scene& scene) {
+    c_.word(kSceneFormatVersion);
+    for (double v : {scene.extent.min.x, scene.extent.min.y, scene.extent.max.x, scene.extent.max.y}) c_.real(v);
+    c_.word(scene.layers.size());
+}
 
-using Checksum = Digest;  // io/digest.h: this checksum's rounds, unchanged (files written before load the same)
+void SceneChecksum::layerHead(const Layer& layer) {
+    c_.text(layer.name);
+    c_.word(std::uint64_t(layer.kind));
+}
 
-}  // namespace
+void SceneChecksum::count(std::size_t n) { c_.word(n); }
 
-std::string sceneChecksumText(const SceneDocument& doc) {
-    Checksum c;
-    const Scene& scene = doc.scene;
-    c.word(kSceneFormatVersion);
-    for (double v : {scene.extent.min.x, scene.extent.min.y, scene.extent.max.x, scene.extent.max.y}) c.real(v);
-    c.word(scene.layers.size());
-    for (const Layer& layer : scene.layers) {
-        c.text(layer.name);
-        c.word(std::uint64_t(layer.kind));
-        c.word(layer.nodes.size());
-        for (const Node& n : layer.nodes) {
-            c.real(n.p.x);
-            c.real(n.p.y);
-            // The radius's bits above `alive`: a file without roundabouts sums as before they existed.
-            const std::uint32_t radius = n.roundabout == 0.0f ? 0u : std::bit_cast<std::uint32_t>(n.roundabout);
-            c.word(std::uint64_t(radius) << 1 | std::uint64_t(n.alive));
-            c.ids(n.curves);
-        }
-        c.word(layer.curves.size());
-        for (const Curve& cv : layer.curves) {
-            c.word(cv.start);
-            c.word(cv.end);
-            c.real(cv.w);
-            c.real(cv.wf);
-            c.word(std::uint64_t(cv.cls) << 32 | std::uint64_t(cv.flags) << 1 | std::uint64_t(cv.alive));
-            c.word(cv.vertices.size());
-            for (const Vertex& v : cv.vertices) {
-                c.real(v.p.x);
-                c.real(v.p.y);
-                c.word(std::uint64_t(v.onCurve) | std::uint64_t(v.closing) << 1);
-            }
-            c.ids(cv.areas);
-        }
-        c.word(layer.areas.size());
-        for (const Area& a : layer.areas) {
-            c.real(a.wf);
-            c.word(std::uint64_t(a.cls) << 33 | std::uint64_t(a.axial) << 1 | std::uint64_t(a.alive));
-            c.word(a.loops.size());
-            for (const auto& loop : a.loops) {
-                c.word(loop.size());
-                for (const AreaEdge& e : loop) c.word(std::uint64_t(e.curve) << 1 | std::uint64_t(e.reversed));
-            }
-        }
+void SceneChecksum::node(const Node& n) {
+    c_.real(n.p.x);
+    c_.real(n.p.y);
+    // The radius's bits above `alive`: a file without roundabouts sums as before they existed.
+    const std::uint32_t radius = n.roundabout == 0.0f ? 0u : std::bit_cast<std::uint32_t>(n.roundabout);
+    c_.word(std::uint64_t(radius) << 1 | std::uint64_t(n.alive));
+    c_.ids(n.curves);
+}
+
+void SceneChecksum::curve(const Curve& cv) {
+    c_.word(cv.start);
+    c_.word(cv.end);
+    c_.real(cv.w);
+    c_.real(cv.wf);
+    c_.word(std::uint64_t(cv.cls) << 32 | std::uint64_t(cv.flags) << 1 | std::uint64_t(cv.alive));
+    c_.word(cv.vertices.size());
+    for (const Vertex& v : cv.vertices) {
+        c_.real(v.p.x);
+        c_.real(v.p.y);
+        c_.word(std::uint64_t(v.onCurve) | std::uint64_t(v.closing) << 1);
     }
+    c_.ids(cv.areas);
+}
+
+void SceneChecksum::area(const Area& a) {
+    c_.real(a.wf);
+    c_.word(std::uint64_t(a.cls) << 33 | std::uint64_t(a.axial) << 1 | std::uint64_t(a.alive));
+    c_.word(a.loops.size());
+    for (const auto& loop : a.loops) {
+        c_.word(loop.size());
+        for (const AreaEdge& e : loop) c_.word(std::uint64_t(e.curve) << 1 | std::uint64_t(e.reversed));
+    }
+}
+
+void SceneChecksum::layer(const Layer& layer) {
+    layerHead(layer);
+    count(layer.nodes.size());
+    for (const Node& n : layer.nodes) node(n);
+    count(layer.curves.size());
+    for (const Curve& cv : layer.curves) curve(cv);
+    count(layer.areas.size());
+    for (const Area& a : layer.areas) area(a);
+}
+
+std::string SceneChecksum::finish(const SceneDocument& doc) {
+    Digest& c = c_;
     c.word(doc.attributes.size());
     for (const ElementAttribute& a : doc.attributes) {
         c.word(std::uint64_t(a.layer) << 40 | std::uint64_t(a.kind) << 32 | std::uint64_t(a.id));
@@ -90,6 +99,12 @@ std::string sceneChecksumText(const SceneDocument& doc) {
     char buf[24];
     std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(c.value()));
     return buf;
+}
+
+std::string sceneChecksumText(const SceneDocument& doc) {
+    SceneChecksum c(doc.scene);
+    for (const Layer& layer : doc.scene.layers) c.layer(layer);
+    return c.finish(doc);
 }
 
 }  // namespace lacet

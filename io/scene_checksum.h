@@ -15,11 +15,31 @@
 
 #include <string>
 
+#include "io/digest.h"
 #include "io/document.h"
 
 namespace lacet {
 
 // 16 lowercase hex digits; the same document always gives the same text, on any host.
 std::string sceneChecksumText(const SceneDocument& doc);
+
+// The same sum fed a piece at a time, for a document never whole in memory (saveSceneStreamed):
+// construct with the scene (its extent and layer count), then for each layer in order either
+// layer() or layerHead(), count(nodes), node()..., count(curves), curve()..., count(areas), area()...;
+// then finish() with the document's attributes, georeference and DEM.
+class SceneChecksum {
+public:
+    explicit SceneChecksum(const Scene& scene);
+    void layer(const Layer& layer);
+    void layerHead(const Layer& layer);  // name and kind
+    void count(std::size_t n);
+    void node(const Node& n);
+    void curve(const Curve& c);
+    void area(const Area& a);
+    std::string finish(const SceneDocument& doc);
+
+private:
+    Digest c_;  // io/digest.h: this checksum's rounds, unchanged (files written before load the same)
+};
 
 }  // namespace lacet

@@ -44,16 +44,19 @@ void writeLayers(SqliteDb& db, const Scene& scene) {
     }
 }
 
-void writeNodes(SqliteDb& db, const Scene& scene) {
-    auto s = db.prepare(
-        "INSERT INTO lacet_nodes (layer, id, x, y, alive, curves, exact, roundabout) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+constexpr const char* kInsertNode =
+    "INSERT INTO lacet_nodes (layer, id, x, y, alive, curves, exact, roundabout) VALUES (?, ?, ?, ?, ?, ?, ?, ?)";
+
+// The rows of `part`'s nodes, ids from `first`.
+void writeNodes(SqliteStatement& s, std::size_t l, const Layer& part, std::int64_t first) {
     ByteWriter list, exact;
-    for (std::size_t l = 0; l < scene.layers.size(); ++l) {
-        const auto& nodes = scene.layers[l].nodes;
-        for (std::size_t id = 0; id < nodes.size(); ++id) {
-            const Node& n = nodes[id];
+    {
+        const auto& nodes = part.nodes;
+        for (std::size_t local = 0; local < nodes.size(); ++local) {
+            const Node& n = nodes[local];
+            const std::int64_t id = first + std::int64_t(local);
             s.bind(1, std::int64_t(l));
-            s.bind(2, std::int64_t(id));
+            s.bind(2, id);
             bindReal(s, 3, n.p.x);
             bindReal(s, 4, n.p.y);
             s.bind(5, std::int64_t(n.alive));
@@ -78,17 +81,19 @@ void writeNodes(SqliteDb& db, const Scene& scene) {
     }
 }
 
-void writeCurves(SqliteDb& db, const Scene& scene) {
-    auto s = db.prepare(
-        "INSERT INTO lacet_curves (layer, id, start, \"end\", w, wf, cls, flags, alive, vertices, areas, exact) "
-        "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+constexpr const char* kInsertCurve =
+    "INSERT INTO lacet_curves (layer, id, start, \"end\", w, wf, cls, flags, alive, vertices, areas, exact) "
+    "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)";
+
+// The rows of `part`'s curves, ids from `first`.
+void writeCurves(SqliteStatement& s, std::size_t l, const Layer& part, std::int64_t first) {
     ByteWriter vertices, list, exact;
-    for (std::size_t l = 0; l < scene.layers.size(); ++l) {
-        const auto& curves = scene.layers[l].curves;
-        for (std::size_t id = 0; id < curves.size(); ++id) {
-            const Curve& c = curves[id];
+    {
+        const auto& curves = part.curves;
+        for (std::size_t local = 0; local < curves.size(); ++local) {
+            const Curve& c = curves[local];
             s.bind(1, std::int64_t(l));
-            s.bind(2, std::int64_t(id));
+            s.bind(2, first + std::int64_t(local));
             s.bind(3, std::int64_t(c.start));
             s.bind(4, std::int64_t(c.end));
             bindReal(s, 5, double(c.w));
@@ -117,16 +122,18 @@ void writeCurves(SqliteDb& db, const Scene& scene) {
     }
 }
 
-void writeAreas(SqliteDb& db, const Scene& scene) {
-    auto s = db.prepare(
-        "INSERT INTO lacet_areas (layer, id, wf, cls, axial, alive, loops, exact) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+constexpr const char* kInsertArea =
+    "INSERT INTO lacet_areas (layer, id, wf, cls, axial, alive, loops, exact) VALUES (?, ?, ?, ?, ?, ?, ?, ?)";
+
+// The rows of `part`'s areas, ids from `first`.
+void writeAreas(SqliteStatement& s, std::size_t l, const Layer& part, std::int64_t first) {
     ByteWriter loops, exact;
-    for (std::size_t l = 0; l < scene.layers.size(); ++l) {
-        const auto& areas = scene.layers[l].areas;
-        for (std::size_t id = 0; id < areas.size(); ++id) {
-            const Area& a = areas[id];
+    {
+        const auto& areas = part.areas;
+        for (std::size_t local = 0; local < areas.size(); ++local) {
+            const Area& a = areas[local];
             s.bind(1, std::int64_t(l));
-            s.bind(2, std::int64_t(id));
+            s.bind(2, first + std::int64_t(local));
             bindReal(s, 3, double(a.wf));
             s.bind(4, std::int64_t(a.cls));
             s.bind(5, std::int64_t(a.axial));
@@ -399,13 +406,20 @@ void readAreas(SqliteDb& db, Scene& scene) {
 
 }  // namespace
 
-void writeElementTables(SqliteDb& db, const SceneDocument& doc) {
-    writeLayers(db, doc.scene);
-    writeNodes(db, doc.scene);
-    writeCurves(db, doc.scene);
-    writeAreas(db, doc.scene);
-    writeAttributes(db, doc);
+ElementTablesWriter::ElementTablesWriter(SqliteDb& db)
+    : db_(db), node_(db.prepareKept(kInsertNode)), curve_(db.prepareKept(kInsertCurve)), area_(db.prepareKept(kInsertArea)) {}
+
+ElementTablesWriter::~ElementTablesWriter() = default;
+
+void ElementTablesWriter::layers(const Scene& scene) { writeLayers(db_, scene); }
+
+void ElementTablesWriter::elements(LayerId layer, const Layer& part, const ElementOffsets& o) {
+    writeNodes(*node_, layer, part, o.nodes);
+    writeCurves(*curve_, layer, part, o.curves);
+    writeAreas(*area_, layer, part, o.areas);
 }
+
+void ElementTablesWriter::attributes(const SceneDocument& doc) { writeAttributes(db_, doc); }
 
 void readElementTables(SqliteDb& db, SceneDocument& doc) {
     readLayers(db, doc.scene);
@@ -463,6 +477,44 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool
         a.value = s.text(4);
         doc.attributes.push_back(std::move(a));
     }
+}
+
+namespace {
+template <class Element, class Decode>
+void forEachRow(SqliteDb& db, const std::string& columns, const char* table, LayerId layer,
+                const std::function<void(std::size_t)>& counted, const std::function<void(const Element&)>& each,
+                Decode decode) {
+    auto n = db.prepare(std::string("SELECT count(*) FROM ") + table + " WHERE layer = ?");
+    n.bind(1, std::int64_t(layer));
+    n.step();
+    const std::int64_t count = n.integer(0);
+    counted(std::size_t(count));
+    auto s = db.prepare("SELECT " + columns + " FROM " + table + " WHERE layer = ? ORDER BY id");
+    s.bind(1, std::int64_t(layer));
+    std::int64_t expected = 0;
+    while (s.step()) {
+        Row row{table, std::int64_t(layer), integerColumn(s, 1, 0, kMaxId, "id", Row{table, std::int64_t(layer)})};
+        if (row.id != expected) row.fail("ids are not 0, 1, 2... in their layer (id " + std::to_string(expected) + " expected)");
+        ++expected;
+        each(decode(s, row));
+    }
+    if (expected != count) Row{table, std::int64_t(layer)}.fail("rows changed while read");
+}
+}  // namespace
+
+void forEachNodeRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t)>& counted,
+                    const std::function<void(const Node&)>& each) {
+    forEachRow<Node>(db, nodeColumns(db), "lacet_nodes", layer, counted, each, decodeNode);
+}
+
+void forEachCurveRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t)>& counted,
+                     const std::function<void(const Curve&)>& each) {
+    forEachRow<Curve>(db, kCurveColumns, "lacet_curves", layer, counted, each, decodeCurve);
+}
+
+void forEachAreaRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t)>& counted,
+                    const std::function<void(const Area&)>& each) {
+    forEachRow<Area>(db, kAreaColumns, "lacet_areas", layer, counted, each, decodeArea);
 }
 
 }  // namespace lacet::scene_format

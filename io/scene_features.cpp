@@ -33,6 +33,12 @@ constexpr const char* kRtreeDefinition = "http://www.geopackage.org/spec120/#ext
 
 bool isLayerOfLines(LayerKind kind) { return kind == LayerKind::Roads || kind == LayerKind::Rivers; }
 
+// A curve is a LINESTRING feature when alive and bordering no alive area of its layer.
+bool isLineFeature(const Layer& layer, const Curve& c) {
+    return c.alive && std::none_of(c.areas.begin(), c.areas.end(),
+                                   [&](ElementId a) { return a < layer.areas.size() && layer.areas[a].alive; });
+}
+
 bool isAsciiAlnum(char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9'); }
 bool isAsciiLetter(char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z'); }
 
@@ -231,62 +237,6 @@ void createTable(SqliteDb& db, const FeatureTable& t, const std::vector<std::pai
     db.exec(sql + ")");
 }
 
-// Writes the features; returns their envelope (empty without features).
-Envelope insertFeatures(SqliteDb& db, const SceneDocument& doc, const FeatureTable& t,
-                        const std::vector<std::pair<std::string, std::string>>& columns, const AttributeIndex& index,
-                        std::int64_t srsId, double tolerance) {
-    const int fixed = t.polygons ? 4 : 7;  // geom, lacet_id, class, wf (w, wf, bridge, tunnel)
-    std::string sql = "INSERT INTO " + quoted(t.name) + " (" + kGeometryColumn + ", lacet_id, class" +
-                      (t.polygons ? ", wf" : ", w, wf, bridge, tunnel");
-    for (const auto& column : columns) sql += ", " + quoted(column.second);
-    sql += ") VALUES (?";
-    for (std::size_t k = 1; k < std::size_t(fixed) + columns.size(); ++k) sql += ", ?";
-    auto s = db.prepare(sql + ")");
-    auto rtree = db.prepare("INSERT INTO " + quoted(featureRtreeName(t.name)) + " VALUES (?, ?, ?, ?, ?)");
-    const Layer& layer = doc.scene.layers[t.layer];
-    const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
-    ByteWriter blob;
-    Envelope all;
-    std::int64_t fid = 0;
-    for (ElementId id : t.elements) {
-        Envelope e;
-        if (t.polygons) {
-            const Area& a = layer.areas[id];
-            e = polygonBlob(blob, polygonRings(layer, a, tolerance), srsId);
-            s.bindBlob(1, blob.bytes());
-            s.bind(2, std::int64_t(id));
-            s.bind(3, std::int64_t(a.cls));
-            s.bind(4, double(a.wf));
-        } else {
-            const Curve& c = layer.curves[id];
-            e = lineStringBlob(blob, flattenSpline(c.vertices, tolerance), srsId);
-            s.bindBlob(1, blob.bytes());
-            s.bind(2, std::int64_t(id));
-            s.bind(3, std::int64_t(c.cls));
-            s.bind(4, double(c.w));
-            s.bind(5, double(c.wf));
-            s.bind(6, std::int64_t((c.flags & kBridge) != 0));
-            s.bind(7, std::int64_t((c.flags & kTunnel) != 0));
-        }
-        if (const auto it = index.find({t.layer, kind, id}); it != index.end())
-            for (std::size_t k = 0; k < columns.size(); ++k)
-                if (const auto value = it->second.find(columns[k].first); value != it->second.end())
-                    s.bindText(fixed + 1 + int(k), value->second);
-        s.step();
-        s.reset();
-        ++fid;  // the table is new: AUTOINCREMENT gives 1, 2, 3...
-        rtree.bind(1, fid);
-        rtree.bind(2, e.minX);
-        rtree.bind(3, e.maxX);
-        rtree.bind(4, e.minY);
-        rtree.bind(5, e.maxY);
-        rtree.step();
-        rtree.reset();
-        all.add(e);
-    }
-    return all;
-}
-
 std::string description(const Layer& layer, const FeatureTable& t, double tolerance) {
     char tol[32];
     std::snprintf(tol, sizeof tol, "%g", tolerance);
@@ -319,40 +269,6 @@ void registerTable(SqliteDb& db, const Layer& layer, const FeatureTable& t, cons
     g.bindText(3, t.polygons ? "POLYGON" : "LINESTRING");
     g.bind(4, srsId);
     g.step();
-}
-
-// kFeatureIndexTable: which table holds which layer's curves or areas, for loadSceneRegion.
-void writeFeatureIndex(SqliteDb& db, const SceneDocument& doc, const std::vector<FeatureTable>& tables, double tolerance) {
-    db.exec(std::string("CREATE TABLE ") + kFeatureIndexTable +
-            " (table_name TEXT PRIMARY KEY NOT NULL, layer INTEGER NOT NULL, polygons BOOLEAN NOT NULL, tolerance REAL NOT "
-            "NULL, max_curve_wf REAL NOT NULL, max_area_wf REAL NOT NULL)");
-    db.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) VALUES ('") +
-            kFeatureIndexTable + "', 'attributes', '" + kFeatureIndexTable +
-            "', 'Lacet scene: the layer of each feature table (derived)', strftime('%Y-%m-%dT%H:%M:%fZ', 'now'))");
-    auto s = db.prepare(std::string("INSERT INTO ") + kFeatureIndexTable + " VALUES (?, ?, ?, ?, ?, ?)");
-    for (const FeatureTable& t : tables) {
-        const Layer& layer = doc.scene.layers[t.layer];
-        double curveWf = 0.0, areaWf = 0.0;
-        for (ElementId id : t.elements) {
-            if (!t.polygons) {
-                curveWf = std::max(curveWf, double(layer.curves[id].wf));
-                continue;
-            }
-            const Area& a = layer.areas[id];
-            areaWf = std::max(areaWf, double(a.wf));
-            for (const auto& loop : a.loops)
-                for (const AreaEdge& e : loop) curveWf = std::max(curveWf, double(layer.curves[e.curve].wf));
-            if (a.axial != kNoElement) curveWf = std::max(curveWf, double(layer.curves[a.axial].wf));
-        }
-        s.bindText(1, t.name);
-        s.bind(2, std::int64_t(t.layer));
-        s.bind(3, std::int64_t(t.polygons));
-        s.bind(4, tolerance);
-        s.bind(5, curveWf);
-        s.bind(6, areaWf);
-        s.step();
-        s.reset();
-    }
 }
 
 // The R-tree and its extension row; the triggers come after the features, which fill it directly.
@@ -471,11 +387,7 @@ std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std:
         for (std::size_t id = 0; id < layer.areas.size(); ++id)
             if (layer.areas[id].alive) areas.elements.push_back(ElementId(id));
         for (std::size_t id = 0; id < layer.curves.size(); ++id) {
-            const Curve& c = layer.curves[id];
-            const bool bordersAnArea = std::any_of(c.areas.begin(), c.areas.end(), [&](ElementId a) {
-                return a < layer.areas.size() && layer.areas[a].alive;
-            });
-            if (c.alive && !bordersAnArea) lines.elements.push_back(ElementId(id));
+            if (isLineFeature(layer, layer.curves[id])) lines.elements.push_back(ElementId(id));
         }
         std::string base = identifierPart(layer.name);
         if (base.empty())
@@ -495,7 +407,28 @@ std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std:
     return tables;
 }
 
-std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc, const FeatureTableParams& params) {
+// ---- the writer ----
+
+// One table being written: its statements, next fid, and what its row of gpkg_contents and of the
+// feature index say once every feature is in.
+struct FeatureTablesWriter::Table {
+    FeatureTable plan;
+    std::vector<std::pair<std::string, std::string>> columns;
+    std::unique_ptr<SqliteStatement> insert, rtree;
+    std::int64_t fid = 0;  // the table is new: AUTOINCREMENT gives 1, 2, 3...
+    Envelope envelope;
+    double curveWf = 0.0, areaWf = 0.0;  // the largest wf of its curves (a polygon table's: of its areas' curves), of its areas
+};
+
+struct FeatureTablesWriter::State {
+    AttributeIndex attributes;
+    std::vector<std::unique_ptr<Table>> tables;
+    std::int64_t srsId = kUndefinedCartesianSrsId;
+    bool gdalCounts = false;
+};
+
+FeatureTablesWriter::FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params)
+    : db_(db), head_(head), params_(params), state_(std::make_unique<State>()) {
     if (!(params.tolerance > 0.0)) throw std::invalid_argument("writeFeatureTables: tolerance must be > 0 m");
     db.exec(kCreateGpkgVectorTables);
     std::vector<std::string> taken;
@@ -503,22 +436,142 @@ std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& 
         auto s = db.prepare("SELECT lower(name) FROM sqlite_master");
         while (s.step()) taken.push_back(s.text(0));
     }
-    const bool gdalCounts = db.hasTable("gpkg_ogr_contents");
-    const std::vector<FeatureTable> tables = planFeatureTables(doc, taken);
-    const std::int64_t srsId = featureSrsId(db, doc);
-    const AttributeIndex index = indexAttributes(doc);
-    for (const FeatureTable& t : tables) {
-        const Layer& layer = doc.scene.layers[t.layer];
-        const auto columns = attributeColumns(t, index);
-        createTable(db, t, columns);
-        createRtree(db, t);
-        const Envelope e = insertFeatures(db, doc, t, columns, index, srsId, params.tolerance);
-        registerTable(db, layer, t, e, srsId, params.tolerance);
-        createRtreeTriggers(db, t);
-        if (gdalCounts) recordFeatureCount(db, t);
+    state_->gdalCounts = db.hasTable("gpkg_ogr_contents");
+    state_->srsId = featureSrsId(db, head);
+    state_->attributes = indexAttributes(head);
+    for (FeatureTable& t : planFeatureTables(head, taken)) {
+        auto table = std::make_unique<Table>();
+        table->columns = attributeColumns(t, state_->attributes);
+        t.elements.clear();  // refilled by add(), in fid order
+        table->plan = std::move(t);
+        const FeatureTable& p = table->plan;
+        createTable(db, p, table->columns);
+        createRtree(db, p);
+        const int fixed = p.polygons ? 4 : 7;  // geom, lacet_id, class, wf (w, wf, bridge, tunnel)
+        std::string sql = "INSERT INTO " + quoted(p.name) + " (" + kGeometryColumn + ", lacet_id, class" +
+                          (p.polygons ? ", wf" : ", w, wf, bridge, tunnel");
+        for (const auto& column : table->columns) sql += ", " + quoted(column.second);
+        sql += ") VALUES (?";
+        for (std::size_t k = 1; k < std::size_t(fixed) + table->columns.size(); ++k) sql += ", ?";
+        table->insert = db.prepareKept(sql + ")");
+        table->rtree = db.prepareKept("INSERT INTO " + quoted(featureRtreeName(p.name)) + " VALUES (?, ?, ?, ?, ?)");
+        state_->tables.push_back(std::move(table));
     }
-    writeFeatureIndex(db, doc, tables, params.tolerance);
-    return tables;
+}
+
+FeatureTablesWriter::~FeatureTablesWriter() = default;
+
+void FeatureTablesWriter::add(LayerId layerId, const Layer& part, const ElementOffsets& o) {
+    if (layerId >= head_.scene.layers.size())
+        throw std::invalid_argument("writeFeatureTables: layer " + std::to_string(layerId) + " does not exist");
+    Table* lines = nullptr;
+    Table* polygons = nullptr;
+    for (const auto& t : state_->tables)
+        if (t->plan.layer == layerId) (t->plan.polygons ? polygons : lines) = t.get();
+    const double tolerance = params_.tolerance;
+    ByteWriter blob;
+    // One feature: its geometry in `blob`, its fixed columns bound by the caller.
+    const auto finishRow = [&](Table& t, ElementId id, const Envelope& e) {
+        SqliteStatement& s = *t.insert;
+        const int fixed = t.plan.polygons ? 4 : 7;
+        const ElementKind kind = t.plan.polygons ? ElementKind::Area : ElementKind::Curve;
+        if (const auto it = state_->attributes.find({layerId, kind, id}); it != state_->attributes.end())
+            for (std::size_t k = 0; k < t.columns.size(); ++k)
+                if (const auto value = it->second.find(t.columns[k].first); value != it->second.end())
+                    s.bindText(fixed + 1 + int(k), value->second);
+        s.step();
+        s.reset();
+        SqliteStatement& r = *t.rtree;
+        r.bind(1, ++t.fid);
+        r.bind(2, e.minX);
+        r.bind(3, e.maxX);
+        r.bind(4, e.minY);
+        r.bind(5, e.maxY);
+        r.step();
+        r.reset();
+        t.envelope.add(e);
+        t.plan.elements.push_back(id);
+    };
+    const auto missing = [&](const char* what) {
+        return std::invalid_argument("writeFeatureTables: layer " + std::to_string(layerId) + " ('" +
+                                     head_.scene.layers[layerId].name + "') gets " + what +
+                                     " but its feature tables were planned without them");
+    };
+    for (std::size_t local = 0; local < part.areas.size(); ++local) {
+        const Area& a = part.areas[local];
+        if (!a.alive) continue;
+        if (!polygons) throw missing("areas");
+        const Envelope e = polygonBlob(blob, polygonRings(part, a, tolerance), state_->srsId);
+        SqliteStatement& s = *polygons->insert;
+        const ElementId id = ElementId(local) + o.areas;
+        s.bindBlob(1, blob.bytes());
+        s.bind(2, std::int64_t(id));
+        s.bind(3, std::int64_t(a.cls));
+        s.bind(4, double(a.wf));
+        polygons->areaWf = std::max(polygons->areaWf, double(a.wf));
+        for (const auto& loop : a.loops)
+            for (const AreaEdge& edge : loop) polygons->curveWf = std::max(polygons->curveWf, double(part.curves[edge.curve].wf));
+        if (a.axial != kNoElement) polygons->curveWf = std::max(polygons->curveWf, double(part.curves[a.axial].wf));
+        finishRow(*polygons, id, e);
+    }
+    for (std::size_t local = 0; local < part.curves.size(); ++local) {
+        const Curve& c = part.curves[local];
+        if (!isLineFeature(part, c)) continue;
+        if (!lines) throw missing("curves outside areas");
+        const Envelope e = lineStringBlob(blob, flattenSpline(c.vertices, tolerance), state_->srsId);
+        SqliteStatement& s = *lines->insert;
+        const ElementId id = ElementId(local) + o.curves;
+        s.bindBlob(1, blob.bytes());
+        s.bind(2, std::int64_t(id));
+        s.bind(3, std::int64_t(c.cls));
+        s.bind(4, double(c.w));
+        s.bind(5, double(c.wf));
+        s.bind(6, std::int64_t((c.flags & kBridge) != 0));
+        s.bind(7, std::int64_t((c.flags & kTunnel) != 0));
+        lines->curveWf = std::max(lines->curveWf, double(c.wf));
+        finishRow(*lines, id, e);
+    }
+}
+
+std::vector<FeatureTable> FeatureTablesWriter::finish() {
+    SqliteDb& db = db_;
+    std::vector<FeatureTable> written;
+    for (const auto& table : state_->tables) {
+        const FeatureTable& t = table->plan;
+        table->insert.reset();
+        table->rtree.reset();
+        registerTable(db, head_.scene.layers[t.layer], t, table->envelope, state_->srsId, params_.tolerance);
+        createRtreeTriggers(db, t);
+        if (state_->gdalCounts) recordFeatureCount(db, t);
+    }
+    // kFeatureIndexTable: which table holds which layer's curves or areas, for loadSceneRegion.
+    db.exec(std::string("CREATE TABLE ") + kFeatureIndexTable +
+            " (table_name TEXT PRIMARY KEY NOT NULL, layer INTEGER NOT NULL, polygons BOOLEAN NOT NULL, tolerance REAL NOT "
+            "NULL, max_curve_wf REAL NOT NULL, max_area_wf REAL NOT NULL)");
+    db.exec(std::string("INSERT INTO gpkg_contents (table_name, data_type, identifier, description, last_change) VALUES ('") +
+            kFeatureIndexTable + "', 'attributes', '" + kFeatureIndexTable +
+            "', 'Lacet scene: the layer of each feature table (derived)', strftime('%Y-%m-%dT%H:%M:%fZ', 'now'))");
+    auto s = db.prepare(std::string("INSERT INTO ") + kFeatureIndexTable + " VALUES (?, ?, ?, ?, ?, ?)");
+    for (const auto& table : state_->tables) {
+        const FeatureTable& t = table->plan;
+        s.bindText(1, t.name);
+        s.bind(2, std::int64_t(t.layer));
+        s.bind(3, std::int64_t(t.polygons));
+        s.bind(4, params_.tolerance);
+        s.bind(5, table->curveWf);
+        s.bind(6, table->areaWf);
+        s.step();
+        s.reset();
+        written.push_back(std::move(table->plan));
+    }
+    state_->tables.clear();
+    return written;
+}
+
+std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc, const FeatureTableParams& params) {
+    FeatureTablesWriter writer(db, doc, params);
+    for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) writer.add(LayerId(l), doc.scene.layers[l], {});
+    return writer.finish();
 }
 
 }  // namespace lacet

@@ -48,6 +48,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -85,6 +86,30 @@ std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std:
 // when SQLite fails and std::invalid_argument for a tolerance that is not > 0. Returns the tables.
 std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& doc,
                                              const FeatureTableParams& params = {});
+
+// writeFeatureTables a part at a time, for a scene written before it is whole (saveSceneStreamed,
+// io/scene_file.h): the constructor plans the tables from `head` (the document as far as it is
+// known: every layer's name and kind, the attributes) and creates them with their R-trees; add()
+// writes the features of one part of a layer (model/graph.h: its references local, its ids `o` more
+// than their index), parts of a layer in id order; finish() registers the tables (extent, triggers,
+// GDAL's counts) and writes kFeatureIndexTable. A part whose features need a table the plan left
+// out (curves outside areas in a fields layer planned empty) is refused with std::invalid_argument.
+// Parts carry no attributes: the feature's attribute columns are those of `head`'s elements.
+class FeatureTablesWriter {
+public:
+    FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params = {});
+    ~FeatureTablesWriter();
+    void add(LayerId layer, const Layer& part, const ElementOffsets& o);
+    std::vector<FeatureTable> finish();
+
+private:
+    struct Table;
+    struct State;
+    SqliteDb& db_;
+    const SceneDocument& head_;
+    FeatureTableParams params_;
+    std::unique_ptr<State> state_;
+};
 
 // The gpkg_spatial_ref_sys row of the scene's CRS in `db` (the SRS above): -1 without a valid
 // georeference; else the DEM raster's row when GDAL registered one (srs_id > 0), else the row of a

@@ -75,11 +75,15 @@ void checkDemLodTiles(SqliteDb& db, const DemLodLayout& layout) {
 
 }  // namespace
 
-void saveScene(const std::string& path, const SceneDocument& doc) {
+namespace {
+
+void save(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed) {
     if (auto problems = validate(doc.scene); !problems.empty())
         throw SceneFileError(path + ": cannot save an invalid scene: " + ValidationError(std::move(problems)).what());
     if (doc.scene.layers.size() > kMaxLayers)
         throw SceneFileError(path + ": cannot save more than " + std::to_string(kMaxLayers) + " layers");
+    if (streamed && streamed->layer >= doc.scene.layers.size())
+        throw SceneFileError(path + ": cannot save: the streamed layer " + std::to_string(streamed->layer) + " does not exist");
     try {
         replaceFileAtomically(path, [&](const std::string& tmp) {
             if (doc.demLod) {
@@ -95,11 +99,21 @@ void saveScene(const std::string& path, const SceneDocument& doc) {
             } else {
                 createEmptyGpkg(tmp);
             }
-            writeSceneTables(tmp, doc);
+            writeSceneTables(tmp, doc, streamed);
         });
     } catch (const std::exception& e) {
         throw SceneFileError(path + ": cannot save: " + e.what());
     }
+}
+
+}  // namespace
+
+void saveScene(const std::string& path, const SceneDocument& doc) { save(path, doc, nullptr); }
+
+void saveSceneStreamed(const std::string& path, const SceneDocument& head, LayerId layer,
+                       const std::function<void(const std::function<void(Layer&& part)>& sink)>& produce) {
+    const StreamedLayer streamed{layer, produce};
+    save(path, head, &streamed);
 }
 
 bool isLacetScene(const std::string& path) {

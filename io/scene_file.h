@@ -41,6 +41,7 @@
 // The file is for Lacet to write: a GIS tool may read it, but a value edited outside Lacet no longer
 // matches the checksum, and the file is refused as corrupt.
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 
@@ -63,6 +64,19 @@ constexpr int kSceneFormatVersion = 1;
 // that fails validate() (it could not be loaded back) and one with more than 65536 layers. Throws
 // SceneFileError naming the file and the reason.
 void saveScene(const std::string& path, const SceneDocument& doc);
+
+// saveScene of a scene too large for memory, made while it is written (lacet synth --out): `head` is
+// the document but for the parts of layer `layer`, which `produce` makes, calling its argument with
+// each part in id order (model/graph.h: a layer part, its elements referring only to each other by
+// ids from 0). The file is the one saveScene would write for `head` with the parts appended to that
+// layer (appendLayerPart): the same rows, feature tables and checksum, so loadScene and
+// loadSceneRegion read it as any other. Each part is checked by validate() on its own, and the
+// checksum is summed over the rows written, read back. Memory: `head`, one part, and SQLite's cache.
+// Parts carry no attributes; one with curves outside areas in an areal layer that `head` leaves
+// empty of them (no table of lines planned for it) is refused. An exception from `produce` or a
+// refused part leaves `path` as it was. Throws SceneFileError naming the file and the reason.
+void saveSceneStreamed(const std::string& path, const SceneDocument& head, LayerId layer,
+                       const std::function<void(const std::function<void(Layer&& part)>& sink)>& produce);
 
 // Loads what saveScene wrote: the same model bit for bit (every layer, node, curve, area, dead slots
 // included, every double exact; the DEM's heights exact). Throws SceneFileError naming the file and

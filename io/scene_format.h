@@ -6,7 +6,7 @@
 //                       lacet_attributes, written and read back
 //   scene_file.cpp      saveScene (atomically, io/atomic_file.h), loadScene (with its DEM), isLacetScene
 //   scene_region.cpp    loadSceneRegion (io/scene_region.h): the part of a scene a region needs
-// Order of calls. Save: writeSceneTables (one transaction: the schema, lacet_meta, writeElementTables,
+// Order of calls. Save: writeSceneTables (one transaction: the schema, lacet_meta, ElementTablesWriter,
 // the feature tables). Load: openSceneTables (returns lacet_meta), readElementTables, then the DEM.
 
 #include <cstddef>
@@ -35,9 +35,18 @@ public:
 
 // ---- scene_schema.cpp ----
 
+// A layer whose elements are made while the file is written (saveSceneStreamed): `produce` calls
+// its argument with each part (model/graph.h) in id order.
+struct StreamedLayer {
+    LayerId layer = 0;
+    std::function<void(const std::function<void(Layer&& part)>& sink)> produce;
+};
+
 // Adds the lacet_* tables (and the feature tables, io/scene_features.h) to the GeoPackage at `path`,
-// in one transaction.
-void writeSceneTables(const std::string& path, const SceneDocument& doc);
+// in one transaction. With `streamed`, that layer's elements are doc's followed by the parts
+// `streamed->produce` makes, each checked by validate() on its own (a FormatError names the part),
+// and the checksum is that of the rows written, read back in order.
+void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed = nullptr);
 
 using Meta = std::map<std::string, std::string>;
 
@@ -55,8 +64,32 @@ Box metaBox(const Meta& meta, const std::string& prefix);  // prefix_min_x ... p
 
 // ---- scene_elements.cpp ----
 
-// Writes lacet_layers, lacet_nodes, lacet_curves, lacet_areas and lacet_attributes (created empty).
-void writeElementTables(SqliteDb& db, const SceneDocument& doc);
+// Writes lacet_layers, lacet_nodes, lacet_curves, lacet_areas and lacet_attributes (created empty),
+// a layer part at a time: layers(), then the elements of each layer in (layer, id) order, a part's
+// rows with ids `o` more than their index in the part and its references written as they are
+// (offsetElementIds first), then attributes().
+class ElementTablesWriter {
+public:
+    explicit ElementTablesWriter(SqliteDb& db);
+    ~ElementTablesWriter();
+    void layers(const Scene& scene);
+    void elements(LayerId layer, const Layer& part, const ElementOffsets& o);
+    void attributes(const SceneDocument& doc);
+
+private:
+    SqliteDb& db_;
+    std::unique_ptr<SqliteStatement> node_, curve_, area_;
+};
+
+// Layer `layer`'s rows of one element table, in id order, decoded and checked as readElementTables
+// does (FormatError naming the row); the count of the layer's rows first. For a checksum of what a
+// streamed save wrote, without the layer in memory.
+void forEachNodeRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t count)>& counted,
+                    const std::function<void(const Node&)>& each);
+void forEachCurveRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t count)>& counted,
+                     const std::function<void(const Curve&)>& each);
+void forEachAreaRow(SqliteDb& db, LayerId layer, const std::function<void(std::size_t count)>& counted,
+                    const std::function<void(const Area&)>& each);
 
 // Reads them back into doc.scene's layers and doc.attributes; throws FormatError naming the row.
 void readElementTables(SqliteDb& db, SceneDocument& doc);

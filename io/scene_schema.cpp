@@ -14,6 +14,7 @@
 #include "io/scene_features.h"
 #include "io/scene_file.h"
 #include "io/scene_format.h"
+#include "model/validate.h"
 
 namespace lacet::scene_format {
 namespace {
@@ -96,7 +97,35 @@ constexpr TableInfo kTables[] = {
     {"lacet_attributes", "Lacet scene: attributes kept from the source data (kind 0 node, 1 curve, 2 area)"},
 };
 
-void writeMeta(SqliteDb& db, const SceneDocument& doc) {
+// The parts of the streamed layer after doc's own elements of it: each validated alone, its features
+// written with its local references, then its rows with its ids shifted.
+void writeStreamedParts(const SceneDocument& doc, const StreamedLayer& streamed, ElementTablesWriter& elements,
+                        FeatureTablesWriter& features) {
+    const Layer& layer = doc.scene.layers[streamed.layer];
+    std::uint64_t nodes = layer.nodes.size(), curves = layer.curves.size(), areas = layer.areas.size();
+    std::size_t index = 0;
+    streamed.produce([&](Layer&& part) {
+        const std::string name = "part " + std::to_string(index++) + " of layer " + std::to_string(streamed.layer);
+        if (nodes + part.nodes.size() > std::uint64_t(kMaxId) || curves + part.curves.size() > std::uint64_t(kMaxId) ||
+            areas + part.areas.size() > std::uint64_t(kMaxId))
+            throw FormatError(name + ": more than 2^32 - 1 elements of a kind in the layer");
+        Scene alone;
+        alone.extent = doc.scene.extent;
+        alone.layers.push_back(std::move(part));
+        auto problems = validate(alone);
+        part = std::move(alone.layers.front());
+        if (!problems.empty()) throw FormatError(name + " is invalid: " + ValidationError(std::move(problems)).what());
+        const ElementOffsets o{ElementId(nodes), ElementId(curves), ElementId(areas)};
+        features.add(streamed.layer, part, o);
+        offsetElementIds(part, o);
+        elements.elements(streamed.layer, part, o);
+        nodes += part.nodes.size();
+        curves += part.curves.size();
+        areas += part.areas.size();
+    });
+}
+
+void writeMeta(SqliteDb& db, const SceneDocument& doc, const std::string& checksum) {
     std::vector<std::pair<std::string, std::string>> meta = {
         {"format", kFormatName},
         {"format_version", std::to_string(kSceneFormatVersion)},
@@ -111,7 +140,7 @@ void writeMeta(SqliteDb& db, const SceneDocument& doc) {
         {"georeference_origin_shift_y", doubleText(doc.georeference.originShift.y)},
         {"crs_wkt", doc.georeference.crsWkt},
         {"dem", doc.demLod ? kDemLodTable : doc.dem ? kDemRasterTable : "none"},
-        {"checksum", sceneChecksumText(doc)},
+        {"checksum", checksum},
     };
     if (doc.demLod) {
         // The finest grid of the tree (its layout itself is in kDemLodMetaTable, io/dem_lod.h).
@@ -143,7 +172,7 @@ void writeMeta(SqliteDb& db, const SceneDocument& doc) {
 
 }  // namespace
 
-void writeSceneTables(const std::string& path, const SceneDocument& doc) {
+void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed) {
     SqliteDb db(path, SqliteDb::Mode::ReadWrite);
     db.exec("BEGIN IMMEDIATE");
     db.exec(kCreateTables);
@@ -159,9 +188,39 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc) {
             s.reset();
         }
     }
-    writeMeta(db, doc);
-    writeElementTables(db, doc);
-    writeFeatureTables(db, doc);
+    // A streamed layer's checksum is known once its rows are written: a placeholder until then.
+    writeMeta(db, doc, streamed ? std::string(16, '0') : sceneChecksumText(doc));
+    {
+        // Their statements are finalized at the end of this block, before the connection closes.
+        ElementTablesWriter elements(db);
+        elements.layers(doc.scene);
+        FeatureTablesWriter features(db, doc);
+        for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+            const Layer& layer = doc.scene.layers[l];
+            elements.elements(LayerId(l), layer, {});
+            features.add(LayerId(l), layer, {});
+            if (streamed && streamed->layer == l) writeStreamedParts(doc, *streamed, elements, features);
+        }
+        elements.attributes(doc);
+        features.finish();
+    }
+    if (streamed) {
+        SceneChecksum sum(doc.scene);
+        for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+            if (streamed->layer != l) {
+                sum.layer(doc.scene.layers[l]);
+                continue;
+            }
+            sum.layerHead(doc.scene.layers[l]);
+            const auto counted = [&](std::size_t n) { sum.count(n); };
+            forEachNodeRow(db, LayerId(l), counted, [&](const Node& n) { sum.node(n); });
+            forEachCurveRow(db, LayerId(l), counted, [&](const Curve& c) { sum.curve(c); });
+            forEachAreaRow(db, LayerId(l), counted, [&](const Area& a) { sum.area(a); });
+        }
+        auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = 'checksum'");
+        s.bindText(1, sum.finish(doc));
+        s.step();
+    }
     // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
     db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
     db.exec("COMMIT");

@@ -1,5 +1,6 @@
 #include "model/graph.h"
 
+#include <iterator>
 #include <utility>
 
 namespace lacet {
@@ -40,6 +41,35 @@ ElementId Layer::addArea(Area a) {
         }
     areas.push_back(std::move(a));
     return id;
+}
+
+void offsetElementIds(Layer& part, const ElementOffsets& o) {
+    for (Node& n : part.nodes)
+        for (ElementId& c : n.curves) c += o.curves;
+    for (Curve& c : part.curves) {
+        c.start += o.nodes;
+        c.end += o.nodes;
+        for (ElementId& a : c.areas) a += o.areas;
+    }
+    for (Area& a : part.areas) {
+        for (auto& loop : a.loops)
+            for (AreaEdge& e : loop) e.curve += o.curves;
+        if (a.axial != kNoElement) a.axial += o.curves;
+    }
+}
+
+void appendLayerPart(Layer& into, Layer&& part) {
+    offsetElementIds(part, {ElementId(into.nodes.size()), ElementId(into.curves.size()), ElementId(into.areas.size())});
+    const auto append = [](auto& to, auto& from) {
+        if (to.empty()) {
+            to = std::move(from);
+            return;
+        }
+        to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
+    };
+    append(into.nodes, part.nodes);
+    append(into.curves, part.curves);
+    append(into.areas, part.areas);
 }
 
 std::vector<Vertex> loopVertices(const Layer& layer, const std::vector<AreaEdge>& loop) {

@@ -90,6 +90,20 @@ struct Layer {
     ElementId addArea(Area a);
 };
 
+// A layer part: a layer whose elements refer only to each other, by ids from 0 (a patch of fields,
+// a chunk of an import), made apart and appended to a layer later (appendLayerPart) or written
+// straight to a scene file (io/scene_file.h: saveSceneStreamed), so that a scene larger than memory
+// is made one part at a time.
+struct ElementOffsets {
+    ElementId nodes = 0, curves = 0, areas = 0;
+};
+// Adds `o` to every id `part`'s elements refer to (node.curves, curve.start/end/areas, area loops
+// and axial; kNoElement stays), as if its elements sat after `o` elements of each kind.
+void offsetElementIds(Layer& part, const ElementOffsets& o);
+// Appends `part`'s elements after `into`'s, their references shifted by into's counts; name and
+// kind of `part` are ignored.
+void appendLayerPart(Layer& into, Layer&& part);
+
 struct Scene {
     Box extent;  // the root quad (square), in scene CRS metres
     std::vector<Layer> layers;

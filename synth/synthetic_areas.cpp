@@ -192,7 +192,8 @@ void buildForests(Layer& layer, Context& ctx, Rng& rng) {
     buildBlobs(layer, ctx, rng, std::max<std::size_t>(1, ctx.target / 500), 150.0, 600.0, 2, 4, kForestWf, 0.12);
 }
 
-void buildFields(Layer& layer, Context& ctx, Rng& rng, std::size_t curveBudget) {
+void buildFields(Context& ctx, Rng& rng, std::size_t curveBudget, std::size_t partCurves,
+                 const std::function<void(Layer&& part)>& sink) {
     if (curveBudget < patchCurves(1)) return;
     constexpr double kMeanCurves = 0.9 * 12.0 + 0.1 * 24.0;  // 2x2 patches, 10% of 3x3
     constexpr double kMeadows = 0.1;                         // fraction of slots left empty
@@ -226,11 +227,25 @@ void buildFields(Layer& layer, Context& ctx, Rng& rng, std::size_t curveBudget) 
         left -= patchCurves(k);
         curves += patchCurves(k), areas += k * k, nodes += (k + 1) * (k + 1);
     }
-    layer.nodes.reserve(nodes);
-    layer.curves.reserve(curves);
-    layer.areas.reserve(areas);
-    for (std::size_t i = 0; i < slots.size(); ++i)
-        if (size[i] > 0) addPatch(layer, rng, slots[i], size[i]);
+    // The part's arrays reserved at their final size (the whole layer in one part, when it fits).
+    const double share = std::min(1.0, double(std::max<std::size_t>(partCurves, 1)) / double(std::max<std::size_t>(curves, 1)));
+    const auto reserve = [&](Layer& part) {
+        part.nodes.reserve(std::size_t(double(nodes) * share) + 16);
+        part.curves.reserve(std::min(curves, std::max<std::size_t>(partCurves, 1)) + patchCurves(4));
+        part.areas.reserve(std::size_t(double(areas) * share) + 16);
+    };
+    Layer part;
+    reserve(part);
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+        if (size[i] == 0) continue;
+        addPatch(part, rng, slots[i], size[i]);
+        if (part.curves.size() >= partCurves) {
+            sink(std::move(part));
+            part = Layer{};
+            reserve(part);
+        }
+    }
+    if (!part.curves.empty()) sink(std::move(part));
 }
 
 }  // namespace lacet::synth

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <utility>
 #include <vector>
@@ -102,7 +103,10 @@ void buildRoads(Layer& layer, Context& ctx, Rng& rng);
 void buildRivers(Layer& layer, Context& ctx, Rng& rng);
 void buildLakes(Layer& layer, Context& ctx, Rng& rng);
 void buildForests(Layer& layer, Context& ctx, Rng& rng);
-// Adds field patches with at most `curveBudget` curves in total (fewer only when space runs out).
-void buildFields(Layer& layer, Context& ctx, Rng& rng, std::size_t curveBudget);
+// Makes field patches with at most `curveBudget` curves in total (fewer only when space runs out),
+// handed to `sink` in parts of whole patches (model/graph.h), a part as soon as it holds
+// `partCurves` curves or more, and the rest at the end; nothing when there are no patches.
+void buildFields(Context& ctx, Rng& rng, std::size_t curveBudget, std::size_t partCurves,
+                 const std::function<void(Layer&& part)>& sink);
 
 }  // namespace lacet::synth

@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <stdexcept>
+#include <utility>
 
 #include "model/roundabouts.h"
 #include "synth/synthetic_internal.h"
@@ -369,10 +372,33 @@ double syntheticExtentSide(std::size_t curves) {
     return 100000.0 * std::sqrt(double(std::max<std::size_t>(curves, 1)) / 600000.0);
 }
 
-Scene makeSyntheticScene(const SyntheticParams& params) {
-    using namespace synth;
+struct SyntheticSceneParts::State {
     Scene scene;
+    synth::Context ctx;
+    synth::Rng fieldRng;
+    std::size_t fieldBudget = 0;
+    bool fieldsMade = false;
+};
+
+namespace {
+
+// One independent stream per layer (splitmix64 of seed and layer), so that a change in one layer's
+// generator does not reshuffle the others.
+synth::Rng layerStream(std::uint64_t seed, std::uint64_t layer) {
+    std::uint64_t z = seed + 0x9e3779b97f4a7c15ull * (layer + 1);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return synth::Rng(z ^ (z >> 31));
+}
+
+}  // namespace
+
+SyntheticSceneParts::SyntheticSceneParts(const SyntheticParams& params) {
+    using namespace synth;
     const double side = syntheticExtentSide(params.curves);
+    state_ = std::make_unique<State>(State{{}, Context{side, params.curves, Occupancy(side), {}}, layerStream(params.seed, kFieldsLayer)});
+    Scene& scene = state_->scene;
+    Context& ctx = state_->ctx;
     scene.extent = Box{Vec2(0.0), Vec2(side)};
     scene.layers.resize(5);
     const std::pair<const char*, LayerKind> layers[5] = {{"roads", LayerKind::Roads},
@@ -384,19 +410,9 @@ Scene makeSyntheticScene(const SyntheticParams& params) {
         scene.layers[i].name = layers[i].first;
         scene.layers[i].kind = layers[i].second;
     }
-
-    Context ctx{side, params.curves, Occupancy(side), {}};
-    // One independent stream per layer (splitmix64 of seed and layer), so that a change in one
-    // layer's generator does not reshuffle the others.
-    const auto stream = [&](std::uint64_t layer) {
-        std::uint64_t z = params.seed + 0x9e3779b97f4a7c15ull * (layer + 1);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return Rng(z ^ (z >> 31));
-    };
     const std::size_t n = params.curves;
-    Rng roads = stream(kRoadsLayer), rivers = stream(kRiversLayer), lakes = stream(kLakesLayer),
-        fields = stream(kFieldsLayer), forests = stream(kForestsLayer);
+    Rng roads = layerStream(params.seed, kRoadsLayer), rivers = layerStream(params.seed, kRiversLayer),
+        lakes = layerStream(params.seed, kLakesLayer), forests = layerStream(params.seed, kForestsLayer);
     if (n >= 40) buildRoads(scene.layers[kRoadsLayer], ctx, roads);
     else ctx.blocks.push_back(scene.extent.dilated(-kBorderMargin));
     if (n >= 60) buildRivers(scene.layers[kRiversLayer], ctx, rivers);
@@ -404,15 +420,35 @@ Scene makeSyntheticScene(const SyntheticParams& params) {
     buildForests(scene.layers[kForestsLayer], ctx, forests);
     std::size_t used = 0;
     for (const Layer& layer : scene.layers) used += layer.curves.size();
-    buildFields(scene.layers[kFieldsLayer], ctx, fields, n > used ? n - used : 0);
-    // Roundabouts last, from their own stream, so that the other layers do not depend on them.
-    Rng rings = stream(5);
+    state_->fieldBudget = n > used ? n - used : 0;
+    // Roundabouts from their own stream, so that the other layers do not depend on them; they look
+    // at the roads alone (model/roundabouts.h), so the fields made after them change nothing.
+    Rng rings = layerStream(params.seed, 5);
     Layer& roadLayer = scene.layers[kRoadsLayer];
     for (ElementId id = 0; id < roadLayer.nodes.size(); ++id) {
         if (roadLayer.nodes[id].curves.size() < 3 || !rings.chance(params.roundaboutFraction)) continue;
         const auto radius = float(rings.uniform(10.0, 18.0));
         if (!roundaboutRefusal(scene, kRoadsLayer, id, radius)) roadLayer.nodes[id].roundabout = radius;
     }
+}
+
+SyntheticSceneParts::~SyntheticSceneParts() = default;
+
+const Scene& SyntheticSceneParts::scene() const { return state_->scene; }
+
+Scene SyntheticSceneParts::takeScene() { return std::exchange(state_->scene, Scene{}); }
+
+void SyntheticSceneParts::fields(const std::function<void(Layer&& part)>& sink, std::size_t partCurves) {
+    if (state_->fieldsMade) throw std::logic_error("SyntheticSceneParts::fields: the fields are made once");
+    state_->fieldsMade = true;
+    synth::buildFields(state_->ctx, state_->fieldRng, state_->fieldBudget, partCurves, sink);
+}
+
+Scene makeSyntheticScene(const SyntheticParams& params) {
+    SyntheticSceneParts parts(params);
+    Scene scene = parts.takeScene();
+    parts.fields([&](Layer&& part) { appendLayerPart(scene.layers[kFieldsLayer], std::move(part)); },
+                 std::numeric_limits<std::size_t>::max());
     return scene;
 }
 

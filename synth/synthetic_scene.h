@@ -20,6 +20,8 @@
 // target within a few curves. The same seed always gives a bit-identical scene.
 
 #include <cstdint>
+#include <functional>
+#include <memory>
 
 #include "model/graph.h"
 
@@ -39,6 +41,27 @@ struct SyntheticParams {
 double syntheticExtentSide(std::size_t curves);
 
 Scene makeSyntheticScene(const SyntheticParams& params);
+
+// The same scene made a part at a time, for scenes larger than memory (lacet synth --out): the
+// constructor makes every layer but the fields' elements (roads, rivers, lakes, forests, the
+// roundabouts); fields() then hands the fields layer (kFieldsLayer) to `sink` in parts (model/graph.h:
+// whole patches, about `partCurves` curves each), in id order. The scene with its parts appended
+// (appendLayerPart) is makeSyntheticScene(params), bit for bit. Memory: the other layers (a few
+// percent of the curves), the fields' slot plan and one part.
+class SyntheticSceneParts {
+public:
+    explicit SyntheticSceneParts(const SyntheticParams& params);
+    ~SyntheticSceneParts();
+    // The scene made so far (its fields layer empty); takeScene() moves it out.
+    const Scene& scene() const;
+    Scene takeScene();
+    // Once (std::logic_error after); may follow takeScene().
+    void fields(const std::function<void(Layer&& part)>& sink, std::size_t partCurves);
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
 
 // Fixed layer order of synthetic scenes:
 constexpr LayerId kRoadsLayer = 0, kRiversLayer = 1, kLakesLayer = 2, kFieldsLayer = 3, kForestsLayer = 4;

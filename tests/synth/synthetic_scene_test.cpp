@@ -2,6 +2,9 @@
 
 #include <bit>
 #include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -106,6 +109,36 @@ TEST(SyntheticScene, SameSeedGivesABitIdenticalScene) {
     const Scene b = makeSyntheticScene({42, 10000});
     EXPECT_TRUE(identical(a, b));
     EXPECT_TRUE(identical(makeSyntheticScene({1, 10000}), scene10k()));
+}
+
+TEST(SyntheticScene, FieldsMadeInPartsAndAppendedGiveTheWholeScene) {
+    // lacet synth --out writes the fields a part at a time (SyntheticSceneParts): each part stands
+    // alone (valid as a layer of its own), holds whole patches of about partCurves curves, and the
+    // parts appended in order are the fields of makeSyntheticScene, bit for bit.
+    for (const std::uint64_t seed : {1u, 7u})
+        for (const std::size_t partCurves : {std::size_t(1), std::size_t(97), std::size_t(4000), std::size_t(1) << 40}) {
+            SCOPED_TRACE("seed " + std::to_string(seed) + ", parts of " + std::to_string(partCurves));
+            SyntheticSceneParts parts({seed, 10000});
+            Scene scene = parts.takeScene();
+            EXPECT_TRUE(scene.layers[kFieldsLayer].curves.empty());
+            EXPECT_FALSE(scene.layers[kForestsLayer].curves.empty());
+            std::vector<std::size_t> sizes;
+            parts.fields([&](Layer&& part) {
+                Scene alone;
+                alone.extent = scene.extent;
+                alone.layers.push_back(part);
+                EXPECT_TRUE(validate(alone).empty()) << "part " << sizes.size();
+                sizes.push_back(part.curves.size());
+                appendLayerPart(scene.layers[kFieldsLayer], std::move(part));
+            }, partCurves);
+            ASSERT_FALSE(sizes.empty());
+            for (std::size_t i = 0; i + 1 < sizes.size(); ++i) {
+                EXPECT_GE(sizes[i], partCurves) << "part " << i;
+                EXPECT_LT(sizes[i], partCurves + 41) << "part " << i;  // a patch has at most 40 curves
+            }
+            EXPECT_TRUE(identical(scene, seed == 1 ? scene10k() : makeSyntheticScene({seed, 10000})));
+            EXPECT_THROW(parts.fields([](Layer&&) {}, 1), std::logic_error);
+        }
 }
 
 TEST(SyntheticScene, DifferentSeedsGiveDifferentScenes) {
