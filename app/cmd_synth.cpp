@@ -1,6 +1,7 @@
 // `lacet synth`: generates a synthetic scene, optionally its view-refined quadtree, and prints
 // a summary (text, or JSON with --json).
 #include <algorithm>
+#include <cmath>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -33,6 +34,11 @@ struct SynthOptions {
     bool json = false;
     std::string out;         // a scene file to write (with the synthetic DEM)
     int demResolution = 5000;
+    // With --dem-side: the largest side (samples) of the in-memory base DEM the fine one is made from;
+    // a scene whose --dem-resolution grid is larger gets coarser base cells. 8192: 0.25 GiB of
+    // heights; 38.6 m cells at 6M curves, where the base's rivers still run downhill within its
+    // tolerance (synth/synthetic_dem.h: cells of 20 to 40 m).
+    int baseDemMaxSide = 8192;
     int demSide = 0;        // > 0: a DEM of this many samples a side, written out of core (FineSyntheticDem)
     double altitude = 0.0;  // > 0: build the quadtree for a viewer this high above the centre
     ViewParams view;
@@ -148,7 +154,12 @@ void run(const SynthOptions& o) {
     }
     if (!o.out.empty()) {
         t0 = Clock::now();
-        doc.dem = makeSyntheticDem(s, {o.seed, o.demResolution});  // from the rivers: the fields need not be made yet
+        // From the rivers: the fields need not be made yet.
+        int resolution = o.demResolution;
+        if (o.demSide > 0)
+            resolution = std::min(resolution, int(std::floor(double(o.baseDemMaxSide) * 100000.0 / s.extent.size().x)));
+        doc.dem = makeSyntheticDem(s, {o.seed, std::max(resolution, 1)});
+        const nlohmann::json baseSamples = {doc.dem->width(), doc.dem->height()};
         double demMs = msSince(t0);
         // The lod DEM's file, beside the output, once written: removed after the save (also when it
         // fails).
@@ -156,6 +167,7 @@ void run(const SynthOptions& o) {
         nlohmann::json lodJson;
         if (o.demSide > 0) {
             lodJson = writeFineDem(o, doc, lodFile);
+            lodJson["base_dem_samples"] = baseSamples;
             demMs = lodJson["dem_s"].get<double>() * 1000.0;
         }
         t0 = Clock::now();
@@ -230,11 +242,15 @@ void addSynthCommand(CLI::App& app) {
     cmd->add_option("--K", o->view.K, "Subdivision factor: split quads closer than K times their size");
     cmd->add_option("--max-level", o->view.maxLevel, "Deepest quadtree level");
     cmd->add_flag("--json", o->json, "Print JSON");
-    cmd->add_option("--out", o->out, "Also save the scene and its synthetic DEM as a scene file (GeoPackage), then load it back");
+    cmd->add_option("--out", o->out, "Also save the scene and its synthetic DEM as a scene file (GeoPackage), the fields made while it is written (with --view-altitude: made whole, saved, loaded back)");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (with --out)");
     cmd->add_option("--dem-side", o->demSide,
                     "With --out: a DEM of this many samples a side over the scene (e.g. 20480: 5 m cells over 100 km), the "
                     "--dem-resolution DEM plus fine detail, written out of core as a LOD tree")
+        ->check(CLI::Range(2, kMaxLodDemSide));
+    cmd->add_option("--base-dem-max-side", o->baseDemMaxSide,
+                    "With --dem-side: the largest side (samples) of the in-memory DEM the fine one is made from (coarser "
+                    "cells beyond: memory)")
         ->check(CLI::Range(2, kMaxLodDemSide));
     cmd->callback([o] { run(*o); });
 }

@@ -434,8 +434,6 @@ SyntheticSceneParts::SyntheticSceneParts(const SyntheticParams& params) {
 
 SyntheticSceneParts::~SyntheticSceneParts() = default;
 
-const Scene& SyntheticSceneParts::scene() const { return state_->scene; }
-
 Scene SyntheticSceneParts::takeScene() { return std::exchange(state_->scene, Scene{}); }
 
 void SyntheticSceneParts::fields(const std::function<void(Layer&& part)>& sink, std::size_t partCurves) {

@@ -52,8 +52,7 @@ class SyntheticSceneParts {
 public:
     explicit SyntheticSceneParts(const SyntheticParams& params);
     ~SyntheticSceneParts();
-    // The scene made so far (its fields layer empty); takeScene() moves it out.
-    const Scene& scene() const;
+    // The scene made by the constructor (its fields layer empty), moved out.
     Scene takeScene();
     // Once (std::logic_error after); may follow takeScene().
     void fields(const std::function<void(Layer&& part)>& sink, std::size_t partCurves);
