@@ -62,7 +62,10 @@ std::map<int, std::vector<double>> timeClipAndRefineByLevel(const Scene& s, cons
 nlohmann::json graphStepCost(const Scene& scene, Target target, int moves, double altitude, std::uint64_t seed) {
     Scene plain = scene;
     Layer& rivers = plain.layers[kRiversLayer];
-    rivers = Layer{rivers.name, rivers.kind, {}, {}, {}};
+    Layer empty;
+    empty.name = rivers.name;
+    empty.kind = rivers.kind;
+    rivers = std::move(empty);
     for (Layer& l : plain.layers)
         for (Node& n : l.nodes) n.roundabout = 0.0f;
     nlohmann::json out;

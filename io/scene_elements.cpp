@@ -426,7 +426,13 @@ void readElementTables(SqliteDb& db, SceneDocument& doc) {
     readNodes(db, doc.scene);
     readCurves(db, doc.scene);
     readAreas(db, doc.scene);
-    readAttributesOf(db, doc, [](const ElementAttribute&) { return true; });
+    readAttributesOf(
+        db, doc,
+        [&](LayerId layer, ElementKind kind) {
+            const Layer& l = doc.scene.layers[layer];
+            return kind == ElementKind::Node ? l.nodes.size() : kind == ElementKind::Curve ? l.curves.size() : l.areas.size();
+        },
+        [](const ElementAttribute& a) { return a.id; });
 }
 
 ElementRows::ElementRows(SqliteDb& db)
@@ -458,7 +464,8 @@ Area ElementRows::area(LayerId layer, ElementId id) { return readOne<Area>(*area
 
 void readLayerTable(SqliteDb& db, Scene& scene) { readLayers(db, scene); }
 
-void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool(const ElementAttribute&)>& wanted) {
+void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std::size_t(LayerId, ElementKind)>& slots,
+                      const std::function<ElementId(const ElementAttribute&)>& idIn) {
     auto s = db.prepare("SELECT layer, kind, id, key, value FROM lacet_attributes ORDER BY fid");
     while (s.step()) {
         Row row{"lacet_attributes"};
@@ -467,12 +474,12 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool
         row.layer = layer;
         a.layer = LayerId(layer);
         a.kind = ElementKind(integerColumn(s, 1, 0, 2, "kind", row));
-        const Layer& l = doc.scene.layers[a.layer];
-        const std::size_t count = a.kind == ElementKind::Node ? l.nodes.size() : a.kind == ElementKind::Curve ? l.curves.size() : l.areas.size();
+        const std::size_t count = slots(a.layer, a.kind);
         if (count == 0) row.fail("names an element of an empty kind");
         a.id = ElementId(integerColumn(s, 2, 0, std::int64_t(count) - 1, "id", row));
         if (s.type(3) != SQLITE_TEXT || s.type(4) != SQLITE_TEXT) row.fail("key and value must be text");
-        if (!wanted(a)) continue;
+        a.id = idIn(a);
+        if (a.id == kNoElement) continue;
         a.key = s.text(3);
         a.value = s.text(4);
         doc.attributes.push_back(std::move(a));

@@ -80,6 +80,10 @@ namespace {
 void save(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed) {
     if (auto problems = validate(doc.scene); !problems.empty())
         throw SceneFileError(path + ": cannot save an invalid scene: " + ValidationError(std::move(problems)).what());
+    for (const Layer& l : doc.scene.layers)
+        if (l.isPart())
+            throw SceneFileError(path + ": cannot save: layer '" + l.name +
+                                 "' holds a part of a scene file's layer (a region read); the rest of it would be lost");
     if (doc.scene.layers.size() > kMaxLayers)
         throw SceneFileError(path + ": cannot save more than " + std::to_string(kMaxLayers) + " layers");
     if (streamed && streamed->layer >= doc.scene.layers.size())

@@ -109,8 +109,11 @@ public:
 private:
     std::unique_ptr<SqliteStatement> node_, curve_, area_;
 };
-// Attributes must name an existing element slot.
-void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<bool(const ElementAttribute&)>& wanted);
+// Reads lacet_attributes. Each must name an id below `slots(layer, kind)` (the file's count of that
+// kind); `idIn(a)` is the id `a` names in `doc` (a part of the file read, io/scene_region.h), or
+// kNoElement to skip it.
+void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std::size_t(LayerId, ElementKind)>& slots,
+                      const std::function<ElementId(const ElementAttribute&)>& idIn);
 
 // ---- scene_file.cpp ----
 

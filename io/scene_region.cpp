@@ -8,6 +8,8 @@
 #include <optional>
 #include <limits>
 #include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "io/scene_checksum.h"
@@ -28,11 +30,23 @@ struct FeatureTableRef {
     bool polygons = false;
 };
 
-// One element to load, and whether it lies within the region's reach (its nodes' curves are loaded).
+// One curve to close (by its id in the document), and whether it lies within the region's reach
+// (its nodes' curves are loaded).
 struct Pending {
     LayerId layer = 0;
     ElementId id = 0;
     bool near = false;
+};
+
+// The elements of one layer read so far, by their ids in the document: each id of the file that a
+// loaded element names gets a slot (dead and empty until it is loaded itself), so that the walks
+// below see what they see over the whole scene; compact() keeps the loaded ones, in file order.
+struct LayerSlots {
+    std::size_t fileNodes = 0, fileCurves = 0, fileAreas = 0;  // the file's ids: max(id) + 1
+    std::unordered_map<ElementId, ElementId> node, curve, area;  // file id -> document id
+    std::vector<ElementId> nodeFile, curveFile, areaFile;        // document id -> file id
+    std::vector<bool> nodeLoaded, curveLoaded, curveNear, areaLoaded;  // by document id
+    std::unordered_set<ElementId> upstreamChecked;  // file ids of river curves whose flow was read
 };
 
 class RegionLoader {
@@ -40,12 +54,8 @@ public:
     RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables, double tolerance, SceneRegionOptions filter)
         : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance), filter_(filter) {
         const std::size_t n = doc.scene.layers.size();
-        nodeLoaded_.resize(n);
-        curveLoaded_.resize(n);
-        curveNear_.resize(n);
-        upstreamChecked_.resize(n);
-        areaLoaded_.resize(n);
-        // Each layer's slots: its largest id + 1, through the (layer, id) index, not a scan of the
+        slots_.resize(n);
+        // Each layer's file ids: its largest id + 1, through the (layer, id) index, not a scan of the
         // table (a region reads a small part of it). A row missing below it is found when read.
         for (const char* table : {"lacet_nodes", "lacet_curves", "lacet_areas"}) {
             auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
@@ -55,22 +65,9 @@ public:
                 const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
                 if (count < 0 || count > kMaxId + 1)
                     throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
-                Layer& l = doc.scene.layers[layer];
-                if (table[6] == 'n') l.nodes.resize(std::size_t(count));
-                else if (table[6] == 'c') l.curves.resize(std::size_t(count));
-                else l.areas.resize(std::size_t(count));
+                LayerSlots& l = slots_[layer];
+                (table[6] == 'n' ? l.fileNodes : table[6] == 'c' ? l.fileCurves : l.fileAreas) = std::size_t(count);
             }
-        }
-        for (std::size_t l = 0; l < n; ++l) {
-            Layer& layer = doc.scene.layers[l];
-            for (Node& x : layer.nodes) x.alive = false;  // slots not loaded: dead and empty
-            for (Curve& x : layer.curves) x.alive = false;
-            for (Area& x : layer.areas) x.alive = false;
-            nodeLoaded_[l].assign(layer.nodes.size(), false);
-            curveLoaded_[l].assign(layer.curves.size(), false);
-            curveNear_[l].assign(layer.curves.size(), false);
-            upstreamChecked_[l].assign(layer.curves.size(), false);
-            areaLoaded_[l].assign(layer.areas.size(), false);
         }
     }
 
@@ -84,9 +81,9 @@ public:
                 continue;
             for (ElementId id : query(t, box)) {
                 ++found;
-                if (t.polygons) addArea(t.layer, id, true);
+                if (t.polygons) loadArea(t.layer, areaSlot(t.layer, id), true);
                 else if (filter_.elevationOnly) addElevationCurve(t.layer, id);
-                else addCurve(t.layer, id, true);
+                else loadCurve(t.layer, curveSlot(t.layer, id), true);
             }
         }
         return found;
@@ -112,14 +109,16 @@ public:
                 Layer& layer = doc_.scene.layers[l];
                 if (layer.kind != LayerKind::Rivers) continue;
                 for (ElementId a = 0; a < layer.areas.size(); ++a) {
-                    if (!areaLoaded_[l][a] || layer.areas[a].axial == kNoElement) continue;
+                    if (!slots_[l].areaLoaded[a] || layer.areas[a].axial == kNoElement) continue;
                     const std::size_t before = nodes + curves + areas;
                     const AxialRiver walk = axialRiver(layer, layer.areas[a]);
                     for (ElementId n : walk.nodes) {
-                        addNode(l, n);
-                        for (ElementId c : layer.nodes[n].curves) {
-                            addCurve(l, c, false);
-                            for (ElementId border : layer.curves[c].areas) addArea(l, border, false);
+                        loadNode(l, n);
+                        const std::vector<ElementId> at = layer.nodes[n].curves;  // loading grows the layer's vectors
+                        for (ElementId c : at) {
+                            loadCurve(l, c, false);
+                            const std::vector<ElementId> borders = layer.curves[c].areas;
+                            for (ElementId border : borders) loadArea(l, border, false);
                         }
                     }
                     close();
@@ -133,18 +132,74 @@ public:
     void trimLists() {
         for (std::size_t l = 0; l < doc_.scene.layers.size(); ++l) {
             Layer& layer = doc_.scene.layers[l];
+            const LayerSlots& s = slots_[l];
             for (std::size_t n = 0; n < layer.nodes.size(); ++n)
-                if (nodeLoaded_[l][n])
-                    std::erase_if(layer.nodes[n].curves, [&](ElementId c) { return c >= layer.curves.size() || !curveLoaded_[l][c]; });
+                if (s.nodeLoaded[n]) std::erase_if(layer.nodes[n].curves, [&](ElementId c) { return !s.curveLoaded[c]; });
             for (std::size_t c = 0; c < layer.curves.size(); ++c)
-                if (curveLoaded_[l][c])
-                    std::erase_if(layer.curves[c].areas, [&](ElementId a) { return a >= layer.areas.size() || !areaLoaded_[l][a]; });
+                if (s.curveLoaded[c]) std::erase_if(layer.curves[c].areas, [&](ElementId a) { return !s.areaLoaded[a]; });
         }
     }
 
-    bool loaded(const ElementAttribute& a) const {
-        const auto& flags = a.kind == ElementKind::Node ? nodeLoaded_ : a.kind == ElementKind::Curve ? curveLoaded_ : areaLoaded_;
-        return a.layer < flags.size() && a.id < flags[a.layer].size() && flags[a.layer][a.id];
+    // Keeps the loaded elements only, in the file's order, and records their file ids
+    // (Layer::sceneIds). After trimLists(): a loaded element names loaded ones only.
+    void compact() {
+        for (std::size_t l = 0; l < doc_.scene.layers.size(); ++l) {
+            Layer& layer = doc_.scene.layers[l];
+            const LayerSlots& s = slots_[l];
+            const auto order = [](const std::unordered_map<ElementId, ElementId>& fileToDoc, const std::vector<bool>& loaded,
+                                  std::vector<ElementId>& fileIds) {
+                std::vector<std::pair<ElementId, ElementId>> kept;  // (file id, document id)
+                for (const auto& [file, doc] : fileToDoc)
+                    if (loaded[doc]) kept.emplace_back(file, doc);
+                std::sort(kept.begin(), kept.end());
+                std::vector<ElementId> renumber(loaded.size(), kNoElement);
+                fileIds.resize(kept.size());
+                for (std::size_t k = 0; k < kept.size(); ++k) {
+                    fileIds[k] = kept[k].first;
+                    renumber[kept[k].second] = ElementId(k);
+                }
+                return std::pair(std::move(kept), std::move(renumber));
+            };
+            Layer::SceneIds ids;
+            ids.part = true;
+            auto [keptNodes, nodeId] = order(s.node, s.nodeLoaded, ids.nodes);
+            auto [keptCurves, curveId] = order(s.curve, s.curveLoaded, ids.curves);
+            auto [keptAreas, areaId] = order(s.area, s.areaLoaded, ids.areas);
+            const auto to = [&](const std::vector<ElementId>& renumber, ElementId id) {
+                if (id == kNoElement) return id;
+                if (renumber[id] == kNoElement) throw FormatError("layer '" + layer.name + "': a loaded element names one not loaded");
+                return renumber[id];
+            };
+            std::vector<Node> ns(keptNodes.size());
+            for (std::size_t k = 0; k < keptNodes.size(); ++k) {
+                ns[k] = std::move(layer.nodes[keptNodes[k].second]);
+                for (ElementId& c : ns[k].curves) c = to(curveId, c);
+            }
+            std::vector<Curve> cs(keptCurves.size());
+            for (std::size_t k = 0; k < keptCurves.size(); ++k) {
+                cs[k] = std::move(layer.curves[keptCurves[k].second]);
+                cs[k].start = to(nodeId, cs[k].start);
+                cs[k].end = to(nodeId, cs[k].end);
+                for (ElementId& a : cs[k].areas) a = to(areaId, a);
+            }
+            std::vector<Area> as(keptAreas.size());
+            for (std::size_t k = 0; k < keptAreas.size(); ++k) {
+                as[k] = std::move(layer.areas[keptAreas[k].second]);
+                for (auto& loop : as[k].loops)
+                    for (AreaEdge& e : loop) e.curve = to(curveId, e.curve);
+                as[k].axial = to(curveId, as[k].axial);
+            }
+            layer.nodes = std::move(ns);
+            layer.curves = std::move(cs);
+            layer.areas = std::move(as);
+            layer.sceneIds = std::move(ids);
+        }
+    }
+
+    // The file's count of ids of `kind` in `layer`.
+    std::size_t fileSlots(LayerId layer, ElementKind kind) const {
+        const LayerSlots& s = slots_[layer];
+        return kind == ElementKind::Node ? s.fileNodes : kind == ElementKind::Curve ? s.fileCurves : s.fileAreas;
     }
 
     std::size_t nodes = 0, curves = 0, areas = 0;
@@ -158,8 +213,7 @@ private:
         s.bind(3, box.max.y);
         s.bind(4, box.min.y);
         std::vector<ElementId> ids;
-        const Layer& layer = doc_.scene.layers[t.layer];
-        const std::size_t count = t.polygons ? layer.areas.size() : layer.curves.size();
+        const std::size_t count = fileSlots(t.layer, t.polygons ? ElementKind::Area : ElementKind::Curve);
         while (s.step()) {
             const std::int64_t id = s.integer(0);
             if (id < 0 || std::size_t(id) >= count)
@@ -169,45 +223,98 @@ private:
         return ids;
     }
 
-    void addNode(LayerId l, ElementId id) {
-        if (id >= nodeLoaded_[l].size()) throw FormatError("a curve names node " + std::to_string(id) + ", which is not in lacet_nodes");
-        if (nodeLoaded_[l][id]) return;
-        nodeLoaded_[l][id] = true;
-        doc_.scene.layers[l].nodes[id] = rows_.node(l, id);
+    // The document id of file id `id` of a kind, given a dead and empty slot when new.
+    template <class Element>
+    ElementId slot(std::unordered_map<ElementId, ElementId>& map, std::vector<ElementId>& fileIds, std::vector<Element>& elements,
+                   std::vector<bool>& loaded, std::vector<bool>* near, std::size_t fileCount, ElementId id, const char* what) {
+        if (id >= fileCount) throw FormatError(std::string(what) + " " + std::to_string(id) + " is named but not in the file");
+        const auto [it, added] = map.try_emplace(id, ElementId(elements.size()));
+        if (added) {
+            fileIds.push_back(id);
+            elements.emplace_back().alive = false;
+            loaded.push_back(false);
+            if (near) near->push_back(false);
+        }
+        return it->second;
+    }
+    ElementId nodeSlot(LayerId l, ElementId id) {
+        LayerSlots& s = slots_[l];
+        return slot(s.node, s.nodeFile, doc_.scene.layers[l].nodes, s.nodeLoaded, nullptr, s.fileNodes, id, "node");
+    }
+    ElementId curveSlot(LayerId l, ElementId id) {
+        LayerSlots& s = slots_[l];
+        return slot(s.curve, s.curveFile, doc_.scene.layers[l].curves, s.curveLoaded, &s.curveNear, s.fileCurves, id, "curve");
+    }
+    ElementId areaSlot(LayerId l, ElementId id) {
+        LayerSlots& s = slots_[l];
+        return slot(s.area, s.areaFile, doc_.scene.layers[l].areas, s.areaLoaded, nullptr, s.fileAreas, id, "area");
+    }
+    // Rows name file ids; the loaded element names document ids (slots). A dead row names nothing.
+    void loadNode(LayerId l, ElementId id) {
+        LayerSlots& s = slots_[l];
+        if (s.nodeLoaded[id]) return;
+        s.nodeLoaded[id] = true;
+        Node n = rows_.node(l, s.nodeFile[id]);
+        if (n.alive)
+            for (ElementId& c : n.curves) c = curveSlot(l, c);
+        else {
+            n = Node{};
+            n.alive = false;
+        }
+        doc_.scene.layers[l].nodes[id] = std::move(n);
         ++nodes;
     }
 
     // `row`: the curve's row when the caller has read it already.
-    void addCurve(LayerId l, ElementId id, bool near, std::optional<Curve> row = std::nullopt) {
-        if (id >= curveLoaded_[l].size()) throw FormatError("curve " + std::to_string(id) + " is not in lacet_curves");
-        if (curveLoaded_[l][id] && (!near || curveNear_[l][id])) return;
-        if (!curveLoaded_[l][id]) {
-            curveLoaded_[l][id] = true;
-            doc_.scene.layers[l].curves[id] = row ? std::move(*row) : rows_.curve(l, id);
+    void loadCurve(LayerId l, ElementId id, bool near, std::optional<Curve> row = std::nullopt) {
+        LayerSlots& s = slots_[l];
+        if (s.curveLoaded[id] && (!near || s.curveNear[id])) return;
+        if (!s.curveLoaded[id]) {
+            s.curveLoaded[id] = true;
+            Curve c = row ? std::move(*row) : rows_.curve(l, s.curveFile[id]);
+            if (c.alive) {
+                c.start = nodeSlot(l, c.start);
+                c.end = nodeSlot(l, c.end);
+                for (ElementId& a : c.areas) a = areaSlot(l, a);
+            } else {
+                c = Curve{};
+                c.alive = false;
+            }
+            doc_.scene.layers[l].curves[id] = std::move(c);
             ++curves;
         }
-        curveNear_[l][id] = curveNear_[l][id] || near;
+        s.curveNear[id] = s.curveNear[id] || near;
         pending_.push_back({l, id, near});
     }
 
     // A curve found with SceneRegionOptions::elevationOnly: kept when the elevation producer draws
     // it (its row read once to see).
-    void addElevationCurve(LayerId l, ElementId id) {
-        if (id >= curveLoaded_[l].size() || curveLoaded_[l][id]) return addCurve(l, id, true);
-        Curve c = rows_.curve(l, id);
-        if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth) addCurve(l, id, true, std::move(c));
+    void addElevationCurve(LayerId l, ElementId fileId) {
+        if (const auto it = slots_[l].curve.find(fileId); it != slots_[l].curve.end() && slots_[l].curveLoaded[it->second])
+            return loadCurve(l, it->second, true);
+        Curve c = rows_.curve(l, fileId);
+        if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth)
+            loadCurve(l, curveSlot(l, fileId), true, std::move(c));
     }
 
-    void addArea(LayerId l, ElementId id, bool near) {
-        if (id >= areaLoaded_[l].size()) throw FormatError("area " + std::to_string(id) + " is not in lacet_areas");
-        if (areaLoaded_[l][id]) return;
-        areaLoaded_[l][id] = true;
-        Area& a = doc_.scene.layers[l].areas[id];
-        a = rows_.area(l, id);
+    void loadArea(LayerId l, ElementId id, bool near) {
+        LayerSlots& s = slots_[l];
+        if (s.areaLoaded[id]) return;
+        s.areaLoaded[id] = true;
+        Area a = rows_.area(l, s.areaFile[id]);
+        if (a.alive) {
+            for (auto& loop : a.loops)
+                for (AreaEdge& e : loop) e.curve = curveSlot(l, e.curve);
+            if (a.axial != kNoElement) a.axial = curveSlot(l, a.axial);
+        } else {
+            a = Area{};
+            a.alive = false;
+        }
+        doc_.scene.layers[l].areas[id] = a;
         ++areas;
         for (const auto& loop : a.loops)
-            for (const AreaEdge& e : loop) addCurve(l, e.curve, near);
-        if (a.axial != kNoElement) addCurve(l, a.axial, near);
+            for (const AreaEdge& e : loop) loadCurve(l, e.curve, near);
+        if (a.axial != kNoElement) loadCurve(l, a.axial, near);
     }
 
     static Box hullBox(const Curve& c) {
@@ -221,33 +328,44 @@ private:
     }
 
     void closeCurve(const Pending& p) {
-        const Layer& layer = doc_.scene.layers[p.layer];
-        // The layers' vectors were sized once (constructor): loading others never moves this one.
+        Layer& layer = doc_.scene.layers[p.layer];
+        // Loading grows the layer's vectors: what is read of this curve is copied first.
         const Curve& c = layer.curves[p.id];
         if (!c.alive) return;
-        for (ElementId n : {c.start, c.end}) addNode(p.layer, n);
+        const ElementId ends[2] = {c.start, c.end};
+        const std::uint16_t flags = c.flags;
+        const bool hasVertices = !c.vertices.empty();
+        const Box hull = hullBox(c);
+        for (ElementId n : ends) loadNode(p.layer, n);
         if (p.near)
-            for (ElementId n : {c.start, c.end})
-                for (ElementId other : layer.nodes[n].curves) addCurve(p.layer, other, false);
-        if (layer.kind == LayerKind::Roads && !c.vertices.empty()) {
-            const Box box = hullBox(c).dilated(tolerance_);  // a feature's box may lie within the tolerance of its spline
+            for (ElementId n : ends) {
+                const std::vector<ElementId> at = layer.nodes[n].curves;
+                for (ElementId other : at) loadCurve(p.layer, other, false);
+            }
+        if (layer.kind == LayerKind::Roads && hasVertices) {
+            const Box box = hull.dilated(tolerance_);  // a feature's box may lie within the tolerance of its spline
             for (const FeatureTableRef& t : tables_) {
                 const LayerKind kind = doc_.scene.layers[t.layer].kind;
-                if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && (c.flags & kBridge))) continue;
+                if (kind != LayerKind::Rivers && !(kind == LayerKind::Roads && (flags & kBridge))) continue;
                 for (ElementId id : query(t, box)) {
-                    if (t.polygons) addArea(t.layer, id, false);
-                    else addCurve(t.layer, id, false);
+                    if (t.polygons) loadArea(t.layer, areaSlot(t.layer, id), false);
+                    else loadCurve(t.layer, curveSlot(t.layer, id), false);
                 }
             }
         }
-        if (layer.kind == LayerKind::Rivers)
-            for (ElementId n : {c.start, c.end})
-                for (ElementId other : layer.nodes[n].curves) {
-                    if (other >= curveLoaded_[p.layer].size()) continue;
-                    if (curveLoaded_[p.layer][other] || upstreamChecked_[p.layer][other]) continue;
-                    upstreamChecked_[p.layer][other] = true;  // each curve's row read once for this test
-                    if (rows_.curve(p.layer, other).end == n) addCurve(p.layer, other, false);  // flows into n
+        if (layer.kind == LayerKind::Rivers) {
+            LayerSlots& s = slots_[p.layer];
+            for (ElementId n : ends) {
+                const std::vector<ElementId> at = layer.nodes[n].curves;
+                for (ElementId other : at) {
+                    if (s.curveLoaded[other]) continue;
+                    const ElementId file = s.curveFile[other];
+                    if (!s.upstreamChecked.insert(file).second) continue;  // each curve's row read once for this test
+                    const Curve row = rows_.curve(p.layer, file);
+                    if (row.alive && row.end == s.nodeFile[n]) loadCurve(p.layer, other, false);  // flows into n
                 }
+            }
+        }
     }
 
     SqliteDb& db_;
@@ -256,7 +374,7 @@ private:
     std::vector<FeatureTableRef> tables_;
     double tolerance_ = 0.0;
     SceneRegionOptions filter_;
-    std::vector<std::vector<bool>> nodeLoaded_, curveLoaded_, curveNear_, areaLoaded_, upstreamChecked_;
+    std::vector<LayerSlots> slots_;
     std::deque<Pending> pending_;
 };
 
@@ -342,7 +460,21 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         loader.close();
         loader.closeAxialRivers();
         loader.trimLists();
-        readAttributesOf(db, d, [&](const ElementAttribute& a) { return loader.loaded(a); });
+        loader.compact();
+        readAttributesOf(
+            db, d, [&](LayerId layer, ElementKind kind) { return loader.fileSlots(layer, kind); },
+            [&](const ElementAttribute& a) {  // the id it has in the part read, if read
+                const Layer::SceneIds& ids = d.scene.layers[a.layer].sceneIds;
+                const auto& of = a.kind == ElementKind::Node ? ids.nodes : a.kind == ElementKind::Curve ? ids.curves : ids.areas;
+                const auto it = std::lower_bound(of.begin(), of.end(), a.id);
+                return it != of.end() && *it == a.id ? ElementId(it - of.begin()) : kNoElement;
+            });
+        st.sceneNodes = st.sceneCurves = st.sceneAreas = 0;
+        for (LayerId l = 0; l < d.scene.layers.size(); ++l) {
+            st.sceneNodes += loader.fileSlots(l, ElementKind::Node);
+            st.sceneCurves += loader.fileSlots(l, ElementKind::Curve);
+            st.sceneAreas += loader.fileSlots(l, ElementKind::Area);
+        }
         st.nodes = loader.nodes;
         st.curves = loader.curves;
         st.areas = loader.areas;
@@ -353,16 +485,15 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
     if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
-    for (const Layer& l : doc.scene.layers) {
-        st.sceneNodes += l.nodes.size();
-        st.sceneCurves += l.curves.size();
-        st.sceneAreas += l.areas.size();
-        if (!indexed) {
+    if (!indexed)
+        for (const Layer& l : doc.scene.layers) {
+            st.sceneNodes += l.nodes.size();
+            st.sceneCurves += l.curves.size();
+            st.sceneAreas += l.areas.size();
             st.nodes += l.nodes.size();
             st.curves += l.curves.size();
             st.areas += l.areas.size();
         }
-    }
     return doc;
 }
 

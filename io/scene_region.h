@@ -2,10 +2,12 @@
 // The part of a scene file that a region's tiles need (§7, vector data out of core): the curves and
 // areas found by bounding box through the R-trees of the feature tables (io/scene_features.h), and
 // what their tiles depend on, so that the tiles of any quad inside the region are the same, bit for
-// bit, as with the whole scene loaded. The rows read and the work on them follow the region (see below for what does not yet).
+// bit, as with the whole scene loaded. The rows read, the memory and the work on them follow the
+// region, not the scene (see below for what does not yet).
 //
-// What is loaded, by id (ids are kept: the scene's layers have every slot, the ones not loaded dead
-// and empty):
+// Each layer holds what was read and nothing else, in the file's order: its elements have ids from 0
+// and Layer::sceneIds gives each one's id in the file (model/graph.h), which the digests and the
+// appearance's seeds use. Such a document is never saved (saveScene refuses it). What is loaded:
 //   - every curve and area whose feature box meets the quads of the level that meet the region
 //     (closed boxes: a quad touching the region's border counts), dilated by the reach: the largest clipping margin
 //     (RefineParams::curveMargin, areaMargin) of the file's curves and areas at the level's quad
@@ -25,8 +27,8 @@
 // partial model is validated; the whole file's checksum is not (it needs every row).
 //
 // A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
-// checksum checked (when the DEM is read: the checksum covers it). Not wholly out of core: every
-// slot of the scene is allocated (dead when not read), its count read through the (layer, id) index.
+// checksum checked (when the DEM is read: the checksum covers it). What still follows the scene: the
+// scan of lacet_attributes (only those of what was read are kept).
 
 #include <string>
 
@@ -40,7 +42,7 @@ struct SceneRegionStats {
     double reach = 0.0;       // m around the region's quads searched through the R-trees
     std::size_t found = 0;    // curves and areas found in the region through the R-trees
     std::size_t nodes = 0, curves = 0, areas = 0;                 // loaded
-    std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // slots of the whole scene
+    std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // ids of the whole scene (max id + 1)
     std::string checksum;  // the whole file's stored checksum (loadScene checks it; a region load cannot)
 };
 

@@ -1,6 +1,7 @@
 #include "model/graph.h"
 
 #include <iterator>
+#include <stdexcept>
 #include <utility>
 
 namespace lacet {
@@ -17,7 +18,12 @@ std::string_view toString(LayerKind kind) {
     return "other";
 }
 
+void Layer::refuseIfPart() const {
+    if (isPart()) throw std::logic_error("layer '" + name + "' is a part of a scene file's layer (a region read): it takes no new element");
+}
+
 ElementId Layer::addNode(Vec2 p) {
+    refuseIfPart();
     Node n;
     n.p = p;
     nodes.push_back(std::move(n));
@@ -25,6 +31,7 @@ ElementId Layer::addNode(Vec2 p) {
 }
 
 ElementId Layer::addCurve(Curve c) {
+    refuseIfPart();
     const auto id = ElementId(curves.size());
     nodes.at(c.start).curves.push_back(id);
     nodes.at(c.end).curves.push_back(id);
@@ -33,6 +40,7 @@ ElementId Layer::addCurve(Curve c) {
 }
 
 ElementId Layer::addArea(Area a) {
+    refuseIfPart();
     const auto id = ElementId(areas.size());
     for (const auto& loop : a.loops)
         for (const auto& e : loop) {
@@ -59,6 +67,7 @@ void offsetElementIds(Layer& part, const ElementOffsets& o) {
 }
 
 void appendLayerPart(Layer& into, Layer&& part) {
+    if (into.isPart() || part.isPart()) throw std::logic_error("appendLayerPart: a part of a scene file's layer (a region read) takes no new element");
     offsetElementIds(part, {ElementId(into.nodes.size()), ElementId(into.curves.size()), ElementId(into.areas.size())});
     const auto append = [](auto& to, auto& from) {
         if (to.empty()) {

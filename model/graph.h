@@ -83,11 +83,32 @@ struct Layer {
     std::vector<Curve> curves;
     std::vector<Area> areas;
 
+    // Where the layer holds a part of a scene file's layer (a region read by io/scene_region.h):
+    // each element's id in the file, ascending, one per element. Empty where the layer is whole
+    // (its ids are the file's). What is computed from an id's value (a quad's digest, a field's
+    // tint) takes the file's id, so that a part gives what the whole scene gives; the order of the
+    // ids is the file's either way. A part takes no new element (add* throw std::logic_error) and
+    // is never saved (io/scene_file.h refuses it: the rest of the layer would be lost).
+    struct SceneIds {
+        bool part = false;  // the layer is a part; the ids below are its elements' in the file
+        std::vector<ElementId> nodes, curves, areas;
+    } sceneIds;
+    bool isPart() const { return sceneIds.part; }
+    ElementId sceneNodeId(ElementId id) const { return fileId(sceneIds.nodes, id); }
+    ElementId sceneCurveId(ElementId id) const { return fileId(sceneIds.curves, id); }
+    ElementId sceneAreaId(ElementId id) const { return fileId(sceneIds.areas, id); }
+
     ElementId addNode(Vec2 p);
     // Adds a curve whose vertices run from node `start` to node `end`; updates adjacency.
     ElementId addCurve(Curve c);
     // Adds an area from loops of existing curves; updates curve.areas.
     ElementId addArea(Area a);
+
+private:
+    static ElementId fileId(const std::vector<ElementId>& ids, ElementId id) {
+        return id < ids.size() ? ids[id] : id;  // a whole layer's ids are empty; kNoElement stays
+    }
+    void refuseIfPart() const;
 };
 
 // A layer part: a layer whose elements refer only to each other, by ids from 0 (a patch of fields,

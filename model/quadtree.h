@@ -70,6 +70,12 @@ constexpr ElementId rootCurveOf(AncestorId a) {
 constexpr std::size_t proceduralIndex(AncestorId a) {
     return (a & kProceduralBit) ? std::size_t(a & (kMaxProceduralCurves - 1)) : 0;
 }
+// The id ancestor `a` of `layer` has in the whole scene file (model/graph.h: Layer::sceneIds): its
+// root curve's file id, with the same k.
+inline AncestorId sceneAncestorId(const Layer& layer, AncestorId a) {
+    if (!layer.isPart()) return a;
+    return (a & kProceduralBit) ? proceduralId(layer.sceneCurveId(rootCurveOf(a)), proceduralIndex(a)) : layer.sceneCurveId(ElementId(a));
+}
 
 struct UpdateStats {
     std::size_t quadsVisited = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 namespace lacet {
@@ -121,6 +122,20 @@ std::string splineProblem(const std::vector<Vertex>& v) {
     return {};
 }
 
+// A part of a file's layer: one file id per element of each kind, ascending.
+static void checkSceneIds(const Layer& layer, std::vector<Problem>& out) {
+    const auto check = [&](const std::vector<ElementId>& ids, std::size_t count, const char* kind) {
+        if (ids.size() != count)
+            out.push_back({"layer '" + layer.name + "'", std::string("has ") + std::to_string(ids.size()) + " file ids for its " +
+                                                             std::to_string(count) + " " + kind});
+        else if (std::adjacent_find(ids.begin(), ids.end(), std::greater_equal<ElementId>()) != ids.end())
+            out.push_back({"layer '" + layer.name + "'", std::string("the file ids of its ") + kind + " do not ascend"});
+    };
+    check(layer.sceneIds.nodes, layer.nodes.size(), "nodes");
+    check(layer.sceneIds.curves, layer.curves.size(), "curves");
+    check(layer.sceneIds.areas, layer.areas.size(), "areas");
+}
+
 std::vector<Problem> validate(const Scene& scene) {
     std::vector<Problem> out;
     if (!isFinite(scene.extent.min) || !isFinite(scene.extent.max) || !(scene.extent.min.x < scene.extent.max.x) ||
@@ -141,6 +156,7 @@ std::vector<Problem> validate(const Scene& scene) {
         for (std::size_t id = 0; id < layer.areas.size(); ++id)
             if (layer.areas[id].alive) checkArea(layer, id, out);
         checkAdjacency(layer, out);
+        if (layer.isPart()) checkSceneIds(layer, out);
     }
     return out;
 }

@@ -59,7 +59,7 @@ std::uint64_t QuadDigests::node(LayerId layer, ElementId id) const {
 std::uint64_t QuadDigests::computeNode(LayerId layer, ElementId id) const {
     const Layer& l = qt_.scene().layers[layer];
     Digest d;
-    d.word(id);
+    d.word(l.sceneNodeId(id));
     if (id == kNoElement || id >= l.nodes.size() || !l.nodes[id].alive) return d.word(0xDEAD).value();
     const Node& n = l.nodes[id];
     d.real(n.p.x).real(n.p.y).real(n.roundabout).word(n.curves.size());
@@ -76,10 +76,10 @@ std::uint64_t QuadDigests::computeNode(LayerId layer, ElementId id) const {
         return Vec2(0.0);
     };
     for (ElementId c : n.curves) {
-        d.word(c);
+        d.word(l.sceneCurveId(c));
         if (c >= l.curves.size() || l.curves[c].vertices.empty()) continue;
         const Curve& cv = l.curves[c];
-        d.word(cv.start).word(cv.end).real(cv.w).real(cv.wf).word(cv.cls).word(cv.flags);
+        d.word(l.sceneNodeId(cv.start)).word(l.sceneNodeId(cv.end)).real(cv.w).real(cv.wf).word(cv.cls).word(cv.flags);
         if (n.curves.size() != 3) continue;  // directions decide stop lines only where 3 curves meet
         const Vec2 a = leaving(cv, true), b = leaving(cv, false);
         d.real(a.x).real(a.y).real(b.x).real(b.y);
@@ -89,14 +89,18 @@ std::uint64_t QuadDigests::computeNode(LayerId layer, ElementId id) const {
 
 std::uint64_t QuadDigests::computeCurve(LayerId layer, AncestorId id) const {
     const Curve& c = qt_.ancestorCurve(layer, id);
-    const LayerKind kind = qt_.scene().layers[layer].kind;
-    Digest d;
-    d.word(id).word(c.start).word(c.end).real(c.w).real(c.wf).word(c.cls).word(c.flags).word(c.areas.size());
-    for (ElementId a : c.areas) d.word(a);
+    const Layer& l = qt_.scene().layers[layer];
+    const LayerKind kind = l.kind;
+    Digest d;  // ids as the scene file has them (a region read holds a part of it)
+    d.word(sceneAncestorId(l, id)).word(l.sceneNodeId(c.start)).word(l.sceneNodeId(c.end));
+    d.real(c.w).real(c.wf).word(c.cls).word(c.flags).word(c.areas.size());
+    for (ElementId a : c.areas) d.word(l.sceneAreaId(a));
     vertices(d, c.vertices);
     if (const ProceduralCurve* pc = qt_.proceduralCurve(layer, id)) {
-        d.real(pc->rootS0).real(pc->rootS1).word(pc->ringAtStart).word(pc->ringAtEnd).word(pc->spans.size());
-        for (const BridgeSpan& s : pc->spans) d.word(s.layer).word(s.over).real(s.overS).real(s.u).real(s.halfLength);
+        d.real(pc->rootS0).real(pc->rootS1).word(l.sceneNodeId(pc->ringAtStart)).word(l.sceneNodeId(pc->ringAtEnd));
+        d.word(pc->spans.size());
+        for (const BridgeSpan& s : pc->spans)
+            d.word(s.layer).word(sceneAncestorId(qt_.scene().layers[s.layer], s.over)).real(s.overS).real(s.u).real(s.halfLength);
         d.word(node(layer, pc->ringAtStart)).word(node(layer, pc->ringAtEnd));
     }
     d.word(node(layer, c.start)).word(node(layer, c.end));
@@ -112,11 +116,11 @@ std::uint64_t QuadDigests::computeArea(LayerId layer, ElementId id) const {
     const Layer& l = qt_.scene().layers[layer];
     const Area& a = l.areas[id];
     Digest d;
-    d.word(id).real(a.wf).word(a.cls).word(a.axial).word(a.loops.size());
+    d.word(l.sceneAreaId(id)).real(a.wf).word(a.cls).word(l.sceneCurveId(a.axial)).word(a.loops.size());
     for (const auto& loop : a.loops) {
         d.word(loop.size());
         for (const AreaEdge& e : loop) {
-            d.word(e.curve).word(e.reversed);
+            d.word(l.sceneCurveId(e.curve)).word(e.reversed);
             if (e.curve < l.curves.size()) vertices(d, l.curves[e.curve].vertices);
         }
     }
@@ -124,7 +128,7 @@ std::uint64_t QuadDigests::computeArea(LayerId layer, ElementId id) const {
     if (l.kind == LayerKind::Rivers && a.axial != kNoElement) {  // the river its water follows through it
         const AxialRiver river = axialRiver(l, a);
         d.word(river.curves.size());
-        for (ElementId c : river.curves) d.word(c).word(curve(layer, AncestorId(c)));
+        for (ElementId c : river.curves) d.word(l.sceneCurveId(c)).word(curve(layer, AncestorId(c)));
     }
     return d.value();
 }
@@ -136,7 +140,8 @@ std::uint64_t QuadDigests::of(const Quad& quad, QuadDigestScope scope) const {
     d.word(std::uint64_t(quad.level)).word(quad.tx).word(quad.ty).word(quad.layers.size()).word(std::uint64_t(scope));
     for (LayerId l = 0; l < quad.layers.size(); ++l) {
         const QuadLayer& ql = quad.layers[l];
-        const LayerKind kind = qt_.scene().layers[l].kind;
+        const Layer& layer = qt_.scene().layers[l];
+        const LayerKind kind = layer.kind;
         d.word(0xC0FFEE);
         std::vector<AncestorId> curves = sortedKeys(ql.curves);
         if (elevationOnly)  // as the elevation producer draws them: roads and rivers, not on structures, >= 2 samples wide
@@ -147,7 +152,7 @@ std::uint64_t QuadDigests::of(const Quad& quad, QuadDigestScope scope) const {
             });
         d.word(curves.size());
         for (AncestorId a : curves) {
-            d.word(a).word(curve(l, a));
+            d.word(sceneAncestorId(layer, a)).word(curve(l, a));
             const auto& pieces = ql.curves.at(a);
             d.word(pieces.size());
             for (const ClippedCurve& p : pieces) {
@@ -159,7 +164,7 @@ std::uint64_t QuadDigests::of(const Quad& quad, QuadDigestScope scope) const {
         if (elevationOnly && kind != LayerKind::Lakes && kind != LayerKind::Rivers) areas.clear();
         d.word(areas.size());
         for (ElementId a : areas) {
-            d.word(a).word(area(l, a));
+            d.word(layer.sceneAreaId(a)).word(area(l, a));
             const auto& pieces = ql.areas.at(a);
             d.word(pieces.size());
             for (const ClippedArea& p : pieces) {
@@ -174,7 +179,7 @@ std::uint64_t QuadDigests::of(const Quad& quad, QuadDigestScope scope) const {
         d.word(ql.nodes.size());
         for (ElementId n : sortedKeys(ql.nodes)) {
             const Vec2 p = ql.nodes.at(n);
-            d.word(n).real(p.x).real(p.y).word(node(l, n));
+            d.word(layer.sceneNodeId(n)).real(p.x).real(p.y).word(node(l, n));
         }
     }
     return d.value();

@@ -79,7 +79,8 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
     if (last.area) {
         const auto& pieces = quad.layers[last.layer].areas.at(last.areaId());
         if (pieces.size() == 1 && pieces.front().coversQuad)
-            return SurfaceShade{surfaceOf(kind), scene.layers[last.layer].areas[last.areaId()].cls, last.areaId()};
+            return SurfaceShade{surfaceOf(kind), scene.layers[last.layer].areas[last.areaId()].cls,
+                                scene.layers[last.layer].sceneAreaId(last.areaId())};
         return std::nullopt;
     }
     if (kind != LayerKind::Rivers) return std::nullopt;
@@ -92,7 +93,7 @@ std::optional<SurfaceShade> coveringShade(const Quad& quad, const Quadtree& qt, 
         const bool holds = std::all_of(std::begin(corners), std::end(corners), [&](Vec2 q) {
             return distanceToSegment(q, sg.p0, sg.p1) <= limit;  // a capsule is convex
         });
-        if (holds) return SurfaceShade{Surface::Water, 0, rootCurveOf(last.id)};
+        if (holds) return SurfaceShade{Surface::Water, 0, scene.layers[last.layer].sceneCurveId(rootCurveOf(last.id))};
     }
     return std::nullopt;
 }
@@ -160,7 +161,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
     auto drawAreaItem = [&](const DrawItem& it) {
         const Layer& layer = scene.layers[it.layer];
         const Area& a = layer.areas[it.areaId()];
-        const SurfaceShade shade{surfaceOf(layer.kind), a.cls, it.areaId()};
+        const SurfaceShade shade{surfaceOf(layer.kind), a.cls, layer.sceneAreaId(it.areaId())};
         for (const ClippedArea& piece : quad.layers[it.layer].areas.at(it.areaId())) {
             drawArea(canvas, t, piece, shade, double(a.wf), counters);
             if (counters) ++counters->areaPieces;

@@ -23,7 +23,7 @@ enum class Surface : std::uint8_t { None, Water, Field, Forest, Other };
 struct SurfaceShade {
     Surface surface = Surface::None;
     std::uint16_t cls = 0;   // class of the element (the crop of a field)
-    std::uint32_t seed = 0;  // per element: its root element's id (a field's tint and furrow direction)
+    std::uint32_t seed = 0;  // per element: its root element's id in the scene file (a field's tint, furrow direction)
     friend bool operator==(const SurfaceShade&, const SurfaceShade&) = default;
 };
 

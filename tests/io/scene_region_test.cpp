@@ -5,6 +5,7 @@
 // read whole; a corrupt index is refused by name.
 #include "io/scene_region.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -18,6 +19,8 @@
 #include "model/curve_data.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
+#include "model/validate.h"
+#include "pyramid/quad_digest.h"
 #include "raster/dem_source.h"
 #include "raster/parallel_producers.h"
 #include "synth/synthetic_dem.h"
@@ -40,6 +43,7 @@ void collect(Quadtree& qt, Quad& q, const Box& region, int level, std::vector<co
 struct RegionTiles {
     std::vector<AppearanceTile> appearance;
     std::vector<ElevationTile> elevation;
+    std::vector<std::uint64_t> digests;  // QuadDigests::of, each quad
     std::size_t bridges = 0, roundaboutRoads = 0;
 };
 
@@ -53,12 +57,55 @@ RegionTiles tilesOf(const SceneDocument& doc, const Box& region, int level) {
     RegionTiles t;
     t.appearance = produceAppearanceTiles(quads, qt, data, dem, {});
     t.elevation = produceElevationTiles(quads, qt, data, dem, {});
+    const QuadDigests digests(qt, data);
+    for (const Quad* q : quads) t.digests.push_back(digests.of(*q));
     for (const Quad* q : quads)
         for (const QuadLayer& l : q->layers)
             for (const auto& [id, pieces] : l.curves)
                 if (const ProceduralCurve* p = qt.proceduralCurve(0, id); p && (p->curve.flags & kBridge) && !pieces.empty()) ++t.bridges;
     t.roundaboutRoads = step.counters().roundaboutRoads;
     return t;
+}
+
+// `part` holds what was read and nothing else: ids from 0, each element the file's element of its
+// Layer::sceneIds (ascending), with its references mapped; it validates and cannot be saved or grown.
+void expectCompactPartOf(const SceneDocument& part, const SceneDocument& whole, const SceneRegionStats& stats) {
+    std::size_t nodes = 0, curves = 0, areas = 0;
+    ASSERT_EQ(part.scene.layers.size(), whole.scene.layers.size());
+    EXPECT_TRUE(validate(part.scene).empty());
+    for (std::size_t l = 0; l < part.scene.layers.size(); ++l) {
+        const Layer& p = part.scene.layers[l];
+        const Layer& w = whole.scene.layers[l];
+        ASSERT_TRUE(p.isPart());
+        nodes += p.nodes.size();
+        curves += p.curves.size();
+        areas += p.areas.size();
+        for (ElementId n = 0; n < p.nodes.size(); ++n) {
+            const Node& wn = w.nodes.at(p.sceneNodeId(n));
+            EXPECT_EQ(p.nodes[n].p, wn.p);
+            for (ElementId c : p.nodes[n].curves)
+                EXPECT_NE(std::find(wn.curves.begin(), wn.curves.end(), p.sceneCurveId(c)), wn.curves.end());
+        }
+        for (ElementId c = 0; c < p.curves.size(); ++c) {
+            const Curve& pc = p.curves[c];
+            const Curve& wc = w.curves.at(p.sceneCurveId(c));
+            EXPECT_EQ(pc.vertices, wc.vertices);
+            if (!pc.alive) continue;
+            EXPECT_EQ(p.sceneNodeId(pc.start), wc.start);
+            EXPECT_EQ(p.sceneNodeId(pc.end), wc.end);
+        }
+        for (ElementId a = 0; a < p.areas.size(); ++a) {
+            const Area& pa = p.areas[a];
+            const Area& wa = w.areas.at(p.sceneAreaId(a));
+            EXPECT_EQ(p.sceneCurveId(pa.axial), wa.axial);
+            ASSERT_EQ(pa.loops.size(), wa.loops.size());
+            for (std::size_t k = 0; k < pa.loops.size(); ++k)
+                for (std::size_t e = 0; e < pa.loops[k].size(); ++e) EXPECT_EQ(p.sceneCurveId(pa.loops[k][e].curve), wa.loops[k][e].curve);
+        }
+    }
+    EXPECT_EQ(nodes, stats.nodes);  // nothing but what was read
+    EXPECT_EQ(curves, stats.curves);
+    EXPECT_EQ(areas, stats.areas);
 }
 
 class SceneRegion : public ::testing::Test {
@@ -114,7 +161,9 @@ TEST_F(SceneRegion, RandomRegionsGiveTheWholeScenesTilesFromWhatTheyRead) {
         for (std::size_t q = 0; q < a.appearance.size(); ++q) {
             EXPECT_TRUE(a.appearance[q] == b.appearance[q]) << "appearance tile " << q;
             EXPECT_TRUE(a.elevation[q] == b.elevation[q]) << "elevation tile " << q;
+            EXPECT_EQ(a.digests[q], b.digests[q]) << "digest of quad " << q;
         }
+        expectCompactPartOf(part, *whole_, stats);
         EXPECT_EQ(a.bridges, b.bridges);
         bridges += b.bridges;
         roundabouts += b.roundaboutRoads;
@@ -223,6 +272,29 @@ TEST_F(SceneRegion, ACorruptIndexIsRefusedNamingTheFileAndTable) {
     }
     EXPECT_THROW(loadSceneRegion(*path_, {c + 1.0, c - 1.0}, {}, 6), std::invalid_argument);
     EXPECT_THROW(loadSceneRegion(*path_, {c - 1.0, c + 1.0}, {}, 31), std::invalid_argument);
+}
+
+TEST_F(SceneRegion, APartIsNeverSavedNorGrown) {
+    const Box extent = whole_->scene.extent;
+    const Box region{extent.min + extent.size() * 0.4, extent.min + extent.size() * 0.45};
+    SceneDocument part = loadSceneRegion(*path_, region, {}, 6);
+    const std::string out = (*dir_ / "part.gpkg").string();
+    try {
+        saveScene(out, part);
+        FAIL() << "a part was saved";
+    } catch (const SceneFileError& e) {
+        EXPECT_NE(std::string(e.what()).find("the rest of it would be lost"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(out));
+    Layer& roads = part.scene.layers[0];
+    ASSERT_FALSE(roads.nodes.empty());
+    EXPECT_THROW(roads.addNode({0.0, 0.0}), std::logic_error);
+    // File ids out of order are a problem validate() names.
+    ASSERT_GE(roads.nodes.size(), 2u);
+    std::swap(roads.sceneIds.nodes[0], roads.sceneIds.nodes[1]);
+    EXPECT_FALSE(validate(part.scene).empty());
+    roads.sceneIds.nodes.pop_back();
+    EXPECT_FALSE(validate(part.scene).empty());
 }
 
 }  // namespace

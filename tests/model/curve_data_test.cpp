@@ -245,7 +245,7 @@ public:
 TEST(CurveData, RiversInAVValleyNeverStandAboveItsFloorNorRise) {
     Scene s;
     s.extent = {{-700.0, -100.0}, {700.0, 1300.0}};
-    s.layers.push_back({"rivers", LayerKind::Rivers, {}, {}, {}});
+    s.layers.push_back({"rivers", LayerKind::Rivers, {}, {}, {}, {}});
     Layer& rivers = s.layers[0];
     const ElementId source = rivers.addNode({0.0, 1000.0}), confluence = rivers.addNode({0.0, 500.0}), mouth = rivers.addNode({0.0, 0.0});
     const ElementId spring = rivers.addNode({300.0, 650.0});
