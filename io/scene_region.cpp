@@ -38,15 +38,59 @@ struct Pending {
     bool near = false;
 };
 
-// The elements of one layer read so far, by their ids in the document: each id of the file that a
-// loaded element names gets a slot (dead and empty until it is loaded itself), so that the walks
-// below see what they see over the whole scene; compact() keeps the loaded ones, in file order.
+// The elements of one kind of a layer read so far, by their ids in the document: each id of the
+// file that a loaded element names gets a slot (dead and empty until it is loaded itself), so that
+// the walks below see what they see over the whole scene; compact() keeps the loaded ones, in file
+// order.
+struct KindSlots {
+    std::size_t fileCount = 0;                          // the file's ids: max(id) + 1
+    std::unordered_map<ElementId, ElementId> byFile;    // file id -> document id
+    std::vector<ElementId> file;                        // document id -> file id
+    std::vector<bool> loaded;                           // by document id
+
+    // The document id of file id `id`, given a dead and empty slot in `elements` when new.
+    template <class Element>
+    ElementId slot(std::vector<Element>& elements, ElementId id, const char* what) {
+        if (id >= fileCount) throw FormatError(std::string(what) + " " + std::to_string(id) + " is named but not in the file");
+        const auto [it, added] = byFile.try_emplace(id, ElementId(elements.size()));
+        if (added) {
+            file.push_back(id);
+            elements.emplace_back().alive = false;
+            loaded.push_back(false);
+        }
+        return it->second;
+    }
+
+    // The loaded slots in file order: their file ids (Layer::sceneIds) and each document id's new
+    // id (kNoElement: not loaded), with the document ids they come from.
+    struct Order {
+        std::vector<ElementId> fileIds, from, renumber;
+    };
+    Order order() const {
+        Order o;
+        for (ElementId d = 0; d < file.size(); ++d)
+            if (loaded[d]) o.from.push_back(d);
+        std::sort(o.from.begin(), o.from.end(), [&](ElementId a, ElementId b) { return file[a] < file[b]; });
+        o.renumber.assign(file.size(), kNoElement);
+        o.fileIds.resize(o.from.size());
+        for (std::size_t k = 0; k < o.from.size(); ++k) {
+            o.fileIds[k] = file[o.from[k]];
+            o.renumber[o.from[k]] = ElementId(k);
+        }
+        return o;
+    }
+};
+
+// A layer's slots.
 struct LayerSlots {
-    std::size_t fileNodes = 0, fileCurves = 0, fileAreas = 0;  // the file's ids: max(id) + 1
-    std::unordered_map<ElementId, ElementId> node, curve, area;  // file id -> document id
-    std::vector<ElementId> nodeFile, curveFile, areaFile;        // document id -> file id
-    std::vector<bool> nodeLoaded, curveLoaded, curveNear, areaLoaded;  // by document id
+    KindSlots nodes, curves, areas;
+    std::vector<bool> curveNear;                    // by document id: the curve lies within the reach
     std::unordered_set<ElementId> upstreamChecked;  // file ids of river curves whose flow was read
+
+    KindSlots& of(ElementKind kind) { return kind == ElementKind::Node ? nodes : kind == ElementKind::Curve ? curves : areas; }
+    const KindSlots& of(ElementKind kind) const {
+        return kind == ElementKind::Node ? nodes : kind == ElementKind::Curve ? curves : areas;
+    }
 };
 
 class RegionLoader {
@@ -65,8 +109,8 @@ public:
                 const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
                 if (count < 0 || count > kMaxId + 1)
                     throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
-                LayerSlots& l = slots_[layer];
-                (table[6] == 'n' ? l.fileNodes : table[6] == 'c' ? l.fileCurves : l.fileAreas) = std::size_t(count);
+                slots_[layer].of(table[6] == 'n' ? ElementKind::Node : table[6] == 'c' ? ElementKind::Curve : ElementKind::Area).fileCount =
+                    std::size_t(count);
             }
         }
     }
@@ -109,7 +153,7 @@ public:
                 Layer& layer = doc_.scene.layers[l];
                 if (layer.kind != LayerKind::Rivers) continue;
                 for (ElementId a = 0; a < layer.areas.size(); ++a) {
-                    if (!slots_[l].areaLoaded[a] || layer.areas[a].axial == kNoElement) continue;
+                    if (!slots_[l].areas.loaded[a] || layer.areas[a].axial == kNoElement) continue;
                     const std::size_t before = nodes + curves + areas;
                     const AxialRiver walk = axialRiver(layer, layer.areas[a]);
                     for (ElementId n : walk.nodes) {
@@ -134,9 +178,9 @@ public:
             Layer& layer = doc_.scene.layers[l];
             const LayerSlots& s = slots_[l];
             for (std::size_t n = 0; n < layer.nodes.size(); ++n)
-                if (s.nodeLoaded[n]) std::erase_if(layer.nodes[n].curves, [&](ElementId c) { return !s.curveLoaded[c]; });
+                if (s.nodes.loaded[n]) std::erase_if(layer.nodes[n].curves, [&](ElementId c) { return !s.curves.loaded[c]; });
             for (std::size_t c = 0; c < layer.curves.size(); ++c)
-                if (s.curveLoaded[c]) std::erase_if(layer.curves[c].areas, [&](ElementId a) { return !s.areaLoaded[a]; });
+                if (s.curves.loaded[c]) std::erase_if(layer.curves[c].areas, [&](ElementId a) { return !s.areas.loaded[a]; });
         }
     }
 
@@ -146,61 +190,40 @@ public:
         for (std::size_t l = 0; l < doc_.scene.layers.size(); ++l) {
             Layer& layer = doc_.scene.layers[l];
             const LayerSlots& s = slots_[l];
-            const auto order = [](const std::unordered_map<ElementId, ElementId>& fileToDoc, const std::vector<bool>& loaded,
-                                  std::vector<ElementId>& fileIds) {
-                std::vector<std::pair<ElementId, ElementId>> kept;  // (file id, document id)
-                for (const auto& [file, doc] : fileToDoc)
-                    if (loaded[doc]) kept.emplace_back(file, doc);
-                std::sort(kept.begin(), kept.end());
-                std::vector<ElementId> renumber(loaded.size(), kNoElement);
-                fileIds.resize(kept.size());
-                for (std::size_t k = 0; k < kept.size(); ++k) {
-                    fileIds[k] = kept[k].first;
-                    renumber[kept[k].second] = ElementId(k);
-                }
-                return std::pair(std::move(kept), std::move(renumber));
-            };
-            Layer::SceneIds ids;
-            ids.part = true;
-            auto [keptNodes, nodeId] = order(s.node, s.nodeLoaded, ids.nodes);
-            auto [keptCurves, curveId] = order(s.curve, s.curveLoaded, ids.curves);
-            auto [keptAreas, areaId] = order(s.area, s.areaLoaded, ids.areas);
-            const auto to = [&](const std::vector<ElementId>& renumber, ElementId id) {
+            const KindSlots::Order nodeOrder = s.nodes.order(), curveOrder = s.curves.order(), areaOrder = s.areas.order();
+            const auto to = [&](const KindSlots::Order& o, ElementId id) {
                 if (id == kNoElement) return id;
-                if (renumber[id] == kNoElement) throw FormatError("layer '" + layer.name + "': a loaded element names one not loaded");
-                return renumber[id];
+                if (o.renumber[id] == kNoElement) throw FormatError("layer '" + layer.name + "': a loaded element names one not loaded");
+                return o.renumber[id];
             };
-            std::vector<Node> ns(keptNodes.size());
-            for (std::size_t k = 0; k < keptNodes.size(); ++k) {
-                ns[k] = std::move(layer.nodes[keptNodes[k].second]);
-                for (ElementId& c : ns[k].curves) c = to(curveId, c);
+            std::vector<Node> ns(nodeOrder.from.size());
+            for (std::size_t k = 0; k < ns.size(); ++k) {
+                ns[k] = std::move(layer.nodes[nodeOrder.from[k]]);
+                for (ElementId& c : ns[k].curves) c = to(curveOrder, c);
             }
-            std::vector<Curve> cs(keptCurves.size());
-            for (std::size_t k = 0; k < keptCurves.size(); ++k) {
-                cs[k] = std::move(layer.curves[keptCurves[k].second]);
-                cs[k].start = to(nodeId, cs[k].start);
-                cs[k].end = to(nodeId, cs[k].end);
-                for (ElementId& a : cs[k].areas) a = to(areaId, a);
+            std::vector<Curve> cs(curveOrder.from.size());
+            for (std::size_t k = 0; k < cs.size(); ++k) {
+                cs[k] = std::move(layer.curves[curveOrder.from[k]]);
+                cs[k].start = to(nodeOrder, cs[k].start);
+                cs[k].end = to(nodeOrder, cs[k].end);
+                for (ElementId& a : cs[k].areas) a = to(areaOrder, a);
             }
-            std::vector<Area> as(keptAreas.size());
-            for (std::size_t k = 0; k < keptAreas.size(); ++k) {
-                as[k] = std::move(layer.areas[keptAreas[k].second]);
+            std::vector<Area> as(areaOrder.from.size());
+            for (std::size_t k = 0; k < as.size(); ++k) {
+                as[k] = std::move(layer.areas[areaOrder.from[k]]);
                 for (auto& loop : as[k].loops)
-                    for (AreaEdge& e : loop) e.curve = to(curveId, e.curve);
-                as[k].axial = to(curveId, as[k].axial);
+                    for (AreaEdge& e : loop) e.curve = to(curveOrder, e.curve);
+                as[k].axial = to(curveOrder, as[k].axial);
             }
             layer.nodes = std::move(ns);
             layer.curves = std::move(cs);
             layer.areas = std::move(as);
-            layer.sceneIds = std::move(ids);
+            layer.sceneIds = {true, nodeOrder.fileIds, curveOrder.fileIds, areaOrder.fileIds};
         }
     }
 
     // The file's count of ids of `kind` in `layer`.
-    std::size_t fileSlots(LayerId layer, ElementKind kind) const {
-        const LayerSlots& s = slots_[layer];
-        return kind == ElementKind::Node ? s.fileNodes : kind == ElementKind::Curve ? s.fileCurves : s.fileAreas;
-    }
+    std::size_t fileSlots(LayerId layer, ElementKind kind) const { return slots_[layer].of(kind).fileCount; }
 
     std::size_t nodes = 0, curves = 0, areas = 0;
 
@@ -223,38 +246,21 @@ private:
         return ids;
     }
 
-    // The document id of file id `id` of a kind, given a dead and empty slot when new.
-    template <class Element>
-    ElementId slot(std::unordered_map<ElementId, ElementId>& map, std::vector<ElementId>& fileIds, std::vector<Element>& elements,
-                   std::vector<bool>& loaded, std::vector<bool>* near, std::size_t fileCount, ElementId id, const char* what) {
-        if (id >= fileCount) throw FormatError(std::string(what) + " " + std::to_string(id) + " is named but not in the file");
-        const auto [it, added] = map.try_emplace(id, ElementId(elements.size()));
-        if (added) {
-            fileIds.push_back(id);
-            elements.emplace_back().alive = false;
-            loaded.push_back(false);
-            if (near) near->push_back(false);
-        }
-        return it->second;
-    }
-    ElementId nodeSlot(LayerId l, ElementId id) {
-        LayerSlots& s = slots_[l];
-        return slot(s.node, s.nodeFile, doc_.scene.layers[l].nodes, s.nodeLoaded, nullptr, s.fileNodes, id, "node");
-    }
+    ElementId nodeSlot(LayerId l, ElementId id) { return slots_[l].nodes.slot(doc_.scene.layers[l].nodes, id, "node"); }
     ElementId curveSlot(LayerId l, ElementId id) {
         LayerSlots& s = slots_[l];
-        return slot(s.curve, s.curveFile, doc_.scene.layers[l].curves, s.curveLoaded, &s.curveNear, s.fileCurves, id, "curve");
+        const ElementId d = s.curves.slot(doc_.scene.layers[l].curves, id, "curve");
+        if (d >= s.curveNear.size()) s.curveNear.resize(d + 1, false);
+        return d;
     }
-    ElementId areaSlot(LayerId l, ElementId id) {
-        LayerSlots& s = slots_[l];
-        return slot(s.area, s.areaFile, doc_.scene.layers[l].areas, s.areaLoaded, nullptr, s.fileAreas, id, "area");
-    }
+    ElementId areaSlot(LayerId l, ElementId id) { return slots_[l].areas.slot(doc_.scene.layers[l].areas, id, "area"); }
+
     // Rows name file ids; the loaded element names document ids (slots). A dead row names nothing.
     void loadNode(LayerId l, ElementId id) {
         LayerSlots& s = slots_[l];
-        if (s.nodeLoaded[id]) return;
-        s.nodeLoaded[id] = true;
-        Node n = rows_.node(l, s.nodeFile[id]);
+        if (s.nodes.loaded[id]) return;
+        s.nodes.loaded[id] = true;
+        Node n = rows_.node(l, s.nodes.file[id]);
         if (n.alive)
             for (ElementId& c : n.curves) c = curveSlot(l, c);
         else {
@@ -268,10 +274,10 @@ private:
     // `row`: the curve's row when the caller has read it already.
     void loadCurve(LayerId l, ElementId id, bool near, std::optional<Curve> row = std::nullopt) {
         LayerSlots& s = slots_[l];
-        if (s.curveLoaded[id] && (!near || s.curveNear[id])) return;
-        if (!s.curveLoaded[id]) {
-            s.curveLoaded[id] = true;
-            Curve c = row ? std::move(*row) : rows_.curve(l, s.curveFile[id]);
+        if (s.curves.loaded[id] && (!near || s.curveNear[id])) return;
+        if (!s.curves.loaded[id]) {
+            s.curves.loaded[id] = true;
+            Curve c = row ? std::move(*row) : rows_.curve(l, s.curves.file[id]);
             if (c.alive) {
                 c.start = nodeSlot(l, c.start);
                 c.end = nodeSlot(l, c.end);
@@ -290,7 +296,8 @@ private:
     // A curve found with SceneRegionOptions::elevationOnly: kept when the elevation producer draws
     // it (its row read once to see).
     void addElevationCurve(LayerId l, ElementId fileId) {
-        if (const auto it = slots_[l].curve.find(fileId); it != slots_[l].curve.end() && slots_[l].curveLoaded[it->second])
+        const KindSlots& kind = slots_[l].curves;
+        if (const auto it = kind.byFile.find(fileId); it != kind.byFile.end() && kind.loaded[it->second])
             return loadCurve(l, it->second, true);
         Curve c = rows_.curve(l, fileId);
         if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth)
@@ -299,9 +306,9 @@ private:
 
     void loadArea(LayerId l, ElementId id, bool near) {
         LayerSlots& s = slots_[l];
-        if (s.areaLoaded[id]) return;
-        s.areaLoaded[id] = true;
-        Area a = rows_.area(l, s.areaFile[id]);
+        if (s.areas.loaded[id]) return;
+        s.areas.loaded[id] = true;
+        Area a = rows_.area(l, s.areas.file[id]);
         if (a.alive) {
             for (auto& loop : a.loops)
                 for (AreaEdge& e : loop) e.curve = curveSlot(l, e.curve);
@@ -334,15 +341,15 @@ private:
         if (!c.alive) return;
         const ElementId ends[2] = {c.start, c.end};
         const std::uint16_t flags = c.flags;
-        const bool hasVertices = !c.vertices.empty();
-        const Box hull = hullBox(c);
+        const bool bridgesSought = layer.kind == LayerKind::Roads && !c.vertices.empty();
+        const Box hull = bridgesSought ? hullBox(c) : Box{};
         for (ElementId n : ends) loadNode(p.layer, n);
         if (p.near)
             for (ElementId n : ends) {
                 const std::vector<ElementId> at = layer.nodes[n].curves;
                 for (ElementId other : at) loadCurve(p.layer, other, false);
             }
-        if (layer.kind == LayerKind::Roads && hasVertices) {
+        if (bridgesSought) {
             const Box box = hull.dilated(tolerance_);  // a feature's box may lie within the tolerance of its spline
             for (const FeatureTableRef& t : tables_) {
                 const LayerKind kind = doc_.scene.layers[t.layer].kind;
@@ -358,11 +365,11 @@ private:
             for (ElementId n : ends) {
                 const std::vector<ElementId> at = layer.nodes[n].curves;
                 for (ElementId other : at) {
-                    if (s.curveLoaded[other]) continue;
-                    const ElementId file = s.curveFile[other];
+                    if (s.curves.loaded[other]) continue;
+                    const ElementId file = s.curves.file[other];
                     if (!s.upstreamChecked.insert(file).second) continue;  // each curve's row read once for this test
                     const Curve row = rows_.curve(p.layer, file);
-                    if (row.alive && row.end == s.nodeFile[n]) loadCurve(p.layer, other, false);  // flows into n
+                    if (row.alive && row.end == s.nodes.file[n]) loadCurve(p.layer, other, false);  // flows into n
                 }
             }
         }
