@@ -27,6 +27,7 @@ struct PyramidOptions {
     double texel = 1.0;
     int vectorLevels = 1;
     int shardLevel = -1;
+    int passLevels = PyramidParams{}.passLevels;
     double demBudgetMiB = PyramidParams{}.demBudgetMiB;
     bool force = false;
     bool json = false;
@@ -69,6 +70,7 @@ PyramidParams paramsOf(const PyramidOptions& o) {
     p.texel = o.texel;
     p.vectorLevels = o.vectorLevels;
     p.shardLevel = o.shardLevel;
+    p.passLevels = o.passLevels;
     p.demBudgetMiB = o.demBudgetMiB;
     p.encoding = parseEncoding(o.encoding);
     return p;
@@ -103,6 +105,8 @@ void addPyramidCommand(CLI::App& app) {
     build->add_option("--encoding", b->encoding, "Colour tiles: jpeg[:QUALITY], png[:ZLIB LEVEL] or webp[:QUALITY]");
     build->add_option("--vector-levels", b->vectorLevels, "Deepest levels made from vector data (>= 1); the rest mipmapped");
     build->add_option("--shard-level", b->shardLevel, "Level of the subtrees the build goes by (default: deepest - 4)");
+    build->add_option("--pass-levels", b->passLevels,
+                      "Levels of a shard made at once (>= 1); a deeper shard goes depth first (less memory, less parallel)");
     build->add_option("--dem-budget", b->demBudgetMiB,
                       "MiB of a streamed DEM's blocks held at once (each quad reads its window at the level it needs)");
     build->add_flag("--force", b->force, "Replace a pyramid built for another scene in --out");
@@ -153,6 +157,7 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) 
     return {{"pyramid", path},
             {"quads", s.quads},
             {"quads_changed", s.quadsChanged},
+            {"peak_shard_quads", s.peakShardQuads},
             {"tiles_made", s.tilesMade},
             {"tiles_written", s.tilesWritten},
             {"rebuilt", s.rebuilt},

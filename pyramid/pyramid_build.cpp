@@ -157,7 +157,7 @@ struct PyramidJob::Impl {
     StageClock clip, digest, elevation, appearance, mipmap, encode, decode, write;
     StageClock demRead;  // the streamed DEM's windows (reads and cuts)
     std::mutex remadeMutex;
-    KeySet remade;  // appearance tiles remade at the shard level and above (the top's mipmaps read them)
+    KeySet remade;  // an update's appearance tiles remade at the roots of passes (the mipmaps above read them)
     Progress* progress = nullptr;
     bool deferWrites = false;          // runShards(): a shard's tiles are written while the next is made
     std::future<void> pendingWrite;    // that write
@@ -196,11 +196,46 @@ struct PyramidJob::Impl {
             ~Back() { m.cur = m.top.get(); }
         } back{*this};
         Quad& root = quadAt(shard);
-        clip.time([&] { subdivideAll(root); });
-        std::vector<std::vector<Quad*>> byLevel(std::size_t(params.maxLevel - shard.level + 1));
-        collect(root, byLevel, shard.level);
-        makeLevels(byLevel, shard.level, store, false);
+        heldQuads = 0;
+        makeSubtree(root, store);
         if (!part) top->qt.merge(root);
+    }
+
+    // Makes the tiles of q's subtree (PyramidParams::passLevels): within a pass's depth at once;
+    // deeper, each child's subtree in turn, merged once made, then q alone (its mipmap from its
+    // children's stored tiles). Leaves q's children to the caller to merge; returns how many quads
+    // below q it clipped (held until then).
+    std::size_t makeSubtree(Quad& q, PyramidStore& store) {
+        const int levels = params.maxLevel - q.level + 1;
+        if (levels <= params.passLevels) {
+            clip.time([&] { subdivideAll(q); });
+            std::vector<std::vector<Quad*>> byLevel(static_cast<std::size_t>(levels));
+            collect(q, byLevel, q.level);
+            std::size_t below = 0;
+            for (std::size_t i = 1; i < byLevel.size(); ++i) below += byLevel[i].size();
+            hold(below);
+            makeLevels(byLevel, q.level, store, false);
+            return below;
+        }
+        std::size_t below = 0;
+        if (q.isLeaf()) {
+            clip.time([&] { cur->qt.subdivide(q); });
+            hold(below = 4);
+        }
+        for (auto& c : q.children) {
+            const std::size_t its = makeSubtree(*c, store);
+            cur->qt.merge(*c);
+            heldQuads -= its;
+        }
+        std::vector<std::vector<Quad*>> byLevel{{&q}};
+        makeLevels(byLevel, q.level, store, false);
+        return below;
+    }
+
+    std::size_t heldQuads = 0;  // below the shard's root
+    void hold(std::size_t quads) {
+        heldQuads += quads;
+        stats.peakShardQuads = std::max(stats.peakShardQuads, heldQuads);
     }
 
     // A shard's part of the scene file: what the tiles of its quads need (io/scene_region.h).
@@ -293,8 +328,9 @@ struct PyramidJob::Impl {
         });
     }
 
-    // Makes the tiles of `levels` (byLevel[i] holds level base + i; the deepest last), given the
-    // images of the level below the deepest mipmapped one where it is not in `levels`.
+    // Makes the tiles of a pass: `byLevel` (byLevel[i] holds level base + i; the deepest last);
+    // a mipmapped quad whose children are not in it reads them from the store, made by an earlier
+    // pass (the shards below the top pass, the children's subtrees of a deep shard's quad).
     void makeLevels(std::vector<std::vector<Quad*>>& byLevel, int base, PyramidStore& store, bool topPass) {
         const int vl = vectorLevel();
         std::vector<std::pair<Quad*, std::size_t>> all;
@@ -336,15 +372,16 @@ struct PyramidJob::Impl {
             }
         });
         // Mipmapped levels, bottom up. They may read children from the store (an update's
-        // unchanged ones, the top pass's shard roots): the writes in flight go first.
-        if (topPass || !previous.empty()) flushWrites();
+        // unchanged ones, those of an earlier pass): the writes in flight go first.
+        const bool earlierChildren = base + int(byLevel.size()) - 1 < params.maxLevel;  // the deepest level's
+        if (earlierChildren || !previous.empty()) flushWrites();
         if (params.appearance) {
             for (int li = int(byLevel.size()) - 1; li >= 0; --li) {
                 const int level = base + li;
                 if (level >= vl || !stored(level)) continue;
                 auto& quads = byLevel[std::size_t(li)];
                 // Children images not made in this pass come from the store (an update's unchanged
-                // children; the top pass's shard roots).
+                // children; those of an earlier pass).
                 tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t qi) {
                     Quad& q = *quads[qi];
                     const std::size_t i = index.at(&q);
@@ -359,9 +396,10 @@ struct PyramidJob::Impl {
                             kids[std::size_t(k)] = &made[it->second].half;
                             any = true;
                         } else {
-                            // A shard root below the top pass: remade in a build (all of them, on
-                            // whichever rank), in an update when its shard remade it.
-                            if (topPass && level + 1 == params.shardLevel) {
+                            // The root of an earlier pass (a shard, below the top pass, on
+                            // whichever rank): remade in a build, in an update when its pass
+                            // remade it.
+                            if (it == index.end()) {
                                 std::lock_guard lock(remadeMutex);
                                 any = any || previous.empty() || remade.has(ck);
                             }
@@ -391,7 +429,7 @@ struct PyramidJob::Impl {
         progressAdvance(progress, skipped);
         // Write, in one thread (SQLite): now, or while the next shard is made (deferWrites).
         auto batch = std::make_shared<WriteBatch>();
-        batch->topPass = topPass;
+        batch->rootLevel = topPass ? -1 : base;
         for (std::size_t i = 0; i < all.size(); ++i) {
             if (!stored(all[i].first->level)) continue;
             batch->keys.push_back(keyOf(*all[i].first));
@@ -409,7 +447,7 @@ struct PyramidJob::Impl {
         std::vector<char> changed;
         std::vector<std::uint64_t> digests;
         std::vector<MadeTile> made;
-        bool topPass = false;
+        int rootLevel = -1;  // the pass's root's level (update: a later pass's mipmap asks if it was remade); -1: the top pass
     };
 
     void writeBatch(WriteBatch& b, PyramidStore& store) {
@@ -434,7 +472,7 @@ struct PyramidJob::Impl {
                     } else if (store.removeTile(kWaterTable, k)) {
                         ++stats.tilesWritten;
                     }
-                    if (k.level == params.shardLevel && !b.topPass) {
+                    if (k.level == b.rootLevel && !previous.empty()) {
                         std::lock_guard lock(remadeMutex);
                         remade.set.insert(k);
                     }

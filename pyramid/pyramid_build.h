@@ -9,10 +9,12 @@
 //   them mipmapped from its children's stored tiles (decoded, so that an update, which decodes the
 //   unchanged children from the file, gives the same bytes as a build).
 // The work goes by subtrees: the quadtree is clipped down to `shardLevel` once; then each subtree
-// below a quad of that level (a shard) is clipped down to maxLevel, its tiles are made on all
-// cores (TBB), encoded, written, and the subtree is merged again, so memory holds one subtree's
-// clipped graphs and tiles at a time. The levels above the shards are made last, from the shards'
-// stored tiles. Shards are independent: `lacet pyramid build --shards` runs them on the ranks of
+// below a quad of that level (a shard) is made depth first in passes of `passLevels` levels: a
+// pass clips its subtree down to maxLevel, makes its tiles on all cores (TBB), encodes and writes
+// them, and the subtree is merged again; a quad above the deepest pass is made after its four
+// children's subtrees, one at a time (its mipmap from their stored tiles), so memory holds the
+// clipped graphs of one path down the shard and one pass's tiles. The levels above the shards are
+// made last, from the shards' stored tiles. Shards are independent: `lacet pyramid build --shards` runs them on the ranks of
 // an MPI job (app/cmd_pyramid.cpp).
 //
 // An update is the same walk with the digests of the previous build (pyramid/quad_digest.h): a
@@ -46,6 +48,10 @@ struct PyramidParams {
     double texel = 1.0;       // m per appearance texel the default maxLevel comes nearest to (by ratio), > 0
     int vectorLevels = 1;     // the deepest levels whose appearance is made from vector data (>= 1); the rest mipmapped
     int shardLevel = -1;      // level of the subtrees' roots, <= maxLevel and kMaxShardLevel; -1: max(0, maxLevel - 4)
+    // Levels of a shard's subtree clipped and made at once (>= 1): a deeper shard goes depth first
+    // (see above). Fewer: less memory, fewer quads made in parallel. Memory only: not stored with
+    // the pyramid, no tile depends on it.
+    int passLevels = 3;
     bool appearance = true, elevation = true;
     TileEncoding encoding{};
     // A streamed DEM's blocks held at once (MiB, > 0; io/dem_stream.h): each quad reads its window
@@ -84,6 +90,7 @@ struct PyramidStats {
     std::size_t appearanceTiles = 0, waterTiles = 0, elevationTiles = 0;  // stored after the run
     std::uint64_t bytes = 0;          // of the stored tiles after the run
     bool rebuilt = false;             // an update that remade everything (inputs changed)
+    std::size_t peakShardQuads = 0;   // the most quads below a shard's root clipped at once (PyramidParams::passLevels)
     PyramidTimes times;
     PyramidDemStats dem;
     double wallSeconds = 0.0;

@@ -76,6 +76,7 @@ void PyramidParams::resolve(double extentSize, int tileSize) {
     if (vectorLevels < 1) throw std::invalid_argument("PyramidParams: vectorLevels must be >= 1");
     vectorLevels = std::min(vectorLevels, maxLevel - minLevel + 1);  // as stored (PyramidInfo::vectorLevel)
     if (shardLevel < 0) shardLevel = std::max(0, maxLevel - 4);
+    if (passLevels < 1) throw std::invalid_argument("PyramidParams: passLevels must be >= 1 (got " + std::to_string(passLevels) + ")");
     if (shardLevel > maxLevel) throw std::invalid_argument("PyramidParams: shardLevel must be <= maxLevel");
     if (shardLevel > kMaxShardLevel)
         throw std::invalid_argument("PyramidParams: shardLevel " + std::to_string(shardLevel) + " makes over 4^" +

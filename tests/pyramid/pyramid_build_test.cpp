@@ -215,6 +215,49 @@ TEST(PyramidBuild, EveryShardLevelGivesTheSamePyramid) {
     }
 }
 
+// A shard deeper than PyramidParams::passLevels goes depth first: any pass depth gives the same
+// pyramid, while the quads held below a shard's root fall from its whole subtree (4 + 16 + 64 +
+// 256 below level 0 of levels 0-4) to four a level down one path; an update after random edits,
+// made depth first (the default 3 levels a pass under a shard of 5), equals a rebuild.
+TEST(PyramidBuild, EveryPassDepthGivesTheSamePyramidInTheMemoryOfOnePath) {
+    SceneDocument doc = smallScene(3, 2500);
+    PyramidParams p = smallParams();
+    p.maxLevel = 4;
+    p.shardLevel = 0;
+    p.vectorLevels = 2;  // levels 0-2 mipmapped: depth first, their children come from the store
+    p.encoding = parseEncoding("jpeg:90");
+    TempFile reference("pyramid_pass5.gpkg");
+    p.passLevels = 5;
+    EXPECT_EQ(buildPyramid(doc, reference.path, p, false, nullptr).peakShardQuads, 340u);
+    for (int passLevels : {1, 2, 3, 4}) {
+        SCOPED_TRACE("pass levels " + std::to_string(passLevels));
+        TempFile f("pyramid_pass.gpkg");
+        p.passLevels = passLevels;
+        const PyramidStats st = buildPyramid(doc, f.path, p, false, nullptr);
+        // A path of 5 - passLevels quads subdivided one level (4 each), then a pass's subtree.
+        std::size_t pass = 0;
+        for (int l = 1; l < passLevels; ++l) pass += std::size_t(1) << (2 * l);
+        EXPECT_EQ(st.peakShardQuads, 4u * std::size_t(5 - passLevels) + pass);
+        expectSamePyramid(f.path, reference.path);
+    }
+    // An update (PyramidParams' default pass depth and shard level) after random edits.
+    p.passLevels = PyramidParams{}.passLevels;
+    ASSERT_LT(p.passLevels, 5);
+    TempFile updated("pyramid_pass_updated.gpkg"), rebuilt("pyramid_pass_rebuilt.gpkg");
+    buildPyramid(doc, updated.path, p, false, nullptr);
+    std::mt19937_64 rng(11);
+    for (int e = 0; e < 5; ++e) applyRandomEdit(doc.scene, rng, 60.0);
+    const PyramidStats up = updatePyramid(doc, updated.path, nullptr);
+    EXPECT_FALSE(up.rebuilt);
+    EXPECT_GT(up.quadsChanged, 0u);
+    EXPECT_LT(up.quadsChanged, up.quads);
+    buildPyramid(doc, rebuilt.path, p, false, nullptr);
+    expectSamePyramid(updated.path, rebuilt.path);
+
+    p.passLevels = 0;
+    EXPECT_THROW(p.resolve(doc.scene.extent.size().x, 256), std::invalid_argument);
+}
+
 // Out of core (§7): a pyramid built from the scene file, each shard reading only its part and
 // the levels above only what their elevation reads, is the pyramid built from the whole document,
 // tile for tile and digest for digest, whether the levels above the shards are mipmapped or made
