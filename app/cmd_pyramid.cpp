@@ -28,6 +28,7 @@ struct PyramidOptions {
     int vectorLevels = 1;
     int shardLevel = -1;
     int passLevels = PyramidParams{}.passLevels;
+    double shardElements = PyramidParams{}.shardElements;
     double demBudgetMiB = PyramidParams{}.demBudgetMiB;
     bool force = false;
     bool json = false;
@@ -71,6 +72,7 @@ PyramidParams paramsOf(const PyramidOptions& o) {
     p.vectorLevels = o.vectorLevels;
     p.shardLevel = o.shardLevel;
     p.passLevels = o.passLevels;
+    p.shardElements = o.shardElements;
     p.demBudgetMiB = o.demBudgetMiB;
     p.encoding = parseEncoding(o.encoding);
     return p;
@@ -104,7 +106,11 @@ void addPyramidCommand(CLI::App& app) {
     build->add_option("--layers", b->layers, "appearance,elevation (either or both)");
     build->add_option("--encoding", b->encoding, "Colour tiles: jpeg[:QUALITY], png[:ZLIB LEVEL] or webp[:QUALITY]");
     build->add_option("--vector-levels", b->vectorLevels, "Deepest levels made from vector data (>= 1); the rest mipmapped");
-    build->add_option("--shard-level", b->shardLevel, "Level of the subtrees the build goes by (default: deepest - 4)");
+    build->add_option("--shard-level", b->shardLevel,
+                      "Level of the subtrees the build goes by (default: deepest - 4, deeper where a shard would hold over "
+                      "--shard-elements curves and areas)");
+    build->add_option("--shard-elements", b->shardElements,
+                      "Curves and areas a shard holds at most by default (> 0; a shard's part is what a build holds in memory)");
     build->add_option("--pass-levels", b->passLevels,
                       "Levels of a shard made at once (>= 1); a deeper shard goes depth first (less memory, less parallel)");
     build->add_option("--dem-budget", b->demBudgetMiB,

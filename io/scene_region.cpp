@@ -510,4 +510,28 @@ Box loadSceneExtent(const std::string& path) {
     return doc.scene.extent;
 }
 
+SceneOutline loadSceneOutline(const std::string& path) {
+    SceneDocument doc;
+    SceneOutline o;
+    loadSceneParts(
+        path, doc,
+        [&](SqliteDb& db, SceneDocument& d) {
+            readLayerTable(db, d.scene);
+            for (const char* table : {"lacet_curves", "lacet_areas"}) {
+                auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
+                for (std::size_t layer = 0; layer < d.scene.layers.size(); ++layer) {
+                    s.reset();
+                    s.bind(1, std::int64_t(layer));
+                    const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
+                    if (count < 0 || count > kMaxId + 1)
+                        throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
+                    o.elements += std::size_t(count);
+                }
+            }
+        },
+        /*readDem=*/false, /*wholeFileCheck=*/false);
+    o.extent = doc.scene.extent;
+    return o;
+}
+
 }  // namespace lacet

@@ -73,4 +73,13 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
 // SceneFileError naming the file.
 Box loadSceneExtent(const std::string& path);
 
+// The extent and the size of the scene file at `path`: its curves and areas, counted by their ids
+// (each layer's largest + 1, through the (layer, id) index: deleted ones count, no table is
+// scanned). Throws SceneFileError naming the file.
+struct SceneOutline {
+    Box extent;
+    std::size_t elements = 0;  // curves and areas
+};
+SceneOutline loadSceneOutline(const std::string& path);
+
 }  // namespace lacet

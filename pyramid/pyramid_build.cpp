@@ -116,11 +116,13 @@ struct SceneModel {
 // appearance is mipmapped (the road and river curves at least two elevation samples wide at the
 // deepest of them, lakes and river areas, and what those depend on), else everything; with the
 // DEM. `checksum`: the file's stored checksum; `whole`: the file has no feature index and was read
-// whole.
+// whole; `elements`: the file's curves and areas (loadSceneOutline).
 SceneDocument readTopPart(const std::string& path, PyramidParams params, const RefineParams& refine, std::string& checksum,
-                          bool& whole) {
-    const Box extent = loadSceneExtent(path);
-    params.resolve(extent.size().x, refine.resolution);
+                          bool& whole, std::size_t& elements) {
+    const SceneOutline outline = loadSceneOutline(path);
+    const Box extent = outline.extent;
+    elements = outline.elements;
+    params.resolve(extent.size().x, refine.resolution, elements);
     const int deepest = std::max(0, params.shardLevel - 1);
     SceneRegionOptions filter;
     filter.elevationOnly = params.vectorLevel() >= params.shardLevel || !params.appearance;
@@ -143,6 +145,7 @@ struct PyramidJob::Impl {
     // topPart. Otherwise the caller's whole document.
     std::string scenePath;
     std::string fileChecksum;  // the scene file's stored checksum (a job over a file)
+    std::size_t fileElements = 0;  // its curves and areas (the default shard level)
     SceneDocument topPart;
     const SceneDocument& doc;  // the caller's document, or topPart
     // Each quad's DEM and the z-profiles' heights: a streamed DEM's (doc.demLod) window at the level
@@ -169,7 +172,9 @@ struct PyramidJob::Impl {
           demSource(batchDemSource(d, p.demBudgetMiB)),
           top(std::make_unique<SceneModel>(&d, SceneDocument{}, refine, demSource->heights())),
           cur(top.get()) {
-        params.resolve(d.scene.extent.size().x, refine.resolution);
+        std::size_t elements = 0;
+        for (const Layer& l : d.scene.layers) elements += l.curves.size() + l.areas.size();
+        params.resolve(d.scene.extent.size().x, refine.resolution, elements);
     }
 
     Impl(const std::string& path, PyramidParams p, QuadDigestMap prev)
@@ -177,12 +182,12 @@ struct PyramidJob::Impl {
           demSource(batchDemSource(topPart, p.demBudgetMiB)),
           top(std::make_unique<SceneModel>(&topPart, SceneDocument{}, refine, demSource->heights())),
           cur(top.get()) {
-        params.resolve(doc.scene.extent.size().x, refine.resolution);
+        params.resolve(doc.scene.extent.size().x, refine.resolution, fileElements);
     }
 
     SceneDocument readTop(const std::string& path, const PyramidParams& p) {
         bool whole = false;
-        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole);
+        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole, fileElements);
         if (whole) scenePath.clear();  // no feature index: read whole once, the shards made from it
         return part;
     }

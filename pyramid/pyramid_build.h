@@ -47,7 +47,11 @@ struct PyramidParams {
     int maxLevel = -1;        // last level stored, >= minLevel, <= 24; -1: the level whose texel is nearest `texel`
     double texel = 1.0;       // m per appearance texel the default maxLevel comes nearest to (by ratio), > 0
     int vectorLevels = 1;     // the deepest levels whose appearance is made from vector data (>= 1); the rest mipmapped
-    int shardLevel = -1;      // level of the subtrees' roots, <= maxLevel and kMaxShardLevel; -1: max(0, maxLevel - 4)
+    // Level of the subtrees' roots, <= maxLevel and kMaxShardLevel; -1: max(0, maxLevel - 4), or
+    // deeper where a shard would hold over `shardElements` of the scene's curves and areas (spread
+    // evenly: a shard's part of a scene file is what a job over the file holds in memory).
+    int shardLevel = -1;
+    double shardElements = 200000.0;  // curves and areas, > 0: see shardLevel
     // Levels of a shard's subtree clipped and made at once (>= 1): a deeper shard goes depth first
     // (see above). Fewer: less memory, fewer quads made in parallel. Memory only: not stored with
     // the pyramid, no tile depends on it.
@@ -58,9 +62,9 @@ struct PyramidParams {
     // at the level it needs (never the coarse level in memory), the least recently used blocks
     // dropped. Memory only: not stored with the pyramid, no tile depends on it.
     double demBudgetMiB = 512.0;
-    // Checks ranges (and the limits above) and fills the defaults for a scene of `extent`; throws
-    // std::invalid_argument.
-    void resolve(double extentSize, int tileSize);
+    // Checks ranges (and the limits above) and fills the defaults for a scene of `extentSize`
+    // metres a side holding `sceneElements` curves and areas; throws std::invalid_argument.
+    void resolve(double extentSize, int tileSize, std::size_t sceneElements = 0);
     // The shallowest level whose appearance is made from vector data (the ones above are mipmapped).
     int vectorLevel() const { return std::max(minLevel, maxLevel - vectorLevels + 1); }
 };

@@ -53,7 +53,7 @@ TileEncoding parseEncoding(const std::string& text) {
     return e;
 }
 
-void PyramidParams::resolve(double extentSize, int tileSize) {
+void PyramidParams::resolve(double extentSize, int tileSize, std::size_t sceneElements) {
     if (!(texel > 0.0) || !std::isfinite(texel)) throw std::invalid_argument("PyramidParams: texel must be > 0 metres");
     if (!(extentSize > 0.0)) throw std::invalid_argument("PyramidParams: the scene has an empty extent");
     if (!(demBudgetMiB > 0.0) || !std::isfinite(demBudgetMiB))
@@ -75,7 +75,13 @@ void PyramidParams::resolve(double extentSize, int tileSize) {
                                     std::to_string(minLevel) + "-" + std::to_string(maxLevel) + ")");
     if (vectorLevels < 1) throw std::invalid_argument("PyramidParams: vectorLevels must be >= 1");
     vectorLevels = std::min(vectorLevels, maxLevel - minLevel + 1);  // as stored (PyramidInfo::vectorLevel)
-    if (shardLevel < 0) shardLevel = std::max(0, maxLevel - 4);
+    if (!(shardElements > 0.0))
+        throw std::invalid_argument("PyramidParams: shardElements must be a positive count of curves and areas");
+    if (shardLevel < 0) {
+        shardLevel = std::max(0, maxLevel - 4);
+        while (shardLevel < std::min(maxLevel, kMaxShardLevel) && double(sceneElements) / std::ldexp(1.0, 2 * shardLevel) > shardElements)
+            ++shardLevel;
+    }
     if (passLevels < 1) throw std::invalid_argument("PyramidParams: passLevels must be >= 1 (got " + std::to_string(passLevels) + ")");
     if (shardLevel > maxLevel) throw std::invalid_argument("PyramidParams: shardLevel must be <= maxLevel");
     if (shardLevel > kMaxShardLevel)

@@ -297,5 +297,18 @@ TEST_F(SceneRegion, APartIsNeverSavedNorGrown) {
     EXPECT_FALSE(validate(part.scene).empty());
 }
 
+// The outline (the default pyramid shard level reads it): the extent, and the curves and areas of
+// every layer counted by their ids, deleted ones included.
+TEST_F(SceneRegion, TheOutlineCountsEveryLayersCurvesAndAreas) {
+    const SceneOutline o = loadSceneOutline(*path_);
+    EXPECT_EQ(o.extent.min, whole_->scene.extent.min);
+    EXPECT_EQ(o.extent.max, whole_->scene.extent.max);
+    std::size_t elements = 0;
+    for (const Layer& l : whole_->scene.layers) elements += l.curves.size() + l.areas.size();
+    EXPECT_GT(elements, 20000u);
+    EXPECT_EQ(o.elements, elements);
+    EXPECT_THROW(loadSceneOutline((*dir_ / "missing.gpkg").string()), SceneFileError);
+}
+
 }  // namespace
 }  // namespace lacet

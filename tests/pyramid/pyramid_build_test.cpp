@@ -258,6 +258,31 @@ TEST(PyramidBuild, EveryPassDepthGivesTheSamePyramidInTheMemoryOfOnePath) {
     EXPECT_THROW(p.resolve(doc.scene.extent.size().x, 256), std::invalid_argument);
 }
 
+// The default shard level follows the scene's curves and areas, counted in the document or in the
+// file: a shard of at most shardElements of them (here level 3, deeper than maxLevel - 4: a shard
+// of 2 levels, 4 quads below its root). The same pyramid at any level.
+TEST(PyramidBuild, TheDefaultShardLevelFollowsTheScenesSize) {
+    const fs::path dir = fs::temp_directory_path() / ("lacet_pyramid_shards_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string scene = (dir / "scene.gpkg").string();
+    const SceneDocument doc = smallScene(4, 2000);
+    saveScene(scene, doc);
+    PyramidParams p = smallParams();
+    p.maxLevel = 4;
+    p.shardLevel = -1;
+    p.passLevels = 5;
+    const std::string a = (dir / "a.gpkg").string(), b = (dir / "b.gpkg").string(), c = (dir / "c.gpkg").string();
+    EXPECT_EQ(buildPyramid(doc, a, p, false, nullptr).peakShardQuads, 340u);  // level 0: 2000 elements is few
+    std::size_t elements = 0;
+    for (const Layer& l : doc.scene.layers) elements += l.curves.size() + l.areas.size();
+    p.shardElements = double(elements) / 32.0;  // more than 4^2 shards, at most 4^3: level 3
+    EXPECT_EQ(buildPyramid(doc, b, p, false, nullptr).peakShardQuads, 4u);
+    EXPECT_EQ(buildPyramid(scene, c, p, false, nullptr).peakShardQuads, 4u);
+    expectSamePyramid(a, b);
+    expectSamePyramid(a, c);
+    fs::remove_all(dir);
+}
+
 // Out of core (§7): a pyramid built from the scene file, each shard reading only its part and
 // the levels above only what their elevation reads, is the pyramid built from the whole document,
 // tile for tile and digest for digest, whether the levels above the shards are mipmapped or made
@@ -473,6 +498,23 @@ TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
     many.vectorLevels = 10;
     many.resolve(1000.0, 256);
     EXPECT_EQ(many.vectorLevels, 3);  // what the file stores: an update gets the same knobs
+    // The default shard level: the deepest - 4, or deeper where a shard would hold over
+    // shardElements curves and areas (never below maxLevel).
+    const auto shardLevelOf = [](int maxLevel, std::size_t elements, double shardElements = PyramidParams{}.shardElements) {
+        PyramidParams s;
+        s.maxLevel = maxLevel;
+        s.shardElements = shardElements;
+        s.resolve(100000.0, 256, elements);
+        return s.shardLevel;
+    };
+    EXPECT_EQ(shardLevelOf(7, 60000), 3);
+    EXPECT_EQ(shardLevelOf(6, 600000), 2);    // 37,500 a shard
+    EXPECT_EQ(shardLevelOf(6, 6000000), 3);   // 93,750 a shard, not 375,000
+    EXPECT_EQ(shardLevelOf(6, 6000000, 1000.0), 6);  // no deeper than the deepest level
+    EXPECT_EQ(shardLevelOf(2, 6000000), 2);
+    PyramidParams noElements;
+    noElements.shardElements = 0.0;
+    EXPECT_THROW(noElements.resolve(1000.0, 256), std::invalid_argument);
     EXPECT_THROW(parseEncoding("gif"), std::invalid_argument);
     EXPECT_THROW(parseEncoding("jpeg:0"), std::invalid_argument);
     EXPECT_EQ(encodingName(parseEncoding("webp:75")), "webp:75");
