@@ -24,6 +24,21 @@ using namespace scene_format;
 
 namespace {
 
+// Each of `layers` layers' ids in the element table `table`: its largest id + 1, through the
+// (layer, id) index, not a scan of the table.
+std::vector<std::size_t> fileIdCounts(SqliteDb& db, const char* table, std::size_t layers) {
+    std::vector<std::size_t> counts(layers, 0);
+    auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
+    for (std::size_t layer = 0; layer < layers; ++layer) {
+        s.reset();
+        s.bind(1, std::int64_t(layer));
+        const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
+        if (count < 0 || count > kMaxId + 1) throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
+        counts[layer] = std::size_t(count);
+    }
+    return counts;
+}
+
 struct FeatureTableRef {
     std::string name;
     LayerId layer = 0;
@@ -102,16 +117,10 @@ public:
         // Each layer's file ids: its largest id + 1, through the (layer, id) index, not a scan of the
         // table (a region reads a small part of it). A row missing below it is found when read.
         for (const char* table : {"lacet_nodes", "lacet_curves", "lacet_areas"}) {
-            auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
-            for (std::size_t layer = 0; layer < n; ++layer) {
-                s.reset();
-                s.bind(1, std::int64_t(layer));
-                const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
-                if (count < 0 || count > kMaxId + 1)
-                    throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
+            const std::vector<std::size_t> counts = fileIdCounts(db, table, n);
+            for (std::size_t layer = 0; layer < n; ++layer)
                 slots_[layer].of(table[6] == 'n' ? ElementKind::Node : table[6] == 'c' ? ElementKind::Curve : ElementKind::Area).fileCount =
-                    std::size_t(count);
-            }
+                    counts[layer];
         }
     }
 
@@ -517,17 +526,8 @@ SceneOutline loadSceneOutline(const std::string& path) {
         path, doc,
         [&](SqliteDb& db, SceneDocument& d) {
             readLayerTable(db, d.scene);
-            for (const char* table : {"lacet_curves", "lacet_areas"}) {
-                auto s = db.prepare(std::string("SELECT max(id) + 1 FROM ") + table + " WHERE layer = ?");
-                for (std::size_t layer = 0; layer < d.scene.layers.size(); ++layer) {
-                    s.reset();
-                    s.bind(1, std::int64_t(layer));
-                    const std::int64_t count = s.step() && s.type(0) != SQLITE_NULL ? s.integer(0) : 0;
-                    if (count < 0 || count > kMaxId + 1)
-                        throw FormatError(std::string(table) + ": layer " + std::to_string(layer) + ": ids out of range");
-                    o.elements += std::size_t(count);
-                }
-            }
+            for (const char* table : {"lacet_curves", "lacet_areas"})
+                for (std::size_t count : fileIdCounts(db, table, d.scene.layers.size())) o.elements += count;
         },
         /*readDem=*/false, /*wholeFileCheck=*/false);
     o.extent = doc.scene.extent;
