@@ -14,8 +14,8 @@
 // them, and the subtree is merged again; a quad above the deepest pass is made after its four
 // children's subtrees, one at a time (its mipmap from their stored tiles), so memory holds the
 // clipped graphs of one path down the shard and one pass's tiles. The levels above the shards are
-// made last, from the shards' stored tiles. Shards are independent: `lacet pyramid build --shards` runs them on the ranks of
-// an MPI job (app/cmd_pyramid.cpp).
+// made last, from the shards' stored tiles. Shards are independent: `lacet pyramid build --shards`
+// runs them on the ranks of an MPI job (app/cmd_pyramid.cpp).
 //
 // An update is the same walk with the digests of the previous build (pyramid/quad_digest.h): a
 // quad whose digest is unchanged keeps its tiles, unread; a mipmapped tile is remade when one of
