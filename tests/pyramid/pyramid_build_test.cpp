@@ -272,7 +272,7 @@ TEST(PyramidBuild, TheDefaultShardLevelFollowsTheScenesSize) {
     p.shardLevel = -1;
     p.passLevels = 5;
     const std::string a = (dir / "a.gpkg").string(), b = (dir / "b.gpkg").string(), c = (dir / "c.gpkg").string();
-    EXPECT_EQ(buildPyramid(doc, a, p, false, nullptr).peakShardQuads, 340u);  // level 0: 2000 elements is few
+    EXPECT_EQ(buildPyramid(doc, a, p, false, nullptr).peakShardQuads, 340u);  // level 0: a few thousand elements
     std::size_t elements = 0;
     for (const Layer& l : doc.scene.layers) elements += l.curves.size() + l.areas.size();
     p.shardElements = double(elements) / 32.0;  // more than 4^2 shards, at most 4^3: level 3
@@ -499,7 +499,7 @@ TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
     many.resolve(1000.0, 256);
     EXPECT_EQ(many.vectorLevels, 3);  // what the file stores: an update gets the same knobs
     // The default shard level: the deepest - 4, or deeper where a shard would hold over
-    // shardElements curves and areas (never below maxLevel).
+    // shardElements curves and areas (never deeper than maxLevel).
     const auto shardLevelOf = [](int maxLevel, std::size_t elements, double shardElements = PyramidParams{}.shardElements) {
         PyramidParams s;
         s.maxLevel = maxLevel;
