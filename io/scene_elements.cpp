@@ -1,6 +1,7 @@
 // The element tables of the scene file (io/scene_format.h).
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <span>
@@ -484,6 +485,38 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std:
         a.value = s.text(4);
         doc.attributes.push_back(std::move(a));
     }
+}
+
+bool readPartAttributes(SqliteDb& db, SceneDocument& doc) {
+    if (db.queryInteger("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'lacet_attributes_element'") == 0)
+        return false;
+    auto s = db.prepare("SELECT fid, key, value FROM lacet_attributes WHERE layer = ? AND kind = ? AND id = ?");
+    std::vector<std::pair<std::int64_t, ElementAttribute>> read;  // with their fid, for the table's order
+    for (LayerId l = 0; l < doc.scene.layers.size(); ++l) {
+        const Layer::SceneIds& ids = doc.scene.layers[l].sceneIds;
+        const auto kindIds = [&](ElementKind kind) -> const std::vector<ElementId>& {
+            return kind == ElementKind::Node ? ids.nodes : kind == ElementKind::Curve ? ids.curves : ids.areas;
+        };
+        for (ElementKind kind : {ElementKind::Node, ElementKind::Curve, ElementKind::Area}) {
+            const std::vector<ElementId>& of = kindIds(kind);
+            for (std::size_t i = 0; i < of.size(); ++i) {
+                s.reset();
+                s.bind(1, std::int64_t(l));
+                s.bind(2, std::int64_t(kind));
+                s.bind(3, std::int64_t(of[i]));
+                while (s.step()) {
+                    Row row{"lacet_attributes"};
+                    row.layer = std::int64_t(l);
+                    row.id = std::int64_t(of[i]);
+                    if (s.type(1) != SQLITE_TEXT || s.type(2) != SQLITE_TEXT) row.fail("key and value must be text");
+                    read.push_back({s.integer(0), ElementAttribute{l, kind, ElementId(i), s.text(1), s.text(2)}});
+                }
+            }
+        }
+    }
+    std::sort(read.begin(), read.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [fid, a] : read) doc.attributes.push_back(std::move(a));
+    return true;
 }
 
 namespace {

@@ -114,6 +114,11 @@ private:
 // kNoElement to skip it.
 void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std::size_t(LayerId, ElementKind)>& slots,
                       const std::function<ElementId(const ElementAttribute&)>& idIn);
+// Reads the attributes of the elements of `doc`, a part of the file (Layer::sceneIds: each element's
+// id in the file), through lacet_attributes' (layer, kind, id) index: a lookup per element, not a
+// scan of the table, in the table's order as readAttributesOf gives them. Returns false, reading
+// nothing, for a file written before the index (the caller scans it instead).
+bool readPartAttributes(SqliteDb& db, SceneDocument& doc);
 
 // ---- scene_file.cpp ----
 

@@ -457,7 +457,9 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
                    tolerance;
         // A roundabout's ring reaches its radius beyond the roads at its node.
         {
-            auto s = db.prepare("SELECT max(roundabout) FROM lacet_nodes WHERE alive");
+            // lacet_nodes_roundabout, a partial index of the nodes with a ring, makes this a
+            // look at those nodes (a scan of the table in a file written before it).
+            auto s = db.prepare("SELECT max(roundabout) FROM lacet_nodes WHERE alive AND roundabout > 0");
             const double radius = s.step() ? s.real(0) : 0.0;
             if (!(radius >= 0.0) || !std::isfinite(radius)) throw FormatError("lacet_nodes: a roundabout radius is not finite and >= 0");
             st.reach += radius;
@@ -477,14 +479,17 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         loader.closeAxialRivers();
         loader.trimLists();
         loader.compact();
-        readAttributesOf(
-            db, d, [&](LayerId layer, ElementKind kind) { return loader.fileSlots(layer, kind); },
-            [&](const ElementAttribute& a) {  // the id it has in the part read, if read
-                const Layer::SceneIds& ids = d.scene.layers[a.layer].sceneIds;
-                const auto& of = a.kind == ElementKind::Node ? ids.nodes : a.kind == ElementKind::Curve ? ids.curves : ids.areas;
-                const auto it = std::lower_bound(of.begin(), of.end(), a.id);
-                return it != of.end() && *it == a.id ? ElementId(it - of.begin()) : kNoElement;
-            });
+        // Through lacet_attributes' index, a lookup per element read; a file written before the
+        // index is scanned whole.
+        if (!readPartAttributes(db, d))
+            readAttributesOf(
+                db, d, [&](LayerId layer, ElementKind kind) { return loader.fileSlots(layer, kind); },
+                [&](const ElementAttribute& a) {  // the id it has in the part read, if read
+                    const Layer::SceneIds& ids = d.scene.layers[a.layer].sceneIds;
+                    const auto& of = a.kind == ElementKind::Node ? ids.nodes : a.kind == ElementKind::Curve ? ids.curves : ids.areas;
+                    const auto it = std::lower_bound(of.begin(), of.end(), a.id);
+                    return it != of.end() && *it == a.id ? ElementId(it - of.begin()) : kNoElement;
+                });
         st.sceneNodes = st.sceneCurves = st.sceneAreas = 0;
         for (LayerId l = 0; l < d.scene.layers.size(); ++l) {
             st.sceneNodes += loader.fileSlots(l, ElementKind::Node);

@@ -57,10 +57,11 @@ struct SceneRegionOptions {
     bool elevationOnly = false;
     double minCurveWidth = 0.0;  // m, >= 0
     bool dem = true;  // open the DEM as loadScene does; false: none (the caller has it, e.g. for many regions)
-    // SQLite's quick_check of every page of the file, as loadScene does: O(file), so that a reader
-    // of many regions of one file (pyramid/pyramid_build.h) does it on its first read only; without
-    // it, SQLite still checks each page it reads, and every row read is checked.
-    bool wholeFileCheck = true;
+    // SQLite's quick_check of every page of the file, as loadScene does: O(file) (99 s for a cold
+    // 3.6 GB file), which a read of a small part must not cost, so off by default: SQLite still
+    // checks each page it reads, and every row read is checked. A reader of most of the file (the
+    // pyramid build, pyramid/pyramid_build.h) asks for it on its first read.
+    bool wholeFileCheck = false;
 };
 
 // Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with

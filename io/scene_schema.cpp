@@ -82,6 +82,8 @@ CREATE TABLE lacet_areas (
 CREATE TABLE lacet_attributes (
   fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, layer INTEGER NOT NULL, kind INTEGER NOT NULL,
   id INTEGER NOT NULL, key TEXT NOT NULL, value TEXT NOT NULL);
+CREATE INDEX lacet_attributes_element ON lacet_attributes (layer, kind, id);
+CREATE INDEX lacet_nodes_roundabout ON lacet_nodes (roundabout) WHERE roundabout > 0;
 )sql";
 
 struct TableInfo {

@@ -128,6 +128,7 @@ SceneDocument readTopPart(const std::string& path, PyramidParams params, const R
     filter.elevationOnly = params.vectorLevel() >= params.shardLevel || !params.appearance;
     const double quad = extent.size().x / double(std::int64_t(1) << deepest);
     filter.minCurveWidth = 2.0 * quad / double(refine.elevationResolution);
+    filter.wholeFileCheck = true;  // the build reads most of the file: every page checked once, first
     SceneRegionStats st;
     SceneDocument part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
     checksum = st.checksum;

@@ -310,5 +310,72 @@ TEST_F(SceneRegion, TheOutlineCountsEveryLayersCurvesAndAreas) {
     EXPECT_THROW(loadSceneOutline((*dir_ / "missing.gpkg").string()), SceneFileError);
 }
 
+// A region's attributes are those of the elements it read, in the file's order, whether read through
+// lacet_attributes' (layer, kind, id) index or, in a file written before it, by a scan; the region
+// reader's two lookups use their indexes (the query plans name them), not scans of the whole file.
+TEST_F(SceneRegion, AttributesOfWhatWasReadComeThroughTheIndexInTheFilesOrder) {
+    SceneDocument doc = *whole_;
+    std::mt19937_64 rng(23);
+    for (int k = 0; k < 3000; ++k) {  // random elements, in no order: the file's order is the list's
+        const LayerId l = LayerId(rng() % doc.scene.layers.size());
+        const Layer& layer = doc.scene.layers[l];
+        const ElementKind kind = ElementKind(rng() % 3);
+        const std::size_t n = kind == ElementKind::Node ? layer.nodes.size() : kind == ElementKind::Curve ? layer.curves.size() : layer.areas.size();
+        if (n == 0) continue;
+        std::string key = "k", value = "v";  // (not "k" + ...: GCC 12's -Wrestrict misfires on it)
+        key += std::to_string(k % 7);
+        value += std::to_string(k);
+        doc.attributes.push_back({l, kind, ElementId(rng() % n), std::move(key), std::move(value)});
+    }
+    const std::string path = (*dir_ / "attributes.gpkg").string();
+    saveScene(path, doc);
+    const std::string old = (*dir_ / "attributes-old.gpkg").string();
+    std::filesystem::copy_file(path, old, std::filesystem::copy_options::overwrite_existing);
+    {
+        SqliteDb db(old, SqliteDb::Mode::ReadWrite);
+        db.exec("DROP INDEX lacet_attributes_element");
+        db.exec("DROP INDEX lacet_nodes_roundabout");
+    }
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        const auto plan = [&](const std::string& sql) {
+            std::string all;
+            auto s = db.prepare("EXPLAIN QUERY PLAN " + sql);
+            while (s.step()) {
+                all += s.text(3);
+                all += '\n';
+            }
+            return all;
+        };
+        EXPECT_NE(plan("SELECT fid, key, value FROM lacet_attributes WHERE layer = 0 AND kind = 1 AND id = 5")
+                      .find("lacet_attributes_element"),
+                  std::string::npos);
+        EXPECT_NE(plan("SELECT max(roundabout) FROM lacet_nodes WHERE alive AND roundabout > 0").find("lacet_nodes_roundabout"),
+                  std::string::npos);
+    }
+    const Box extent = doc.scene.extent;
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t seen = 0;
+    for (int r = 0; r < 8; ++r) {
+        const Vec2 c = extent.min + extent.size() * Vec2(unit(rng), unit(rng));
+        const Box region{c - extent.size() * 0.05, c + extent.size() * 0.05};
+        const SceneDocument part = loadSceneRegion(path, region, {}, 6);
+        std::vector<ElementAttribute> expected;
+        for (const ElementAttribute& a : doc.attributes) {
+            const Layer::SceneIds& ids = part.scene.layers[a.layer].sceneIds;
+            const auto& of = a.kind == ElementKind::Node ? ids.nodes : a.kind == ElementKind::Curve ? ids.curves : ids.areas;
+            const auto it = std::lower_bound(of.begin(), of.end(), a.id);
+            if (it == of.end() || *it != a.id) continue;
+            ElementAttribute local = a;
+            local.id = ElementId(it - of.begin());
+            expected.push_back(std::move(local));
+        }
+        EXPECT_EQ(part.attributes, expected) << "region " << r;
+        EXPECT_EQ(loadSceneRegion(old, region, {}, 6).attributes, expected) << "region " << r << ", a file without the index";
+        seen += expected.size();
+    }
+    EXPECT_GT(seen, 50u);
+}
+
 }  // namespace
 }  // namespace lacet
