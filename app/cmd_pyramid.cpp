@@ -30,6 +30,7 @@ struct PyramidOptions {
     int passLevels = PyramidParams{}.passLevels;
     double shardElements = PyramidParams{}.shardElements;
     double demBudgetMiB = PyramidParams{}.demBudgetMiB;
+    double vectorBudgetMiB = PyramidParams{}.vectorBudgetMiB;
     bool force = false;
     bool json = false;
     bool shards = false;
@@ -74,6 +75,7 @@ PyramidParams paramsOf(const PyramidOptions& o) {
     p.passLevels = o.passLevels;
     p.shardElements = o.shardElements;
     p.demBudgetMiB = o.demBudgetMiB;
+    p.vectorBudgetMiB = o.vectorBudgetMiB;
     p.encoding = parseEncoding(o.encoding);
     return p;
 }
@@ -115,6 +117,9 @@ void addPyramidCommand(CLI::App& app) {
                       "Levels of a shard made at once (>= 1); a deeper shard goes depth first (less memory, less parallel)");
     build->add_option("--dem-budget", b->demBudgetMiB,
                       "MiB of a streamed DEM's blocks held at once (each quad reads its window at the level it needs)");
+    build->add_option("--vector-budget", b->vectorBudgetMiB,
+                      "MiB of vector data held at once, reading by region (> 0): a shard's part that would pass it is refused "
+                      "with the figure; the next part is read ahead only when both fit");
     build->add_flag("--force", b->force, "Replace a pyramid built for another scene in --out");
     build->add_flag("--shards", b->shards, "Run the shards on the ranks of an MPI job (mpirun -np N lacet pyramid build ... --shards)");
     build->add_flag("--json", b->json, "Print the figures as JSON");
@@ -141,12 +146,14 @@ void addPyramidCommand(CLI::App& app) {
     update->add_option("scene", u->scene, "Scene file")->required();
     update->add_option("--pyramid", u->out, "Pyramid file (default: SCENE with .pyramid.gpkg)");
     update->add_option("--dem-budget", u->demBudgetMiB, "MiB of a streamed DEM's blocks held at once");
+    update->add_option("--vector-budget", u->vectorBudgetMiB, "MiB of vector data held at once, reading by region (> 0)");
     update->add_flag("--json", u->json, "Print the figures as JSON");
     update->add_option("--vectors", u->vectors, "region (default): out of core, by shard; whole: the scene in memory. The same tiles");
     update->callback([u] {
         const std::string path = u->out.empty() ? defaultPyramidPath(u->scene) : u->out;
         TerminalProgress progress;
-        const PyramidStats s = readsByRegion(*u) ? updatePyramid(u->scene, path, &progress, u->demBudgetMiB)
+        if (!(u->vectorBudgetMiB > 0.0)) throw std::invalid_argument("--vector-budget must be > 0 MiB");
+        const PyramidStats s = readsByRegion(*u) ? updatePyramid(u->scene, path, &progress, u->demBudgetMiB, u->vectorBudgetMiB)
                                                  : updatePyramid(loadForPyramid(u->scene), path, &progress, u->demBudgetMiB);
         printPyramidStats(s, "updated", path, u->json);
     });
@@ -164,6 +171,8 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) 
             {"quads", s.quads},
             {"quads_changed", s.quadsChanged},
             {"peak_shard_quads", s.peakShardQuads},
+            {"vector_mib", {{"peak", s.peakVectorMiB}, {"top", s.topVectorMiB}, {"largest_part", s.largestPartMiB}}},
+            {"reads_not_ahead", s.readsNotAhead},
             {"tiles_made", s.tilesMade},
             {"tiles_written", s.tilesWritten},
             {"rebuilt", s.rebuilt},

@@ -39,6 +39,7 @@ struct RenderOptions {
     std::string scene;  // a scene file instead of the synthetic scene
     std::int64_t maxPixels = std::int64_t(1) << 28;  // 16384 x 16384: 768 MiB of RGB; signed, so that -1 is refused
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
+    double vectorBudgetMiB = SceneRegionOptions{}.budgetMiB;  // --region: the vector data read (io/scene_region.h)
 };
 
 // Tiles go to the producers in batches of this many, so that progress moves and only one
@@ -177,7 +178,9 @@ void run(const RenderOptions& o) {
             doc = loadScene(o.scene);
         } else {
             regionStats.emplace();
-            doc = loadSceneRegion(o.scene, region, refine, o.level, &*regionStats);
+            SceneRegionOptions read;
+            read.budgetMiB = o.vectorBudgetMiB;
+            doc = loadSceneRegion(o.scene, region, refine, o.level, &*regionStats, read);
         }
         if (!doc.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
     } else {
@@ -269,7 +272,8 @@ void run(const RenderOptions& o) {
     if (regionStats) {
         const SceneRegionStats& r = *regionStats;
         std::cout << "Vector data of the region: " << r.curves << " of " << r.sceneCurves << " curves, " << r.areas << " of "
-                  << r.sceneAreas << " areas, " << r.nodes << " of " << r.sceneNodes << " nodes read ("
+                  << r.sceneAreas << " areas, " << r.nodes << " of " << r.sceneNodes << " nodes read, "
+                  << double(r.bytes) / 1048576.0 << " MiB ("
                   << r.found << " found within " << r.reach << " m of its quads through the R-trees, the rest what they depend on)"
                   << (r.wholeScene ? "; the file has no feature index (saved before it): the whole scene was read" : "")
                   << "\n";
@@ -295,6 +299,8 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
     cmd->add_option("--dem-budget", o->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
+    cmd->add_option("--vector-budget", o->vectorBudgetMiB,
+                    "With --region: MiB of vector data the read may hold (> 0; default: no bound); past it, refused with the figure");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
     cmd->add_option("--max-pixels", o->maxPixels, "Refuse a mosaic of more pixels than this (default 2^28 = 16384 x 16384, 768 MiB of RGB)")
         ->check(CLI::Range(std::int64_t(1), std::numeric_limits<std::int64_t>::max()));

@@ -193,6 +193,8 @@ std::string scene_format::loadSceneParts(const std::string& path, SceneDocument&
         throw SceneFileError(path + ": not a GeoPackage, or corrupt: " + e.what());
     } catch (const std::bad_alloc&) {
         throw SceneFileError(path + ": out of memory while loading");
+    } catch (const SceneFileError&) {
+        throw;  // names the file already (a region read's budget, io/scene_region.h)
     } catch (const std::exception& e) {
         throw SceneFileError(path + ": cannot load: " + e.what());
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <deque>
 #include <optional>
+#include <sstream>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
@@ -110,8 +111,9 @@ struct LayerSlots {
 
 class RegionLoader {
 public:
-    RegionLoader(SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables, double tolerance, SceneRegionOptions filter)
-        : db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance), filter_(filter) {
+    RegionLoader(const std::string& path, SqliteDb& db, SceneDocument& doc, std::vector<FeatureTableRef> tables,
+                 double tolerance, SceneRegionOptions filter)
+        : path_(path), db_(db), doc_(doc), rows_(db), tables_(std::move(tables)), tolerance_(tolerance), filter_(filter) {
         const std::size_t n = doc.scene.layers.size();
         slots_.resize(n);
         // Each layer's file ids: its largest id + 1, through the (layer, id) index, not a scan of the
@@ -122,6 +124,7 @@ public:
                 slots_[layer].of(table[6] == 'n' ? ElementKind::Node : table[6] == 'c' ? ElementKind::Curve : ElementKind::Area).fileCount =
                     counts[layer];
         }
+        charge(memoryBytes(doc.scene));  // the layers, without elements yet
     }
 
     // Everything whose feature box meets `box`.
@@ -235,6 +238,7 @@ public:
     std::size_t fileSlots(LayerId layer, ElementKind kind) const { return slots_[layer].of(kind).fileCount; }
 
     std::size_t nodes = 0, curves = 0, areas = 0;
+    std::size_t bytes = 0;  // held so far (charge())
 
 private:
     std::vector<ElementId> query(const FeatureTableRef& t, const Box& box) {
@@ -255,6 +259,17 @@ private:
         return ids;
     }
 
+    // Counts `n` more bytes of elements held; refuses the read when they pass the budget.
+    void charge(std::size_t n) {
+        bytes += n;
+        if (double(bytes) > filter_.budgetMiB * 1048576.0) {
+            std::ostringstream m;
+            m << "the vector data of the region passes the budget of " << filter_.budgetMiB << " MiB ("
+              << double(bytes) / 1048576.0 << " MiB held after reading " << nodes << " nodes, " << curves << " curves and "
+              << areas << " areas)";
+            throw SceneBudgetError(path_ + ": " + m.str());
+        }
+    }
     ElementId nodeSlot(LayerId l, ElementId id) { return slots_[l].nodes.slot(doc_.scene.layers[l].nodes, id, "node"); }
     ElementId curveSlot(LayerId l, ElementId id) {
         LayerSlots& s = slots_[l];
@@ -276,6 +291,7 @@ private:
             n = Node{};
             n.alive = false;
         }
+        charge(memoryBytes(n) + sizeof(ElementId));  // and its file id (Layer::sceneIds)
         doc_.scene.layers[l].nodes[id] = std::move(n);
         ++nodes;
     }
@@ -295,6 +311,7 @@ private:
                 c = Curve{};
                 c.alive = false;
             }
+            charge(memoryBytes(c) + sizeof(ElementId));
             doc_.scene.layers[l].curves[id] = std::move(c);
             ++curves;
         }
@@ -326,7 +343,8 @@ private:
             a = Area{};
             a.alive = false;
         }
-        doc_.scene.layers[l].areas[id] = a;
+        doc_.scene.layers[l].areas[id] = a;  // a copy: the curve loads below may move the areas
+        charge(memoryBytes(doc_.scene.layers[l].areas[id]) + sizeof(ElementId));
         ++areas;
         for (const auto& loop : a.loops)
             for (const AreaEdge& e : loop) loadCurve(l, e.curve, near);
@@ -384,6 +402,7 @@ private:
         }
     }
 
+    const std::string& path_;
     SqliteDb& db_;
     SceneDocument& doc_;
     ElementRows rows_;
@@ -403,6 +422,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         throw std::invalid_argument("loadSceneRegion: the region is empty");
     if (!(filter.minCurveWidth >= 0.0) || !std::isfinite(filter.minCurveWidth))
         throw std::invalid_argument("loadSceneRegion: SceneRegionOptions::minCurveWidth must be finite and >= 0");
+    if (!(filter.budgetMiB > 0.0)) throw std::invalid_argument("loadSceneRegion: SceneRegionOptions::budgetMiB must be > 0");
     SceneRegionStats local;
     SceneRegionStats& st = stats ? *stats : local;
     st = {};
@@ -466,7 +486,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         }
         st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
                                      std::fabs(region.max.y)});
-        RegionLoader loader(db, d, std::move(tables), tolerance, filter);
+        RegionLoader loader(path, db, d, std::move(tables), tolerance, filter);
         // The quads of the level that meet the region (closed boxes: a quad touching its border
         // counts), on the root's grid, then the reach around them.
         const double cells = double(std::int64_t(1) << level);
@@ -506,6 +526,11 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
     if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
+    st.bytes = memoryBytes(doc.scene);
+    if (!indexed && double(st.bytes) > filter.budgetMiB * 1048576.0)  // read whole: refused once read
+        throw SceneBudgetError(path + ": the vector data of the scene (read whole: the file has no feature index) holds " +
+                               std::to_string(double(st.bytes) / 1048576.0) + " MiB, over the budget of " +
+                               std::to_string(filter.budgetMiB) + " MiB");
     if (!indexed)
         for (const Layer& l : doc.scene.layers) {
             st.sceneNodes += l.nodes.size();

@@ -27,15 +27,30 @@
 // partial model is validated; the whole file's checksum is not (it needs every row).
 //
 // A file without the feature index (written before it) is loaded whole (stats.wholeScene) and its
-// checksum checked (when the DEM is read: the checksum covers it). What still follows the scene: the
-// scan of lacet_attributes (only those of what was read are kept).
+// checksum checked (when the DEM is read: the checksum covers it), and, written before their
+// indexes, its lacet_attributes and the ring nodes of lacet_nodes are scanned whole.
+//
+// Memory: SceneRegionOptions::budgetMiB bounds the vector data read (model/graph.h's memoryBytes of
+// the layers and of each element read with its file id, summed as it is read: what the document
+// returned holds, SceneRegionStats::bytes); a read that would pass it stops and throws
+// SceneBudgetError naming the file, the budget and what had been read, instead of swapping or
+// failing to allocate. The reader's index of what it names and reads, about 100 bytes an element
+// while it reads, and the attributes are not counted.
 
+#include <limits>
 #include <string>
 
 #include "io/document.h"
+#include "io/scene_file.h"
 #include "model/clip_and_refine.h"
 
 namespace lacet {
+
+// A region read refused by its memory budget (SceneRegionOptions::budgetMiB).
+class SceneBudgetError : public SceneFileError {
+public:
+    using SceneFileError::SceneFileError;
+};
 
 struct SceneRegionStats {
     bool wholeScene = false;  // the file has no feature index: everything was loaded
@@ -44,6 +59,7 @@ struct SceneRegionStats {
     std::size_t nodes = 0, curves = 0, areas = 0;                 // loaded
     std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // ids of the whole scene (max id + 1)
     std::string checksum;  // the whole file's stored checksum (loadScene checks it; a region load cannot)
+    std::size_t bytes = 0;  // the loaded document's vector data in memory (model/graph.h: memoryBytes)
 };
 
 // What a region load starts from. By default every curve and area the R-trees find; with
@@ -62,6 +78,8 @@ struct SceneRegionOptions {
     // checks each page it reads, and every row read is checked. A reader of most of the file (the
     // pyramid build, pyramid/pyramid_build.h) asks for it on its first read.
     bool wholeFileCheck = false;
+    // MiB of vector data the read may hold (> 0; infinity: no bound); past it, SceneBudgetError.
+    double budgetMiB = std::numeric_limits<double>::infinity();
 };
 
 // Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with

@@ -110,4 +110,37 @@ SceneCounts count(const Scene& scene) {
     return c;
 }
 
+namespace {
+template <class T>
+std::size_t heapBytes(const std::vector<T>& v) {
+    return v.capacity() * sizeof(T);
+}
+}  // namespace
+
+std::size_t memoryBytes(const Node& n) { return sizeof(Node) + heapBytes(n.curves); }
+std::size_t memoryBytes(const Curve& c) { return sizeof(Curve) + heapBytes(c.vertices) + heapBytes(c.areas); }
+std::size_t memoryBytes(const Area& a) {
+    std::size_t b = sizeof(Area) + heapBytes(a.loops);
+    for (const auto& loop : a.loops) b += heapBytes(loop);
+    return b;
+}
+
+std::size_t memoryBytes(const Layer& layer) {
+    std::size_t b = sizeof(Layer) + layer.name.capacity();
+    for (const Node& n : layer.nodes) b += memoryBytes(n);
+    for (const Curve& c : layer.curves) b += memoryBytes(c);
+    for (const Area& a : layer.areas) b += memoryBytes(a);
+    b += (layer.nodes.capacity() - layer.nodes.size()) * sizeof(Node) +
+         (layer.curves.capacity() - layer.curves.size()) * sizeof(Curve) +
+         (layer.areas.capacity() - layer.areas.size()) * sizeof(Area);
+    const Layer::SceneIds& ids = layer.sceneIds;
+    return b + heapBytes(ids.nodes) + heapBytes(ids.curves) + heapBytes(ids.areas);
+}
+
+std::size_t memoryBytes(const Scene& scene) {
+    std::size_t b = sizeof(Scene) + (scene.layers.capacity() - scene.layers.size()) * sizeof(Layer);
+    for (const Layer& l : scene.layers) b += memoryBytes(l);
+    return b;
+}
+
 }  // namespace lacet

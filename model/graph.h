@@ -158,4 +158,13 @@ struct SceneCounts {
 };
 SceneCounts count(const Scene& scene);
 
+// Bytes an element holds in memory: its struct and the vectors it owns, at their capacity. What a
+// memory budget of vector data counts (io/scene_region.h: SceneRegionOptions::budgetMiB).
+std::size_t memoryBytes(const Node& n);
+std::size_t memoryBytes(const Curve& c);
+std::size_t memoryBytes(const Area& a);
+// A layer's elements, each vector's unused capacity and a part's file ids included; a scene's layers.
+std::size_t memoryBytes(const Layer& layer);
+std::size_t memoryBytes(const Scene& scene);
+
 }  // namespace lacet

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <future>
+#include <optional>
 #include <mutex>
 #include <stdexcept>
 #include <unordered_set>
@@ -118,7 +119,7 @@ struct SceneModel {
 // DEM. `checksum`: the file's stored checksum; `whole`: the file has no feature index and was read
 // whole; `elements`: the file's curves and areas (loadSceneOutline).
 SceneDocument readTopPart(const std::string& path, PyramidParams params, const RefineParams& refine, std::string& checksum,
-                          bool& whole, std::size_t& elements) {
+                          bool& whole, std::size_t& elements, std::size_t& topBytes) {
     const SceneOutline outline = loadSceneOutline(path);
     const Box extent = outline.extent;
     elements = outline.elements;
@@ -129,8 +130,16 @@ SceneDocument readTopPart(const std::string& path, PyramidParams params, const R
     const double quad = extent.size().x / double(std::int64_t(1) << deepest);
     filter.minCurveWidth = 2.0 * quad / double(refine.elevationResolution);
     filter.wholeFileCheck = true;  // the build reads most of the file: every page checked once, first
+    filter.budgetMiB = params.vectorBudgetMiB;
     SceneRegionStats st;
-    SceneDocument part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
+    SceneDocument part;
+    try {
+        part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
+    } catch (const SceneBudgetError& e) {
+        throw PyramidError(std::string(e.what()) + ": the levels above the shards (" + std::to_string(deepest) +
+                           " and up) read every road, river and lake they draw; raise --vector-budget");
+    }
+    topBytes = st.bytes;
     checksum = st.checksum;
     whole = st.wholeScene;
     return part;
@@ -147,6 +156,7 @@ struct PyramidJob::Impl {
     std::string scenePath;
     std::string fileChecksum;  // the scene file's stored checksum (a job over a file)
     std::size_t fileElements = 0;  // its curves and areas (the default shard level)
+    std::size_t topBytes = 0;      // topPart's vector data (model/graph.h: memoryBytes)
     SceneDocument topPart;
     const SceneDocument& doc;  // the caller's document, or topPart
     // Each quad's DEM and the z-profiles' heights: a streamed DEM's (doc.demLod) window at the level
@@ -184,11 +194,13 @@ struct PyramidJob::Impl {
           top(std::make_unique<SceneModel>(&topPart, SceneDocument{}, refine, demSource->heights())),
           cur(top.get()) {
         params.resolve(doc.scene.extent.size().x, refine.resolution, fileElements);
+        stats.topVectorMiB = double(topBytes) / 1048576.0;
+        noteHeld(topBytes);
     }
 
     SceneDocument readTop(const std::string& path, const PyramidParams& p) {
         bool whole = false;
-        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole, fileElements);
+        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole, fileElements, topBytes);
         if (whole) scenePath.clear();  // no feature index: read whole once, the shards made from it
         return part;
     }
@@ -244,18 +256,53 @@ struct PyramidJob::Impl {
         stats.peakShardQuads = std::max(stats.peakShardQuads, heldQuads);
     }
 
-    // A shard's part of the scene file: what the tiles of its quads need (io/scene_region.h).
+    // Vector data held (MiB accounting of params.vectorBudgetMiB): the top part, and the shards'
+    // parts in memory; the largest sum seen goes to stats.peakVectorMiB.
+    std::mutex heldMutex;
+    std::size_t heldBytes = 0;
+    void noteHeld(std::size_t bytes) {
+        const std::lock_guard lock(heldMutex);
+        heldBytes = bytes;
+        stats.peakVectorMiB = std::max(stats.peakVectorMiB, double(heldBytes) / 1048576.0);
+    }
+
+    // A shard's part of the scene file: what the tiles of its quads need (io/scene_region.h),
+    // within `budgetMiB` of vector data (SceneBudgetError past it) and its bytes in `bytes`.
     // Thread-safe (it reads the file on its own connection): runShards() reads the next while one
     // is made.
-    std::unique_ptr<SceneModel> shardModel(const Box& bounds, int level) {
+    std::unique_ptr<SceneModel> shardModel(const Box& bounds, int level, double budgetMiB, std::size_t& bytes) {
         SceneRegionOptions filter;
         filter.dem = false;              // the job's DEM source serves every model
         filter.wholeFileCheck = false;   // done once, by the read of the levels above
+        filter.budgetMiB = budgetMiB;
         // The shard's quad alone: a box inside it (its neighbours, which touch its border, are
         // other shards).
         const Box inside = bounds.dilated(-1e-3 * bounds.size().x);
-        SceneDocument part = clip.time([&] { return loadSceneRegion(scenePath, inside, refine, level, nullptr, filter); });
+        SceneRegionStats st;
+        SceneDocument part = clip.time([&] { return loadSceneRegion(scenePath, inside, refine, level, &st, filter); });
+        bytes = st.bytes;
+        {
+            const std::lock_guard lock(heldMutex);
+            stats.largestPartMiB = std::max(stats.largestPartMiB, double(bytes) / 1048576.0);
+        }
         return std::make_unique<SceneModel>(nullptr, std::move(part), refine, demSource->heights());
+    }
+    // The same with all of the budget the top part leaves, refused with the figure and the way out.
+    std::unique_ptr<SceneModel> shardModelAlone(const PyramidKey& shard, const Box& bounds, std::size_t& bytes) {
+        try {
+            return shardModel(bounds, shard.level, budgetLeft(0), bytes);
+        } catch (const SceneBudgetError& e) {
+            throw PyramidError(std::string(e.what()) + " (with the " + std::to_string(double(topBytes) / 1048576.0) +
+                               " MiB of the levels above the shards): shard " + std::to_string(shard.level) + "/" +
+                               std::to_string(shard.tx) + "/" + std::to_string(shard.ty) +
+                               "'s part does not fit; a deeper --shard-level (now " + std::to_string(params.shardLevel) +
+                               ") makes smaller parts, or raise --vector-budget");
+        }
+    }
+    // MiB of the vector budget left beside the top part and `held` bytes of another part (at
+    // least a byte's worth: a read with nothing left is refused at its first element).
+    double budgetLeft(std::size_t held) const {
+        return std::max(1.0 / 1048576.0, params.vectorBudgetMiB - double(topBytes + held) / 1048576.0);
     }
 
     int vectorLevel() const { return params.vectorLevel(); }
@@ -555,7 +602,9 @@ void PyramidJob::runShard(const PyramidKey& shard, PyramidStore& store, Progress
     m.progress = progress;
     // A job over a file: the shard's own part of it (the tree above, clipped to the shards, gives
     // its bounds).
-    std::unique_ptr<SceneModel> part = m.scenePath.empty() ? nullptr : m.shardModel(m.quadAt(shard).bounds, shard.level);
+    std::size_t bytes = 0;
+    std::unique_ptr<SceneModel> part = m.scenePath.empty() ? nullptr : m.shardModelAlone(shard, m.quadAt(shard).bounds, bytes);
+    m.noteHeld(m.topBytes + bytes);
     m.runShardOn(shard, std::move(part), store);
 }
 
@@ -563,21 +612,44 @@ void PyramidJob::runShards(const std::vector<PyramidKey>& shards, PyramidStore& 
     Impl& m = *impl_;
     m.progress = progress;
     m.deferWrites = true;
-    std::future<std::unique_ptr<SceneModel>> next;  // a job over a file: the next shard's part, read while this one is made
+    // A job over a file: the next shard's part, read while this one is made within the budget
+    // this one leaves (nullptr when it did not fit: read alone once this one is made).
+    std::future<std::unique_ptr<SceneModel>> next;
+    std::size_t nextBytes = 0;
     try {
         if (m.scenePath.empty()) {
             for (const PyramidKey& s : shards) runShard(s, store, progress);
         } else {
             std::vector<Box> bounds;
             for (const PyramidKey& s : shards) bounds.push_back(m.quadAt(s).bounds);
-            const auto read = [&m, &bounds, &shards](std::size_t i) {
-                return std::async(std::launch::async, [&m, &bounds, &shards, i] { return m.shardModel(bounds[i], shards[i].level); });
+            const auto readAhead = [&](std::size_t i, std::size_t held) {
+                return std::async(std::launch::async, [&m, &bounds, &shards, &nextBytes, i, held]() -> std::unique_ptr<SceneModel> {
+                    try {
+                        return m.shardModel(bounds[i], shards[i].level, m.budgetLeft(held), nextBytes);
+                    } catch (const SceneBudgetError&) {
+                        nextBytes = 0;
+                        return nullptr;
+                    }
+                });
             };
-            if (!shards.empty()) next = read(0);
             for (std::size_t i = 0; i < shards.size(); ++i) {
-                std::unique_ptr<SceneModel> part = next.get();
-                if (i + 1 < shards.size()) next = read(i + 1);
+                std::size_t bytes = 0;
+                std::unique_ptr<SceneModel> part;
+                if (next.valid()) {
+                    part = next.get();
+                    bytes = nextBytes;
+                }
+                if (!part) {
+                    if (i > 0) ++m.stats.readsNotAhead;
+                    part = m.shardModelAlone(shards[i], bounds[i], bytes);
+                }
+                m.noteHeld(m.topBytes + bytes);
+                if (i + 1 < shards.size()) next = readAhead(i + 1, bytes);
                 m.runShardOn(shards[i], std::move(part), store);
+                if (next.valid()) {
+                    next.wait();  // the part read ahead is held beside this one until it is made
+                    m.noteHeld(m.topBytes + bytes + nextBytes);
+                }
             }
         }
         m.deferWrites = false;
@@ -660,23 +732,30 @@ namespace {
 PyramidStats build(const std::function<std::unique_ptr<PyramidJob>(PyramidParams)>& makeJob, const std::string& out,
                    PyramidParams params, bool force, Progress* progress) {
     const std::unique_ptr<PyramidJob> job = makeJob(params);
-    PyramidStore store(out, PyramidStore::Mode::ReadWrite);
+    const bool created = !std::filesystem::exists(out);  // a failed build removes a file it made
+    std::optional<PyramidStore> store(std::in_place, out, PyramidStore::Mode::ReadWrite);
     const PyramidInfo wanted = job->info();
-    if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
+    if (auto old = store->info(); old && !force) checkPyramidMatches(*old, wanted, out);
     try {
-        store.begin();
-        store.create(wanted);
-        PyramidStats st = run(*job, store, progress);
-        complete(store, wanted, st);
+        store->begin();
+        store->create(wanted);
+        PyramidStats st = run(*job, *store, progress);
+        complete(*store, wanted, st);
         return st;
     } catch (...) {
-        store.rollback();
+        store->rollback();
+        if (created) {
+            store.reset();
+            std::error_code ec;
+            std::filesystem::remove(out, ec);
+            std::filesystem::remove(out + "-journal", ec);
+        }
         throw;
     }
 }
 
 PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParams, QuadDigestMap)>& makeJob,
-                    const std::string& path, Progress* progress, double demBudgetMiB) {
+                    const std::string& path, Progress* progress, double demBudgetMiB, double vectorBudgetMiB) {
     if (!std::filesystem::exists(path)) throw PyramidError(path + ": no such pyramid file (build one with lacet pyramid build)");
     PyramidStore store(path, PyramidStore::Mode::ReadWrite);
     const auto old = store.info();
@@ -684,6 +763,7 @@ PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParam
     if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
     PyramidParams params = pyramidParams(*old);
     params.demBudgetMiB = demBudgetMiB;
+    params.vectorBudgetMiB = vectorBudgetMiB;
     const std::unique_ptr<PyramidJob> job = makeJob(params, store.digests());
     const PyramidInfo wanted = job->info();
     checkPyramidMatches(*old, wanted, path);
@@ -714,12 +794,13 @@ PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, 
 
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
     return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(doc, p, std::move(d)); }, path, progress,
-                  demBudgetMiB);
+                  demBudgetMiB, PyramidParams{}.vectorBudgetMiB);
 }
 
-PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress, double demBudgetMiB) {
+PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress, double demBudgetMiB,
+                           double vectorBudgetMiB) {
     return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(scenePath, p, std::move(d)); }, path,
-                  progress, demBudgetMiB);
+                  progress, demBudgetMiB, vectorBudgetMiB);
 }
 
 }  // namespace lacet

@@ -62,6 +62,13 @@ struct PyramidParams {
     // at the level it needs (never the coarse level in memory), the least recently used blocks
     // dropped. Memory only: not stored with the pyramid, no tile depends on it.
     double demBudgetMiB = 512.0;
+    // MiB of vector data a job over a scene file holds at once (> 0; model/graph.h's memoryBytes):
+    // the part read for the levels above the shards, then the shards' parts, the next one read
+    // ahead while a shard is made only when both fit. A part that alone would pass it is refused
+    // (PyramidError naming the shard, the budget and what was read; a deeper shardLevel makes
+    // smaller parts), never read past it. The clipped quads made from a part are not counted
+    // (passLevels bounds them). Memory only: not stored with the pyramid, no tile depends on it.
+    double vectorBudgetMiB = 2048.0;
     // Checks ranges (and the limits above) and fills the defaults for a scene of `extentSize`
     // metres a side holding `sceneElements` curves and areas; throws std::invalid_argument.
     void resolve(double extentSize, int tileSize, std::size_t sceneElements = 0);
@@ -95,6 +102,10 @@ struct PyramidStats {
     std::uint64_t bytes = 0;          // of the stored tiles after the run
     bool rebuilt = false;             // an update that remade everything (inputs changed)
     std::size_t peakShardQuads = 0;   // the most quads below a shard's root clipped at once (PyramidParams::passLevels)
+    double peakVectorMiB = 0.0;       // a job over a file: the most vector data held at once (parts read, MiB)
+    double topVectorMiB = 0.0;        // of it, the part read for the levels above the shards
+    double largestPartMiB = 0.0;      // the largest shard's part
+    std::size_t readsNotAhead = 0;    // shards' parts not read ahead: with the one being made, over vectorBudgetMiB
     PyramidTimes times;
     PyramidDemStats dem;
     double wallSeconds = 0.0;
@@ -158,9 +169,11 @@ PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, 
 // pyramid, it is incomplete, or it was made for another extent or CRS.
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress,
                            double demBudgetMiB = PyramidParams{}.demBudgetMiB);
-// The same from the scene file at `scenePath`, out of core (PyramidJob above).
+// The same from the scene file at `scenePath`, out of core (PyramidJob above), its vector data
+// within `vectorBudgetMiB` (PyramidParams::vectorBudgetMiB).
 PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress,
-                           double demBudgetMiB = PyramidParams{}.demBudgetMiB);
+                           double demBudgetMiB = PyramidParams{}.demBudgetMiB,
+                           double vectorBudgetMiB = PyramidParams{}.vectorBudgetMiB);
 
 // Throws PyramidError naming `path` when a stored pyramid was made for another extent or CRS than
 // `wanted` (a build refuses to replace it without --force, an update refuses it).

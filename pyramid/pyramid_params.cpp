@@ -58,6 +58,9 @@ void PyramidParams::resolve(double extentSize, int tileSize, std::size_t sceneEl
     if (!(extentSize > 0.0)) throw std::invalid_argument("PyramidParams: the scene has an empty extent");
     if (!(demBudgetMiB > 0.0) || !std::isfinite(demBudgetMiB))
         throw std::invalid_argument("PyramidParams: the DEM budget must be a positive number of MiB (got " + std::to_string(demBudgetMiB) + ")");
+    if (!(vectorBudgetMiB > 0.0))
+        throw std::invalid_argument("PyramidParams: the vector budget must be a positive number of MiB (got " +
+                                    std::to_string(vectorBudgetMiB) + ")");
     if (maxLevel < 0) {
         // The level whose texel is nearest `texel` by ratio.
         maxLevel = 0;

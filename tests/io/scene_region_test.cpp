@@ -297,6 +297,37 @@ TEST_F(SceneRegion, APartIsNeverSavedNorGrown) {
     EXPECT_FALSE(validate(part.scene).empty());
 }
 
+// SceneRegionOptions::budgetMiB: a read within it is the same document, holding what it counted
+// (SceneRegionStats::bytes, model/graph.h's memoryBytes); a byte less is refused by name with the
+// budget, not read past it.
+TEST_F(SceneRegion, AReadOverItsBudgetIsRefusedWithTheFigure) {
+    const Box extent = whole_->scene.extent;
+    const Box region{extent.min + extent.size() * 0.3, extent.min + extent.size() * 0.5};
+    SceneRegionStats free;
+    const SceneDocument a = loadSceneRegion(*path_, region, {}, 6, &free);
+    EXPECT_EQ(free.bytes, memoryBytes(a.scene));
+    ASSERT_GT(free.bytes, 100000u);
+    SceneRegionOptions within;
+    within.budgetMiB = double(free.bytes) / 1048576.0;
+    SceneRegionStats st;
+    const SceneDocument b = loadSceneRegion(*path_, region, {}, 6, &st, within);
+    EXPECT_EQ(st.bytes, free.bytes);
+    EXPECT_EQ(st.curves, free.curves);
+    EXPECT_EQ(b.scene.layers.size(), a.scene.layers.size());
+    SceneRegionOptions tight;  // a byte less than the document holds: what is counted is what is held
+    tight.budgetMiB = double(free.bytes - 1) / 1048576.0;
+    try {
+        loadSceneRegion(*path_, region, {}, 6, nullptr, tight);
+        FAIL() << "a read over its budget was not refused";
+    } catch (const SceneBudgetError& e) {
+        EXPECT_NE(std::string(e.what()).find(*path_), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("passes the budget"), std::string::npos) << e.what();
+    }
+    SceneRegionOptions none;
+    none.budgetMiB = 0.0;
+    EXPECT_THROW(loadSceneRegion(*path_, region, {}, 6, nullptr, none), std::invalid_argument);
+}
+
 // The outline (the default pyramid shard level reads it): the extent, and the curves and areas of
 // every layer counted by their ids, deleted ones included.
 TEST_F(SceneRegion, TheOutlineCountsEveryLayersCurvesAndAreas) {

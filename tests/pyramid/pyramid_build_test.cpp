@@ -328,6 +328,56 @@ TEST(PyramidBuild, FromTheSceneFileOutOfCoreEqualsFromTheWholeDocument) {
     fs::remove_all(dir);
 }
 
+// PyramidParams::vectorBudgetMiB: the vector data a build over a file holds. With room for the
+// largest shard's part beside the top part but not for two parts, the next part is not read ahead
+// (counted) and the pyramid is the same, tile for tile, its peak within the budget; with no room
+// for the largest part, the build is refused naming the file, the shard, the budget and the way out,
+// and no pyramid is left.
+TEST(PyramidBuild, AVectorBudgetReadsAheadOnlyWhatFitsAndRefusesAPartThatDoesNot) {
+    const fs::path dir = fs::temp_directory_path() / ("lacet_pyramid_budget_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string scene = (dir / "scene.gpkg").string();
+    saveScene(scene, smallScene(3, 3000));
+    PyramidParams p = smallParams();
+    p.maxLevel = 4;
+    p.shardLevel = 2;
+    const std::string free = (dir / "free.gpkg").string(), tight = (dir / "tight.gpkg").string(),
+                      refused = (dir / "refused.gpkg").string();
+    const PyramidStats a = buildPyramid(scene, free, p, false, nullptr);
+    const double top = a.topVectorMiB, largest = a.largestPartMiB;
+    EXPECT_EQ(a.readsNotAhead, 0u);
+    ASSERT_GT(top, 0.0);
+    ASSERT_GT(largest, 0.0);
+    EXPECT_GT(a.peakVectorMiB, top + largest) << "a part read ahead beside the one being made";
+    EXPECT_LE(a.peakVectorMiB, top + 2.0 * largest);
+
+    p.vectorBudgetMiB = top + 1.02 * largest;
+    PyramidStats b;
+    try {
+        b = buildPyramid(scene, tight, p, false, nullptr);
+    } catch (const PyramidError& e) {
+        FAIL() << "a budget over the largest part was refused: " << e.what();
+    }
+    EXPECT_GT(b.readsNotAhead, 0u);
+    EXPECT_LE(b.peakVectorMiB, p.vectorBudgetMiB);
+    EXPECT_EQ(b.largestPartMiB, largest);
+    expectSamePyramid(free, tight);
+
+    p.vectorBudgetMiB = top + 0.3 * largest;
+    try {
+        buildPyramid(scene, refused, p, false, nullptr);
+        ADD_FAILURE() << "a part over the budget was read";
+    } catch (const PyramidError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find(scene), std::string::npos) << m;
+        EXPECT_NE(m.find("budget"), std::string::npos) << m;
+        EXPECT_NE(m.find("shard 2/"), std::string::npos) << m;
+        EXPECT_NE(m.find("--shard-level"), std::string::npos) << m;
+    }
+    EXPECT_FALSE(fs::exists(refused));
+    fs::remove_all(dir);
+}
+
 TEST(PyramidUpdate, NothingChangedRemakesNothing) {
     const SceneDocument doc = smallScene();
     TempFile f("pyramid_same.gpkg");
