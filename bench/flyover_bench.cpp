@@ -202,8 +202,10 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         pyramidJson["encoding"] = pyramid->encoding();
     }
     std::vector<Run> plan;
-    if (!o.scene.empty())  // a scene file (its DEM streamed, if it is a tree): each budget once
-        for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0});
+    if (!o.scene.empty())  // a scene file (its DEM streamed, if it is a tree): each budget once, or without and with its pyramid
+        for (double budget : o.budgetsMs)
+            for (const bool with : pyramid ? std::vector<bool>{false, true} : std::vector<bool>{false})
+                plan.push_back({budget, false, true, 0.0, SessionParams{}.cacheTiles, with});
     else if (pyramid)  // each budget without and with the pyramid, nothing else
         for (double budget : o.budgetsMs)
             for (const bool with : {false, true}) plan.push_back({budget, false, true, 0.0, SessionParams{}.cacheTiles, with});
