@@ -5,9 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <iomanip>
 #include <optional>
-#include <sstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 #include <unordered_set>
@@ -264,9 +265,9 @@ private:
         bytes += n;
         if (double(bytes) > filter_.budgetMiB * 1048576.0) {
             std::ostringstream m;
-            m << "the vector data of the region passes the budget of " << filter_.budgetMiB << " MiB ("
-              << double(bytes) / 1048576.0 << " MiB held after reading " << nodes << " nodes, " << curves << " curves and "
-              << areas << " areas)";
+            m << std::fixed << std::setprecision(2) << "the vector data of the region passes the budget of "
+              << filter_.budgetMiB << " MiB after reading " << nodes << " nodes, " << curves << " curves and " << areas
+              << " areas";
             throw SceneBudgetError(path_ + ": " + m.str());
         }
     }
