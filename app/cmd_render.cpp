@@ -141,6 +141,9 @@ void refineRegion(Quadtree& qt, Quad& q, const Box& region, int level, std::vect
 
 void run(const RenderOptions& o) {
     using namespace lacet::bench;
+    if (!(o.vectorBudgetMiB > 0.0)) throw std::invalid_argument("--vector-budget must be > 0 MiB");
+    if (std::isfinite(o.vectorBudgetMiB) && (o.region.empty() || o.scene.empty()))
+        throw std::invalid_argument("--vector-budget bounds the read of --region from --scene; without both there is no such read");
     Box region;
     if (!o.region.empty()) {
         const auto& r = o.region;

@@ -490,6 +490,7 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std:
 bool readPartAttributes(SqliteDb& db, SceneDocument& doc) {
     if (db.queryInteger("SELECT count(*) FROM sqlite_master WHERE type = 'index' AND name = 'lacet_attributes_element'") == 0)
         return false;
+    if (db.queryInteger("SELECT EXISTS (SELECT 1 FROM lacet_attributes)") == 0) return true;  // none: no lookups
     auto s = db.prepare("SELECT fid, key, value FROM lacet_attributes WHERE layer = ? AND kind = ? AND id = ?");
     std::vector<std::pair<std::int64_t, ElementAttribute>> read;  // with their fid, for the table's order
     for (LayerId l = 0; l < doc.scene.layers.size(); ++l) {

@@ -520,6 +520,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         st.nodes = loader.nodes;
         st.curves = loader.curves;
         st.areas = loader.areas;
+        st.bytes = loader.bytes;  // what was counted while reading (the test checks it is what is held)
     };
     const std::string checksum = loadSceneParts(path, doc, readRegion, filter.dem, filter.wholeFileCheck);
     st.checksum = checksum;
@@ -527,7 +528,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
     if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
-    st.bytes = memoryBytes(doc.scene);
+    if (!indexed) st.bytes = memoryBytes(doc.scene);
     if (!indexed && double(st.bytes) > filter.budgetMiB * 1048576.0)  // read whole: refused once read
         throw SceneBudgetError(path + ": the vector data of the scene (read whole: the file has no feature index) holds " +
                                std::to_string(double(st.bytes) / 1048576.0) + " MiB, over the budget of " +

@@ -30,12 +30,14 @@
 // checksum checked (when the DEM is read: the checksum covers it), and, written before their
 // indexes, its lacet_attributes and the ring nodes of lacet_nodes are scanned whole.
 //
-// Memory: SceneRegionOptions::budgetMiB bounds the vector data read (model/graph.h's memoryBytes of
-// the layers and of each element read with its file id, summed as it is read: what the document
-// returned holds, SceneRegionStats::bytes); a read that would pass it stops and throws
-// SceneBudgetError naming the file, the budget and what had been read, instead of swapping or
-// failing to allocate. The reader's index of what it names and reads, about 100 bytes an element
-// while it reads, and the attributes are not counted.
+// Memory: SceneRegionOptions::budgetMiB bounds the vector data read: model/graph.h's memoryBytes of
+// the layers and of each element read with its file id, summed as it is read, which is what the
+// document returned holds (SceneRegionStats::bytes). Once the sum passes the budget the read stops
+// and throws SceneBudgetError naming the file, the budget and what had been read, so a read far
+// over its budget stops early. Not counted, so the peak while reading is higher: the reader's index
+// of what it names and reads (about 100 bytes an element), the placeholders of elements named but
+// not read, the element vectors' spare room while they grow (up to as much again), and the
+// attributes. A file without the feature index is read whole and refused after.
 
 #include <limits>
 #include <string>

@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <functional>
 #include <future>
+#include <iomanip>
 #include <optional>
 #include <mutex>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -136,8 +138,8 @@ SceneDocument readTopPart(const std::string& path, PyramidParams params, const R
     try {
         part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
     } catch (const SceneBudgetError& e) {
-        throw PyramidError(std::string(e.what()) + ": the levels above the shards (" + std::to_string(deepest) +
-                           " and up) read every road, river and lake they draw; raise --vector-budget");
+        throw PyramidError(std::string(e.what()) + ": the read for the levels above the shards (" + std::to_string(deepest) +
+                           " and up) does not fit in --vector-budget; raise it");
     }
     topBytes = st.bytes;
     checksum = st.checksum;
@@ -292,11 +294,12 @@ struct PyramidJob::Impl {
         try {
             return shardModel(bounds, shard.level, budgetLeft(0), bytes);
         } catch (const SceneBudgetError& e) {
-            throw PyramidError(std::string(e.what()) + " (with the " + std::to_string(double(topBytes) / 1048576.0) +
-                               " MiB of the levels above the shards): shard " + std::to_string(shard.level) + "/" +
-                               std::to_string(shard.tx) + "/" + std::to_string(shard.ty) +
-                               "'s part does not fit; a deeper --shard-level (now " + std::to_string(params.shardLevel) +
-                               ") makes smaller parts, or raise --vector-budget");
+            std::ostringstream m;
+            m << std::fixed << std::setprecision(2) << "shard " << shard.level << "/" << shard.tx << "/" << shard.ty
+              << "'s part does not fit in --vector-budget " << params.vectorBudgetMiB << " MiB beside the "
+              << double(topBytes) / 1048576.0 << " MiB of the levels above the shards (" << e.what()
+              << "); a deeper --shard-level (now " << params.shardLevel << ") makes smaller parts, or raise --vector-budget";
+            throw PyramidError(m.str());
         }
     }
     // MiB of the vector budget left beside the top part and `held` bytes of another part (at
@@ -614,13 +617,15 @@ void PyramidJob::runShards(const std::vector<PyramidKey>& shards, PyramidStore& 
     m.deferWrites = true;
     // A job over a file: the next shard's part, read while this one is made within the budget
     // this one leaves (nullptr when it did not fit: read alone once this one is made).
-    std::future<std::unique_ptr<SceneModel>> next;
+    // `bounds` and `nextBytes` are declared before `next`: a read ahead still running when a shard
+    // throws reads them until the catch below has waited for it.
+    std::vector<Box> bounds;
     std::size_t nextBytes = 0;
+    std::future<std::unique_ptr<SceneModel>> next;
     try {
         if (m.scenePath.empty()) {
             for (const PyramidKey& s : shards) runShard(s, store, progress);
         } else {
-            std::vector<Box> bounds;
             for (const PyramidKey& s : shards) bounds.push_back(m.quadAt(s).bounds);
             const auto readAhead = [&](std::size_t i, std::size_t held) {
                 return std::async(std::launch::async, [&m, &bounds, &shards, &nextBytes, i, held]() -> std::unique_ptr<SceneModel> {
@@ -732,7 +737,8 @@ namespace {
 PyramidStats build(const std::function<std::unique_ptr<PyramidJob>(PyramidParams)>& makeJob, const std::string& out,
                    PyramidParams params, bool force, Progress* progress) {
     const std::unique_ptr<PyramidJob> job = makeJob(params);
-    const bool created = !std::filesystem::exists(out);  // a failed build removes a file it made
+    std::error_code noFile;  // a failed build removes a file it made (not a link, even a dangling one)
+    const bool created = !std::filesystem::exists(std::filesystem::symlink_status(out, noFile));
     std::optional<PyramidStore> store(std::in_place, out, PyramidStore::Mode::ReadWrite);
     const PyramidInfo wanted = job->info();
     if (auto old = store->info(); old && !force) checkPyramidMatches(*old, wanted, out);

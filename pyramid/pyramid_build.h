@@ -66,8 +66,9 @@ struct PyramidParams {
     // the part read for the levels above the shards, then the shards' parts, the next one read
     // ahead while a shard is made only when both fit. A part that alone would pass it is refused
     // (PyramidError naming the shard, the budget and what was read; a deeper shardLevel makes
-    // smaller parts), never read past it. The clipped quads made from a part are not counted
-    // (passLevels bounds them). Memory only: not stored with the pyramid, no tile depends on it.
+    // smaller parts), its read stopped once it passes (io/scene_region.h: what is not counted).
+    // The clipped quads made from a part are not counted (passLevels bounds them). Memory only:
+    // not stored with the pyramid, no tile depends on it.
     double vectorBudgetMiB = 2048.0;
     // Checks ranges (and the limits above) and fills the defaults for a scene of `extentSize`
     // metres a side holding `sceneElements` curves and areas; throws std::invalid_argument.
