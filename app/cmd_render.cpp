@@ -276,7 +276,7 @@ void run(const RenderOptions& o) {
         const SceneRegionStats& r = *regionStats;
         std::cout << "Vector data of the region: " << r.curves << " of " << r.sceneCurves << " curves, " << r.areas << " of "
                   << r.sceneAreas << " areas, " << r.nodes << " of " << r.sceneNodes << " nodes read, "
-                  << double(r.bytes) / 1048576.0 << " MiB ("
+                  << toMiB(r.bytes) << " MiB ("
                   << r.found << " found within " << r.reach << " m of its quads through the R-trees, the rest what they depend on)"
                   << (r.wholeScene ? "; the file has no feature index (saved before it): the whole scene was read" : "")
                   << "\n";

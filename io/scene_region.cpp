@@ -263,7 +263,7 @@ private:
     // Counts `n` more bytes of elements held; refuses the read when they pass the budget.
     void charge(std::size_t n) {
         bytes += n;
-        if (double(bytes) > filter_.budgetMiB * 1048576.0) {
+        if (toMiB(bytes) > filter_.budgetMiB) {
             std::ostringstream m;
             m << std::fixed << std::setprecision(2) << "the vector data of the region passes the budget of "
               << filter_.budgetMiB << " MiB after reading " << nodes << " nodes, " << curves << " curves and " << areas
@@ -529,9 +529,9 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
     if (!indexed) st.bytes = memoryBytes(doc.scene);
-    if (!indexed && double(st.bytes) > filter.budgetMiB * 1048576.0)  // read whole: refused once read
+    if (!indexed && toMiB(st.bytes) > filter.budgetMiB)  // read whole: refused once read
         throw SceneBudgetError(path + ": the vector data of the scene (read whole: the file has no feature index) holds " +
-                               std::to_string(double(st.bytes) / 1048576.0) + " MiB, over the budget of " +
+                               std::to_string(toMiB(st.bytes)) + " MiB, over the budget of " +
                                std::to_string(filter.budgetMiB) + " MiB");
     if (!indexed)
         for (const Layer& l : doc.scene.layers) {

@@ -166,5 +166,7 @@ std::size_t memoryBytes(const Area& a);
 // A layer's elements, each vector's unused capacity and a part's file ids included; a scene's layers.
 std::size_t memoryBytes(const Layer& layer);
 std::size_t memoryBytes(const Scene& scene);
+// Bytes in MiB (2^20 bytes), the unit of Lacet's memory budgets.
+inline double toMiB(std::size_t bytes) { return double(bytes) / 1048576.0; }
 
 }  // namespace lacet

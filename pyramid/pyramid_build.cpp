@@ -3,11 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <filesystem>
-#include <functional>
 #include <future>
 #include <iomanip>
-#include <optional>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -118,14 +115,20 @@ struct SceneModel {
 // What the levels above the shards read of a scene file: their elevation only, when their
 // appearance is mipmapped (the road and river curves at least two elevation samples wide at the
 // deepest of them, lakes and river areas, and what those depend on), else everything; with the
-// DEM. `checksum`: the file's stored checksum; `whole`: the file has no feature index and was read
-// whole; `elements`: the file's curves and areas (loadSceneOutline).
-SceneDocument readTopPart(const std::string& path, PyramidParams params, const RefineParams& refine, std::string& checksum,
-                          bool& whole, std::size_t& elements, std::size_t& topBytes) {
+// DEM.
+struct TopPart {
+    SceneDocument doc;
+    std::string checksum;       // the file's stored checksum
+    bool whole = false;         // the file has no feature index and was read whole
+    std::size_t elements = 0;   // the file's curves and areas (loadSceneOutline)
+    std::size_t bytes = 0;      // doc's vector data (SceneRegionStats::bytes)
+};
+TopPart readTopPart(const std::string& path, PyramidParams params, const RefineParams& refine) {
+    TopPart top;
     const SceneOutline outline = loadSceneOutline(path);
     const Box extent = outline.extent;
-    elements = outline.elements;
-    params.resolve(extent.size().x, refine.resolution, elements);
+    top.elements = outline.elements;
+    params.resolve(extent.size().x, refine.resolution, top.elements);
     const int deepest = std::max(0, params.shardLevel - 1);
     SceneRegionOptions filter;
     filter.elevationOnly = params.vectorLevel() >= params.shardLevel || !params.appearance;
@@ -134,17 +137,16 @@ SceneDocument readTopPart(const std::string& path, PyramidParams params, const R
     filter.wholeFileCheck = true;  // the build reads most of the file: every page checked once, first
     filter.budgetMiB = params.vectorBudgetMiB;
     SceneRegionStats st;
-    SceneDocument part;
     try {
-        part = loadSceneRegion(path, extent, refine, deepest, &st, filter);
+        top.doc = loadSceneRegion(path, extent, refine, deepest, &st, filter);
     } catch (const SceneBudgetError& e) {
         throw PyramidError(std::string(e.what()) + ": the read for the levels above the shards (" + std::to_string(deepest) +
                            " and up) does not fit in --vector-budget; raise it");
     }
-    topBytes = st.bytes;
-    checksum = st.checksum;
-    whole = st.wholeScene;
-    return part;
+    top.bytes = st.bytes;
+    top.checksum = st.checksum;
+    top.whole = st.wholeScene;
+    return top;
 }
 
 }  // namespace
@@ -196,15 +198,17 @@ struct PyramidJob::Impl {
           top(std::make_unique<SceneModel>(&topPart, SceneDocument{}, refine, demSource->heights())),
           cur(top.get()) {
         params.resolve(doc.scene.extent.size().x, refine.resolution, fileElements);
-        stats.topVectorMiB = double(topBytes) / 1048576.0;
+        stats.topVectorMiB = toMiB(topBytes);
         noteHeld(topBytes);
     }
 
     SceneDocument readTop(const std::string& path, const PyramidParams& p) {
-        bool whole = false;
-        SceneDocument part = readTopPart(path, p, refine, fileChecksum, whole, fileElements, topBytes);
-        if (whole) scenePath.clear();  // no feature index: read whole once, the shards made from it
-        return part;
+        TopPart read = readTopPart(path, p, refine);
+        fileChecksum = std::move(read.checksum);
+        fileElements = read.elements;
+        topBytes = read.bytes;
+        if (read.whole) scenePath.clear();  // no feature index: read whole once, the shards made from it
+        return std::move(read.doc);
     }
 
     // Makes the tiles of `shard`'s subtree from `part` (a job over a file) or from the whole
@@ -258,14 +262,12 @@ struct PyramidJob::Impl {
         stats.peakShardQuads = std::max(stats.peakShardQuads, heldQuads);
     }
 
-    // Vector data held (MiB accounting of params.vectorBudgetMiB): the top part, and the shards'
-    // parts in memory; the largest sum seen goes to stats.peakVectorMiB.
+    // Vector data held (params.vectorBudgetMiB): `bytes` of the top part and the shards' parts in
+    // memory now; the largest seen is stats.peakVectorMiB.
     std::mutex heldMutex;
-    std::size_t heldBytes = 0;
     void noteHeld(std::size_t bytes) {
         const std::lock_guard lock(heldMutex);
-        heldBytes = bytes;
-        stats.peakVectorMiB = std::max(stats.peakVectorMiB, double(heldBytes) / 1048576.0);
+        stats.peakVectorMiB = std::max(stats.peakVectorMiB, toMiB(bytes));
     }
 
     // A shard's part of the scene file: what the tiles of its quads need (io/scene_region.h),
@@ -285,7 +287,7 @@ struct PyramidJob::Impl {
         bytes = st.bytes;
         {
             const std::lock_guard lock(heldMutex);
-            stats.largestPartMiB = std::max(stats.largestPartMiB, double(bytes) / 1048576.0);
+            stats.largestPartMiB = std::max(stats.largestPartMiB, toMiB(bytes));
         }
         return std::make_unique<SceneModel>(nullptr, std::move(part), refine, demSource->heights());
     }
@@ -297,7 +299,7 @@ struct PyramidJob::Impl {
             std::ostringstream m;
             m << std::fixed << std::setprecision(2) << "shard " << shard.level << "/" << shard.tx << "/" << shard.ty
               << "'s part does not fit in --vector-budget " << params.vectorBudgetMiB << " MiB beside the "
-              << double(topBytes) / 1048576.0 << " MiB of the levels above the shards (" << e.what()
+              << toMiB(topBytes) << " MiB of the levels above the shards (" << e.what()
               << "); a deeper --shard-level (now " << params.shardLevel << ") makes smaller parts, or raise --vector-budget";
             throw PyramidError(m.str());
         }
@@ -305,7 +307,7 @@ struct PyramidJob::Impl {
     // MiB of the vector budget left beside the top part and `held` bytes of another part (at
     // least a byte's worth: a read with nothing left is refused at its first element).
     double budgetLeft(std::size_t held) const {
-        return std::max(1.0 / 1048576.0, params.vectorBudgetMiB - double(topBytes + held) / 1048576.0);
+        return std::max(toMiB(1), params.vectorBudgetMiB - toMiB(topBytes + held));
     }
 
     int vectorLevel() const { return params.vectorLevel(); }
@@ -686,127 +688,6 @@ void PyramidJob::runTop(PyramidStore& store, Progress* progress) {
         for (auto& c : q->children) stack.push_back(c.get());
     }
     m.makeLevels(byLevel, 0, store, true);
-}
-
-void checkPyramidMatches(const PyramidInfo& stored, const PyramidInfo& wanted, const std::string& path) {
-    if (stored.extent.min != wanted.extent.min || stored.extent.max != wanted.extent.max || stored.crsWkt != wanted.crsWkt) {
-        const auto box = [](const Box& b) {
-            char s[160];
-            std::snprintf(s, sizeof s, "(%.3f, %.3f)-(%.3f, %.3f)", b.min.x, b.min.y, b.max.x, b.max.y);
-            return std::string(s);
-        };
-        throw PyramidError(path + ": the pyramid was built for another scene (extent " + box(stored.extent) +
-                           (stored.crsWkt == wanted.crsWkt ? std::string(", same CRS") : std::string(", another CRS")) +
-                           "; this scene's extent is " + box(wanted.extent) + ")");
-    }
-}
-
-namespace {
-
-// Marks the pyramid complete and commits; the commit counts in the run's times (the tiles are
-// stored only once committed).
-void complete(PyramidStore& store, PyramidInfo info, PyramidStats& st) {
-    info.complete = true;
-    store.writeInfo(info);
-    const auto t0 = Clock::now();
-    store.commit();
-    const double commit = std::chrono::duration<double>(Clock::now() - t0).count();
-    st.times.write += commit;
-    st.wallSeconds += commit;
-}
-
-PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
-    const auto t0 = Clock::now();
-    progressBegin(progress, "pyramid tiles", job.tileTotal(), "tiles");
-    job.runShards(job.shards(), store, progress);
-    job.runTop(store, progress);
-    progressEnd(progress);
-    PyramidStats& st = job.stats();
-    st.appearanceTiles = store.tileCount(kAppearanceTable);
-    st.waterTiles = store.tileCount(kWaterTable);
-    st.elevationTiles = store.tileCount(kElevationTable);
-    st.bytes = store.tileBytes(kAppearanceTable) + store.tileBytes(kWaterTable) + store.tileBytes(kElevationTable);
-    st.wallSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
-    return st;
-}
-
-}  // namespace
-
-namespace {
-
-PyramidStats build(const std::function<std::unique_ptr<PyramidJob>(PyramidParams)>& makeJob, const std::string& out,
-                   PyramidParams params, bool force, Progress* progress) {
-    const std::unique_ptr<PyramidJob> job = makeJob(params);
-    std::error_code noFile;  // a failed build removes a file it made (not a link, even a dangling one)
-    const bool created = !std::filesystem::exists(std::filesystem::symlink_status(out, noFile));
-    std::optional<PyramidStore> store(std::in_place, out, PyramidStore::Mode::ReadWrite);
-    const PyramidInfo wanted = job->info();
-    if (auto old = store->info(); old && !force) checkPyramidMatches(*old, wanted, out);
-    try {
-        store->begin();
-        store->create(wanted);
-        PyramidStats st = run(*job, *store, progress);
-        complete(*store, wanted, st);
-        return st;
-    } catch (...) {
-        store->rollback();
-        if (created) {
-            store.reset();
-            std::error_code ec;
-            std::filesystem::remove(out, ec);
-            std::filesystem::remove(out + "-journal", ec);
-        }
-        throw;
-    }
-}
-
-PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParams, QuadDigestMap)>& makeJob,
-                    const std::string& path, Progress* progress, double demBudgetMiB, double vectorBudgetMiB) {
-    if (!std::filesystem::exists(path)) throw PyramidError(path + ": no such pyramid file (build one with lacet pyramid build)");
-    PyramidStore store(path, PyramidStore::Mode::ReadWrite);
-    const auto old = store.info();
-    if (!old) throw PyramidError(path + ": the file holds no Lacet pyramid (lacet_pyramid table)");
-    if (!old->complete) throw PyramidError(path + ": the pyramid is incomplete (an interrupted build): build it again");
-    PyramidParams params = pyramidParams(*old);
-    params.demBudgetMiB = demBudgetMiB;
-    params.vectorBudgetMiB = vectorBudgetMiB;
-    const std::unique_ptr<PyramidJob> job = makeJob(params, store.digests());
-    const PyramidInfo wanted = job->info();
-    checkPyramidMatches(*old, wanted, path);
-    const bool rebuild = wanted.inputs != old->inputs;
-    if (rebuild) job->forgetPrevious();
-    try {
-        store.begin();
-        if (rebuild) store.create(wanted);
-        PyramidStats st = run(*job, store, progress);
-        st.rebuilt = rebuild;
-        complete(store, wanted, st);
-        return st;
-    } catch (...) {
-        store.rollback();
-        throw;
-    }
-}
-
-}  // namespace
-
-PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force, Progress* progress) {
-    return build([&](PyramidParams p) { return std::make_unique<PyramidJob>(doc, p); }, out, params, force, progress);
-}
-
-PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, PyramidParams params, bool force, Progress* progress) {
-    return build([&](PyramidParams p) { return std::make_unique<PyramidJob>(scenePath, p); }, out, params, force, progress);
-}
-
-PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
-    return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(doc, p, std::move(d)); }, path, progress,
-                  demBudgetMiB, PyramidParams{}.vectorBudgetMiB);
-}
-
-PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress, double demBudgetMiB,
-                           double vectorBudgetMiB) {
-    return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(scenePath, p, std::move(d)); }, path,
-                  progress, demBudgetMiB, vectorBudgetMiB);
 }
 
 }  // namespace lacet
