@@ -4,6 +4,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "editor/quad_forest.h"
 #include "model/view_params.h"
 
 namespace lacet {
@@ -20,12 +21,13 @@ struct PlanWalk {
     DrawPlan& plan;
     const std::function<const CachedTile*(const QuadKey&)>& tileOf;
     const std::function<bool(const Quad&)>& visible;
+    const QuadForest& forest;
 
     // `tiled`: the nearest ancestor of q that has a tile (nullptr: none).
     void visit(const Quad& q, const Quad* tiled, const CachedTile* tile) {
         if (const CachedTile* own = tileOf(keyOf(q))) tiled = &q, tile = own;
         if (!q.isLeaf()) {
-            for (const auto& c : q.children) visit(*c, tiled, tile);
+            for (const auto& c : q.children) visit(forest.resolve(*c), tiled, tile);
             return;
         }
         DrawItem item;
@@ -48,16 +50,37 @@ struct PlanWalk {
     }
 };
 
+// A tree read as a forest for its plan (no curve data, no refinement).
+class TreeOnly final : public QuadForest {
+public:
+    explicit TreeOnly(const Quadtree& tree) : tree_(tree) {}
+    const Quad& root() const override { return tree_.root(); }
+    const Quadtree& treeOf(const Quad&) const override { return tree_; }
+    const CurveDataCache& dataOf(const Quad&) const override { throw std::logic_error("makeDrawPlan(): no curve data"); }
+    bool refine(std::span<const glm::dvec3>, const ViewParams&, const std::optional<Deadline>&) override {
+        throw std::logic_error("makeDrawPlan(): the plan does not refine");
+    }
+
+private:
+    const Quadtree& tree_;
+};
+
 }  // namespace
 
 QuadKey keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
 
 DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
                       const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt) {
+    return makeDrawPlan(TreeOnly(tree), tileOf, visible, skirt);
+}
+
+DrawPlan makeDrawPlan(const QuadForest& forest, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
+                      const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt) {
     DrawPlan plan;
-    plan.gridCells = tree.params().elevationResolution;
-    plan.rootBounds = tree.root().bounds;
-    PlanWalk{plan, tileOf, visible}.visit(tree.root(), nullptr, nullptr);
+    const Quad& root = forest.resolve(forest.root());
+    plan.gridCells = forest.treeOf(root).params().elevationResolution;
+    plan.rootBounds = root.bounds;
+    PlanWalk{plan, tileOf, visible, forest}.visit(root, nullptr, nullptr);
     std::set<QuadKey> withObjects;  // tiles whose objects an earlier item draws
     for (DrawItem& item : plan.items) {
         item.skirt = item.bounds.size().x * skirt.sizeFraction + skirt.slope * plan.coarsestAncestorDelta;

@@ -99,5 +99,9 @@ struct DrawPlan {
 // elevation resolution).
 DrawPlan makeDrawPlan(const Quadtree& tree, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
                       const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt);
+// The same for a forest (editor/quad_forest.h): its quads as resolved.
+class QuadForest;
+DrawPlan makeDrawPlan(const QuadForest& forest, const std::function<const CachedTile*(const QuadKey&)>& tileOf,
+                      const std::function<bool(const Quad&)>& visible, const SkirtParams& skirt);
 
 }  // namespace lacet

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "model/edits.h"
 #include "model/work_clock.h"
 
 namespace lacet {
@@ -26,13 +27,26 @@ EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(st
     buildTree();
 }
 
+EditSession::EditSession(const std::string& path, LazyParams lazy, SessionParams params)
+    : EditSession(LazyForest::readTop(path, lazy, params.refine), params) {
+    lazyPath_ = path;
+    lazy_ = lazy;
+    forest_ = std::make_unique<LazyForest>(lazyPath_, *quadtree_, *data_, *heights_, params_, *lazy_);
+    loop_->setForest(*forest_);
+}
+
 void EditSession::buildTree() {
+    forest_.reset();
     data_.reset();
     quadtree_.reset();
     graphStep_ = std::make_unique<GraphStep>(doc_.scene, params_.graph);
     quadtree_ = std::make_unique<Quadtree>(doc_.scene, params_.refine, graphStep_.get());
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
     loop_->setTree(*quadtree_, *data_);
+    if (lazy_) {
+        forest_ = std::make_unique<LazyForest>(lazyPath_, *quadtree_, *data_, *heights_, params_, *lazy_);
+        loop_->setForest(*forest_);
+    }
 }
 
 CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
@@ -60,6 +74,7 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
 
 template <class Step>
 CommandReport EditSession::edits(Step&& step) {
+    if (forest_) throw EditError("EditSession: " + lazyPath_ + " is read lazily (a vector budget): editing it is not built yet");
     CommandReport total;
     step([&](const Changeset& cs, double applyMs) {
         const CommandReport r = afterEdit(cs, applyMs);

@@ -31,6 +31,7 @@
 #include "editor/command.h"
 #include "editor/command_history.h"
 #include "editor/draw_plan.h"
+#include "editor/lazy_forest.h"
 #include "editor/session_params.h"
 #include "editor/tile_loop.h"
 #include "io/dem_stream.h"
@@ -53,6 +54,11 @@ struct CommandReport {
 class EditSession {
 public:
     EditSession(SceneDocument document, SessionParams params = {});
+    // The scene file at `path` read lazily (§7; editor/lazy_forest.h): the levels down to the part
+    // level now (LazyForest::readTop), each part as the view wants it, within lazy.vectorBudgetMiB.
+    // Such a session is not edited yet: execute, undo and redo throw EditError. Throws
+    // SceneFileError naming the file.
+    EditSession(const std::string& path, LazyParams lazy, SessionParams params = {});
     EditSession(const EditSession&) = delete;
     EditSession& operator=(const EditSession&) = delete;
 
@@ -139,6 +145,8 @@ public:
     // Whether quad `q`'s appearance would be read from the pyramid now.
     bool readsPyramid(const Quad& q) const { return loop_->readsPyramid(q); }
     const PyramidUse& pyramidUse() const { return loop_->pyramidUse(); }
+    // The parts of a scene read lazily (nullptr: the whole scene is loaded).
+    const LazyForest* lazyForest() const { return forest_.get(); }
     // The streamed DEM (nullptr when the document's DEM is in memory whole).
     DemStream* demStream() const { return demStream_.get(); }
 
@@ -148,7 +156,7 @@ private:
     // Runs `step` (a history call) summing the reports of the edits it makes.
     template <class Step>
     CommandReport edits(Step&& step);
-    void buildTree();  // the graph step, quadtree and curve data, for params_.refine
+    void buildTree();  // the graph step, quadtree and curve data (and the lazy forest), for params_.refine
 
     SceneDocument doc_;
     SessionParams params_;
@@ -158,6 +166,9 @@ private:
     std::unique_ptr<GraphStep> graphStep_;  // before the quadtree that calls it
     std::unique_ptr<Quadtree> quadtree_;
     std::unique_ptr<CurveDataCache> data_;
+    std::string lazyPath_;                 // a scene read lazily: its file,
+    std::optional<LazyParams> lazy_;       // its knobs,
+    std::unique_ptr<LazyForest> forest_;   // and its parts (over the quadtree: destroyed before it)
     CommandHistory history_;
     std::unique_ptr<TileLoop> loop_;  // reads params_, doc_ and the tree
 };

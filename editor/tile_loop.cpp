@@ -21,17 +21,6 @@ using Clock = std::chrono::steady_clock;
 // Budgets are read on the session's work clock (SessionParams::clock).
 double msSince(const WorkClock& clock, Clock::time_point t0) { return msBetween(t0, clock()); }
 
-const Quad* findQuad(const Quad& root, const QuadKey& key) {
-    const auto [level, tx, ty] = key;
-    const Quad* q = &root;
-    while (q->level < level) {
-        if (q->isLeaf()) return nullptr;
-        const int shift = level - q->level - 1;
-        q = q->children[std::size_t(int((tx >> shift) & 1u) | int(((ty >> shift) & 1u) << 1))].get();
-    }
-    return q->tx == tx && q->ty == ty ? q : nullptr;
-}
-
 // Sorts quads nearest to the viewer `v` first (Quadtree::viewDistance, the K rule's distance).
 auto nearestFirst(glm::dvec3 v) {
     return [v](const Quad* a, const Quad* b) { return Quadtree::viewDistance(*a, v) < Quadtree::viewDistance(*b, v); };
@@ -50,8 +39,13 @@ TileLoop::TileLoop(const SessionParams& params, const Scene& scene, const Dem& d
     : params_(params), scene_(scene), dem_(dem), stream_(stream) {}
 
 void TileLoop::setTree(Quadtree& tree, const CurveDataCache& data) {
-    tree_ = &tree;
-    data_ = &data;
+    whole_ = std::make_unique<WholeTree>(tree, data);
+    setForest(*whole_);
+}
+
+void TileLoop::setForest(QuadForest& forest) {
+    if (&forest != whole_.get()) whole_.reset();
+    forest_ = &forest;
     cache_.clear();
     plan_.clear();
     planPending_ = false;
@@ -62,7 +56,7 @@ std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector
     std::size_t dirty = 0;
     for (auto& [key, tile] : cache_) {
         if (tile.dirty) continue;
-        const Quad* q = findQuad(tree_->root(), key);
+        const Quad* q = findQuad(*forest_, key);
         // A tile whose quad is not in the tree now cannot be checked: it is redone if needed.
         if (!q || changed.count(key) > 0 || holdsDropped(*q, dropped)) {
             tile.dirty = true;
@@ -75,7 +69,7 @@ std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector
 
 void TileLoop::layerChanged(LayerId layer) {
     for (auto& [key, tile] : cache_) {
-        const Quad* q = findQuad(tree_->root(), key);
+        const Quad* q = findQuad(*forest_, key);
         if (!q || (q->layers.size() > layer && !q->layers[layer].empty())) tile.dirty = true;
     }
 }
@@ -88,7 +82,7 @@ bool TileLoop::holdsDropped(const Quad& q, const std::vector<ElementRef>& droppe
         if (q.layers.size() <= l) continue;
         const auto& curves = q.layers[l].curves;
         if (curves.count(d.id) > 0) return true;
-        for (AncestorId a : tree_->expansionOf(l, d.id))
+        for (AncestorId a : forest_->treeOf(q).expansionOf(l, d.id))
             if (curves.count(a) > 0) return true;
         // A river area's heights follow its river's profiles (the axial curve and the river
         // on through the area), which need not be in the quad: any river area there is redone.
@@ -109,9 +103,9 @@ void TileLoop::recordTouched(const std::set<QuadKey>& changed, const std::vector
             if (q.isLeaf()) touchedBelow_[key] = edits_;
         }
         if (!q.isLeaf())
-            for (const auto& c : q.children) self(*c, self);
+            for (const auto& c : q.children) self(forest_->resolve(*c), self);
     };
-    visit(tree_->root(), visit);
+    visit(forest_->resolve(forest_->root()), visit);
 }
 
 bool TileLoop::touched(const Quad& q) const {
@@ -206,16 +200,16 @@ std::size_t TileLoop::produce(const std::vector<const Quad*>& quads, glm::dvec3 
                 source[i] = kFailed;  // made live below
                 j0 = params_.clock();
             }
-            if (appearance) made[i].appearance = produceAppearance(q, *tree_, *data_, demOf(i), params_.appearance);
+            if (appearance) made[i].appearance = produceAppearance(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), params_.appearance);
             else {
                 // The quad's objects stand on its displayed ground: made right after its z_m.
                 CachedTile& t = made[i];
-                t.elevation = produceElevation(q, *tree_, *data_, demOf(i), params_.elevation);
+                t.elevation = produceElevation(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), params_.elevation);
                 if (windows.empty()) {
-                    t.objects = produceObjects(q, *tree_, *data_, demOf(i), &t.elevation, params_.objects, &objectCounters_);
+                    t.objects = produceObjects(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), &t.elevation, params_.objects, &objectCounters_);
                 } else {
                     const DemWindow w = objectWindow(q, viewer, windows[i]);
-                    t.objects = produceObjects(q, *tree_, *data_, *w.dem, &t.elevation, params_.objects, &objectCounters_);
+                    t.objects = produceObjects(q, forest_->treeOf(q), forest_->dataOf(q), *w.dem, &t.elevation, params_.objects, &objectCounters_);
                     objectLevel[i] = w.level;
                 }
             }
@@ -288,7 +282,12 @@ void TileLoop::refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, Fr
     if (params_.refineBudgetMs > 0.0) deadline = Deadline::after(t0, params_.refineBudgetMs, params_.clock);
     // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
     const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
-    r.refineDeferred = !tree_->refineForViewers(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view, deadline);
+    r.refineDeferred = !forest_->refine(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view, deadline);
+    // A tile made before its quad's vector data arrived (a part read, editor/lazy_forest.h) is made again.
+    for (const QuadKey& key : forest_->takeArrived()) {
+        const auto it = cache_.find(key);
+        if (it != cache_.end() && !it->second.dirty) it->second.dirty = true, ++r.partsArrived;
+    }
     r.refineMs = msSince(params_.clock, t0);
 }
 
@@ -302,7 +301,7 @@ TileLoop::FrameLeaves TileLoop::collectLeaves(glm::dvec3 viewer, std::optional<g
         return !Quadtree::wantsSubdivision(q, viewer, params_.view) &&
                (!q.parent || Quadtree::wantsSubdivision(*q.parent, viewer, params_.view));
     };
-    tree_->forEachQuad([&](const Quad& q) {
+    forEachQuad(*forest_, [&](const Quad& q) {
         const bool viewLeaf = predicted ? isViewLeaf(q) : q.isLeaf();
         if (!viewLeaf && !(predicted && q.isLeaf())) return;
         if (visible && !visible(q)) {
@@ -386,7 +385,7 @@ const CachedTile* TileLoop::tile(const QuadKey& key) const {
 
 const DrawPlan& TileLoop::plan() const {
     if (planPending_) {
-        plan_ = makeDrawPlan(*tree_, [&](const QuadKey& key) { return tile(key); }, planVisible_, params_.skirt);
+        plan_ = makeDrawPlan(*forest_, [&](const QuadKey& key) { return tile(key); }, planVisible_, params_.skirt);
         planPending_ = false;
     }
     return plan_;
@@ -395,7 +394,7 @@ const DrawPlan& TileLoop::plan() const {
 std::pair<const Quad*, const CachedTile*> TileLoop::tileAt(Vec2 p) const {
     const DrawItem* item = plan().itemAt(p);
     if (!item || !item->tile) return {nullptr, nullptr};
-    return {findQuad(tree_->root(), item->tileKey), item->tile};
+    return {findQuad(*forest_, item->tileKey), item->tile};
 }
 
 double TileLoop::displayedHeight(Vec2 p) const {

@@ -46,6 +46,7 @@
 #include "editor/cache_fit.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
+#include "editor/quad_forest.h"
 #include "editor/session_params.h"
 #include "io/dem_stream.h"
 #include "model/curve_data.h"
@@ -72,6 +73,7 @@ struct FrameReport {
     std::size_t pyramidFailed = 0;   // tiles the pyramid could not give (corrupt, missing, locked), made live
     std::size_t demFallbacks = 0;    // tiles made this frame from a coarser DEM block than they want (streamed DEM)
     std::size_t demRemade = 0;       // shown tiles marked dirty because the finer DEM blocks they wanted arrived
+    std::size_t partsArrived = 0;    // tiles marked dirty because their quad's part arrived (editor/lazy_forest.h)
 };
 
 // What the pyramid saved the session so far (appearance tiles).
@@ -96,6 +98,8 @@ public:
     // The tree and curve data the tiles are made from (both must outlive their use); drops every
     // tile and the plan.
     void setTree(Quadtree& tree, const CurveDataCache& data);
+    // The same for a forest (editor/quad_forest.h: a scene read lazily), which must outlive its use.
+    void setForest(QuadForest& forest);
 
     // See EditSession::frame().
     FrameReport frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible, std::optional<glm::dvec3> predicted);
@@ -159,8 +163,8 @@ private:
     const Scene& scene_;
     const Dem& dem_;
     DemStream* stream_ = nullptr;
-    Quadtree* tree_ = nullptr;
-    const CurveDataCache* data_ = nullptr;
+    std::unique_ptr<WholeTree> whole_;  // setTree()'s
+    QuadForest* forest_ = nullptr;
     std::map<QuadKey, CachedTile> cache_;
     mutable DrawPlan plan_;
     mutable bool planPending_ = false;  // frame() ran since the plan was made

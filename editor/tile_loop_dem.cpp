@@ -24,7 +24,7 @@ DemWindow TileLoop::objectWindow(const Quad& q, glm::dvec3 viewer, const DemWind
     bool wider = false;
     for (std::size_t l = 0; l < q.layers.size(); ++l)
         for (const auto& [a, pieces] : q.layers[l].curves) {
-            const Curve& c = tree_->ancestorCurve(LayerId(l), a);
+            const Curve& c = forest_->treeOf(q).ancestorCurve(LayerId(l), a);
             if (!(c.flags & kBridge)) continue;
             const double reach = double(c.w) + double(c.wf) + 10.0;  // the deck's and the pillars' half-widths, and more
             for (const Vertex& v : c.vertices) {

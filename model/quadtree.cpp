@@ -270,7 +270,7 @@ bool Quadtree::wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, c
     return std::any_of(viewers.begin(), viewers.end(), [&](const glm::dvec3& v) { return wantsSubdivision(q, v, view); });
 }
 
-bool Quadtree::refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
+bool Quadtree::refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
     if (viewers.empty()) throw std::invalid_argument("Quadtree::refineForViewers(): no viewer");
     // First the tree as it stands: merge what no viewer wants, and find the wanted leaves.
     std::priority_queue<PendingSubdivision> pending;
@@ -282,7 +282,7 @@ bool Quadtree::refine(std::span<const glm::dvec3> viewers, const ViewParams& vie
             if (wantsSubdivision(q, v, view)) ratio = std::min(ratio, viewDistance(q, v) / size);
         pending.push({1, ratio, &q});
     };
-    std::vector<Quad*> stack{&root_};
+    std::vector<Quad*> stack{&top};
     while (!stack.empty()) {
         Quad& q = *stack.back();
         stack.pop_back();
@@ -304,10 +304,27 @@ bool Quadtree::refine(std::span<const glm::dvec3> viewers, const ViewParams& vie
     return true;
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) { refine({&viewer, 1}, view, std::nullopt); }
+void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) { refine(root_, {&viewer, 1}, view, std::nullopt); }
 
 bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline) {
-    return refine(viewers, view, deadline);
+    return refine(root_, viewers, view, deadline);
+}
+
+bool Quadtree::refineSubtree(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline) {
+    return refine(top, viewers, view, deadline);
+}
+
+Quad& Quadtree::reach(int level, std::uint32_t tx, std::uint32_t ty) {
+    if (level < 0 || level > ViewParams::kMaxLevel || (std::uint64_t(tx) >> level) != 0 || (std::uint64_t(ty) >> level) != 0)
+        throw std::out_of_range("Quadtree::reach(): no quad " + std::to_string(level) + "/" + std::to_string(tx) + "/" +
+                                std::to_string(ty));
+    Quad* q = &root_;
+    while (q->level < level) {
+        if (q->isLeaf()) subdivide(*q);
+        const int shift = level - q->level - 1;
+        q = q->children[std::size_t(int((tx >> shift) & 1u) | int(((ty >> shift) & 1u) << 1))].get();
+    }
+    return *q;
 }
 
 void Quadtree::copyQuad(Quad& q, const Quad& like) {

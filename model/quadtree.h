@@ -118,6 +118,13 @@ public:
     // tree refineForViewer makes. Throws std::invalid_argument when `viewers` is empty.
     bool refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
                           std::optional<Deadline> deadline = std::nullopt);
+    // The same within the subtree of `top` (a quad of this tree): only its descendants are merged
+    // or subdivided (§7: a part of the scene read for one quad, whose tree is refined below it).
+    bool refineSubtree(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view,
+                       std::optional<Deadline> deadline = std::nullopt);
+    // The quad (level, tx, ty), subdividing the leaves on the path from the root to it; throws
+    // std::out_of_range when the level's grid has no such quad.
+    Quad& reach(int level, std::uint32_t tx, std::uint32_t ty);
     // The rule of refineForViewer: q is below view.maxLevel and closer to `viewer` than view.K
     // times its size.
     static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewParams& view);
@@ -185,7 +192,7 @@ private:
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
     static bool wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view);
-    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline);
+    bool refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline);
     void copyQuad(Quad& q, const Quad& like);
 
     const Scene& scene_;

@@ -1,0 +1,132 @@
+#pragma once
+// A scene file's vector data read lazily, as the view needs it (§7: "the vector data ... loaded
+// on demand"; issue 23): the forest (editor/quad_forest.h) of
+//   - the top tree: the editing session's quadtree over what the levels down to the part level P
+//     need, read once (io/scene_region.h: elevation only, when a pyramid gives their appearance),
+//     refined no deeper than P;
+//   - one part per quad of level P that a viewer wants subdivided: what the tiles of that quad and
+//     every quad below it need (loadSceneRegion of the quad, exactly as a pyramid shard reads it,
+//     so its tiles are the same, bit for bit, as with the whole scene loaded), with its own graph
+//     step, quadtree (subdivided down the path to the quad, refined for the viewers below it) and
+//     curve data.
+// Memory follows the view: the parts' vector data (SceneRegionStats::bytes) stays within
+// `vectorBudgetMiB`; past it, the parts no viewer wants now go, least recently wanted first, as the
+// DEM stream drops blocks. A part that does not fit beside those wanted now is refused (counted) and
+// its quad stays a leaf of the top tree, drawn with its tile; so is a part the file cannot give (a
+// corrupt row: counted, its error kept). Parts are read on a worker thread while frames go on
+// (or in the frame that wants them, `background` false: deterministic, for tests); until a part
+// arrives its quad is a leaf of the top tree, and its tile is made again when the part arrives
+// (takeArrived).
+//
+// Not yet: editing (the session refuses edits of a scene read lazily), parts stored clipped in the
+// scene file (each part is clipped from the root curves it reads), and a part's own graph step sees
+// the part alone (as a pyramid shard's does).
+
+#include <cstdint>
+#include <future>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "editor/quad_forest.h"
+#include "editor/session_params.h"
+#include "io/document.h"
+#include "model/graph_step.h"
+#include "raster/dem_height_field.h"
+
+namespace lacet {
+
+struct LazyParams {
+    // P, the level of the quads read as one part (>= 1); -1: the first level whose quads are at
+    // most `partQuadM` metres wide.
+    int partLevel = -1;
+    double partQuadM = 5000.0;
+    double vectorBudgetMiB = 512.0;  // MiB of the parts' vector data held (> 0)
+    bool background = true;          // parts read on a worker thread; false: in the frame that wants them
+    // The top tree reads only what elevation needs (the appearance of levels up to P comes from a
+    // pyramid; its tiles are otherwise made without the narrow curves and the other areas).
+    bool topElevationOnly = false;
+    // P for a scene of `extent`: partLevel, or the first level of quads at most partQuadM wide.
+    int level(const Box& extent) const;
+    void validate() const;  // std::invalid_argument naming the bad knob
+};
+
+struct LazyStats {
+    int partLevel = 0;
+    double topMiB = 0.0;            // the top tree's vector data (the parts have the budget less this)
+    std::size_t partsRead = 0;      // parts read (again after an eviction: counted again)
+    std::size_t partsEvicted = 0;   // parts dropped for the budget
+    std::size_t partsRefused = 0;   // reads refused: past the budget left, or the file could not give them
+    std::size_t partsHeld = 0;      // now
+    std::size_t partsHeldPeak = 0;
+    double heldMiB = 0.0, peakMiB = 0.0, largestPartMiB = 0.0;
+    double readMs = 0.0, slowestReadMs = 0.0;  // reading and clipping parts (on the worker thread when in background)
+    std::string lastError;          // of the last read the file could not give
+};
+
+class LazyForest final : public QuadForest {
+public:
+    // `top` (refined here no deeper than the part level), `topData` and `heights` must outlive the
+    // forest; the parts are made with `params`' refinement, graph step and z-profile knobs.
+    LazyForest(std::string path, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
+               const SessionParams& params, LazyParams lazy);
+    ~LazyForest() override;  // waits for a read in flight
+    LazyForest(const LazyForest&) = delete;
+    LazyForest& operator=(const LazyForest&) = delete;
+
+    // What the top tree reads of the scene file at `path`: the scene's extent down to the part level
+    // (elevation only with topElevationOnly: the road and river curves at least two elevation
+    // samples wide at that level, lakes and river areas), with the DEM, within the vector budget.
+    // Throws SceneFileError naming the file (SceneBudgetError past the budget).
+    static SceneDocument readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine);
+
+    const Quad& root() const override { return top_.root(); }
+    const Quad& resolve(const Quad& q) const override;
+    const Quadtree& treeOf(const Quad& q) const override;
+    const CurveDataCache& dataOf(const Quad& q) const override;
+    // The top tree for the viewers down to P, then each wanted part's tree below its quad; takes
+    // the parts read since, reads (or asks the worker for) the missing wanted ones nearest first,
+    // and evicts past the budget. False when a subdivision was deferred or a wanted part is not
+    // there yet.
+    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) override;
+    std::vector<QuadKey> takeArrived() override;
+
+    const LazyStats& stats() const { return stats_; }
+    int partLevel() const { return level_; }
+    // Whether the part of quad `key` (of the part level) is held now.
+    bool holds(const QuadKey& key) const { return parts_.count(key) > 0; }
+
+private:
+    struct Part;
+    struct Read {
+        QuadKey key;
+        double budgetMiB = 0.0;
+        std::future<std::unique_ptr<Part>> result;
+    };
+    std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB) const;
+    void settle(Read& r);        // takes a finished read's part, or its refusal
+    void evict(std::size_t keepBytes);  // drops parts not wanted now while held + keepBytes > budget
+    double budgetLeft() const;   // MiB left beside the parts wanted now
+    const Part* owner(const Quad& q) const;  // the part whose tree holds q (nullptr: the top tree)
+
+    std::string path_;
+    Quadtree& top_;
+    const CurveDataCache& topData_;
+    const HeightField& heights_;
+    const RefineParams refine_;
+    const GraphStepParams graph_;
+    const ZProfileParams profiles_;
+    LazyParams lazy_;
+    int level_ = 0;
+    double partsBudgetMiB_ = 0.0;  // the vector budget less the top tree's
+    std::map<QuadKey, std::unique_ptr<Part>> parts_;
+    std::map<QuadKey, double> refused_;  // key -> the budget left (MiB) when it was refused
+    std::vector<Read> reading_;          // at most one in background
+    std::vector<QuadKey> arrived_;
+    std::uint64_t clock_ = 0;
+    std::size_t held_ = 0;  // bytes
+    LazyStats stats_;
+};
+
+}  // namespace lacet

@@ -1,0 +1,205 @@
+// A scene file read lazily (§7, issue 23; editor/lazy_forest.h): the session's tiles, wherever the
+// viewer goes, are those of a session with the whole scene loaded, bit for bit; the parts' vector
+// data stays within the budget (what no viewer wants goes first); a part that does not fit is
+// refused and its quad drawn from the top tree, never a crash; a part read on the worker thread
+// makes its quad's tile again when it arrives; edits are refused. A synthetic scene of 3,000
+// curves saved in a temporary directory.
+#include "editor/lazy_forest.h"
+
+#include <filesystem>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "editor/edit_session.h"
+#include "tests/io/gis_fixtures.h"
+#include "io/scene_file.h"
+#include "model/edits.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+
+namespace lacet {
+namespace {
+
+constexpr int kPartLevel = 2;
+
+SessionParams sessionParams() {
+    SessionParams params;
+    params.view.maxLevel = 6;
+    params.cacheTiles = 1u << 20;  // nothing evicted: every tile made stays to be compared
+    return params;
+}
+
+LazyParams lazyParams(double budgetMiB, bool background = false) {
+    LazyParams lazy;
+    lazy.partLevel = kPartLevel;
+    lazy.vectorBudgetMiB = budgetMiB;
+    lazy.background = background;
+    return lazy;
+}
+
+class LazyForestTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new std::filesystem::path(test::scratchDir("lazy_forest"));
+        SceneDocument doc;
+        doc.scene = makeSyntheticScene({.seed = 11, .curves = 3000, .roundaboutFraction = 0.3});
+        doc.dem = makeSyntheticDem(doc.scene, {.seed = 11, .resolution = 1000});
+        path_ = new std::string((*dir_ / "scene.gpkg").string());
+        saveScene(*path_, doc);
+    }
+    static void TearDownTestSuite() {
+        std::filesystem::remove_all(*dir_);
+        delete path_;
+        delete dir_;
+    }
+    // Viewers low over random points of the scene (fixed seed).
+    static std::vector<glm::dvec3> viewers(const Box& extent, int n, std::uint32_t seed) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(0.0, 1.0), h(30.0, 400.0);
+        std::vector<glm::dvec3> out;
+        for (int i = 0; i < n; ++i) {
+            const Vec2 p = extent.min + Vec2(u(rng), u(rng)) * extent.size();
+            out.push_back({p.x, p.y, h(rng)});
+        }
+        return out;
+    }
+    static std::filesystem::path* dir_;
+    static std::string* path_;
+};
+std::filesystem::path* LazyForestTest::dir_ = nullptr;
+std::string* LazyForestTest::path_ = nullptr;
+
+// Every tile of `whole` is `lazy`'s too, the same. `lazy` may hold more of the part level: the
+// tiles of its quads drawn from the top tree while their parts were read, and those an arriving
+// part made dirty that no frame showed since (an ancestor's, made again when shown).
+void expectSameTiles(const EditSession& lazy, const EditSession& whole) {
+    for (const auto& [key, t] : lazy.tiles()) {
+        if (!whole.tile(key)) {
+            EXPECT_EQ(std::get<0>(key), kPartLevel) << "a tile only the lazy session made";
+        }
+    }
+    for (const auto& [key, w] : whole.tiles()) {
+        const CachedTile* t = lazy.tile(key);
+        const auto [level, x, y] = key;
+        ASSERT_NE(t, nullptr) << level << "/" << x << "/" << y;
+        if (t->dirty) {
+            EXPECT_EQ(level, kPartLevel) << x << "/" << y;
+            continue;
+        }
+        EXPECT_EQ(t->texels(), w.texels()) << level << "/" << x << "/" << y;
+        EXPECT_EQ(t->elevation.zm, w.elevation.zm) << level << "/" << x << "/" << y;
+        EXPECT_EQ(t->objects.indices.size(), w.objects.indices.size()) << level << "/" << x << "/" << y;
+    }
+}
+
+TEST_F(LazyForestTest, TilesAreThoseOfTheWholeSceneWhereverTheViewerGoes) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
+    ASSERT_NE(lazy.lazyForest(), nullptr);
+    EXPECT_EQ(whole.lazyForest(), nullptr);
+    std::size_t deep = 0;
+    for (const glm::dvec3& v : viewers(whole.document().scene.extent, 6, 3)) {
+        whole.frame(v, 0.0);
+        const FrameReport r = lazy.frame(v, 0.0);
+        EXPECT_EQ(r.pending, 0u);
+        EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
+        EXPECT_EQ(lazy.plan().deepest, whole.plan().deepest);
+    }
+    for (const auto& [key, t] : whole.tiles()) deep += std::get<0>(key) > kPartLevel;
+    EXPECT_GT(deep, 50u);  // most tiles come from parts
+    expectSameTiles(lazy, whole);
+    const LazyStats& st = lazy.lazyForest()->stats();
+    EXPECT_GT(st.partsRead, 3u);
+    EXPECT_EQ(st.partsRefused, 0u);
+    EXPECT_EQ(st.partsEvicted, 0u);
+    // The top tree read the levels above the parts only: less than the whole scene.
+    EXPECT_GT(st.topMiB, 0.0);
+    EXPECT_LE(st.peakMiB + st.topMiB, 1024.0);
+}
+
+TEST_F(LazyForestTest, TheBudgetDropsWhatNoViewerWantsFirstAndRefusesWhatDoesNotFit) {
+    // The parts' sizes, read with room for all.
+    double top = 0.0, largest = 0.0;
+    {
+        EditSession probe(*path_, lazyParams(1024.0), sessionParams());
+        for (const glm::dvec3& v : viewers(probe.document().scene.extent, 8, 5)) probe.frame(v, 0.0);
+        top = probe.lazyForest()->stats().topMiB;
+        largest = probe.lazyForest()->stats().largestPartMiB;
+    }
+    ASSERT_GT(largest, 0.0);
+    // Room for the largest part and a little more: each viewer's parts fit one by one, not all.
+    const double room = 1.2 * largest;
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(top + room), sessionParams());
+    for (const glm::dvec3& v : viewers(whole.document().scene.extent, 8, 5)) {
+        // One viewer high enough to want one part at a time: each in turn over a part's centre.
+        const glm::dvec3 low{v.x, v.y, 20.0};
+        whole.frame(low, 0.0);
+        lazy.frame(low, 0.0);
+        const LazyStats& st = lazy.lazyForest()->stats();
+        EXPECT_LE(st.heldMiB, room + 1e-9);
+        EXPECT_LE(st.peakMiB, room + 1e-9);
+    }
+    const LazyStats& st = lazy.lazyForest()->stats();
+    EXPECT_GT(st.partsEvicted, 0u);
+    // A viewer that wants every part at once: those beyond the room are refused, and their quads
+    // are drawn from the top tree (a tile for every leaf, no crash).
+    const Box e = whole.document().scene.extent;
+    const FrameReport r = lazy.frame({e.center().x, e.center().y, 0.6 * e.size().x}, 0.0);
+    EXPECT_EQ(r.pending, 0u);
+    EXPECT_GT(lazy.lazyForest()->stats().partsRefused, 0u);
+    EXPECT_LE(lazy.lazyForest()->stats().peakMiB, room + 1e-9);
+    for (const DrawItem& item : lazy.plan().items)
+        if (item.visible) {
+            EXPECT_NE(item.tile, nullptr);
+        }
+
+    // A budget below the top tree's data: refused at opening, naming the file.
+    try {
+        EditSession tooSmall(*path_, lazyParams(0.5 * top), sessionParams());
+        ADD_FAILURE() << "a budget below the top tree's vector data was accepted";
+    } catch (const SceneFileError& err) {
+        EXPECT_NE(std::string(err.what()).find(*path_), std::string::npos) << err.what();
+    }
+}
+
+TEST_F(LazyForestTest, APartReadInTheBackgroundMakesItsQuadsTileAgainWhenItArrives) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(1024.0, /*background=*/true), sessionParams());
+    const Box e = whole.document().scene.extent;
+    const glm::dvec3 v{e.min.x + 0.3 * e.size().x, e.min.y + 0.6 * e.size().x, 50.0};
+    whole.frame(v, 0.0);
+    // The first frame draws the part level's quads from the top tree; the frames after take the
+    // parts as the worker gives them (no clock: a bounded number of frames, yielding between).
+    FrameReport r = lazy.frame(v, 0.0);
+    std::size_t arrived = r.partsArrived;
+    for (int i = 0; i < 200000 && (r.refineDeferred || r.pending > 0); ++i) {
+        std::this_thread::yield();
+        r = lazy.frame(v, 0.0);
+        arrived += r.partsArrived;
+    }
+    EXPECT_GT(arrived, 0u);  // tiles of the part level made from the top tree, made again
+    EXPECT_FALSE(r.refineDeferred);
+    EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
+    expectSameTiles(lazy, whole);
+}
+
+TEST_F(LazyForestTest, EditsAreRefusedAndChangeNothing) {
+    EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
+    const Scene& s = lazy.document().scene;
+    const Box e = s.extent;
+    lazy.frame({e.center().x, e.center().y, 100.0}, 0.0);
+    const std::size_t tiles = lazy.tiles().size();
+    const Vec2 far = e.max + Vec2(1.0);
+    EXPECT_THROW(lazy.execute(MoveNodeCmd{kRoadsLayer, 0, far}), EditError);
+    EXPECT_FALSE(lazy.modified());
+    EXPECT_EQ(lazy.undoDepth(), 0u);
+    EXPECT_EQ(lazy.tiles().size(), tiles);
+}
+
+}  // namespace
+}  // namespace lacet
