@@ -87,6 +87,11 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_flag("--profile-error", fo->profileError,
                       "With a streamed DEM: the z-profiles near the path from --dem-profile-spacing's level against the finest (m)");
     flyover->add_option("--adaptive", fo->adaptiveTargetMs, "Adapt K to this update time per frame (ms; 0: K fixed)")->check(CLI::NonNegativeNumber);
+    flyover->add_option("--vector-budget", fo->vectorBudgetMiB,
+                        "With --scene: read its vector data lazily within this many MiB (0: load it whole)")->check(CLI::NonNegativeNumber);
+    flyover->add_option("--part-level", fo->partLevel, "With --vector-budget: the level of the quads read as one part (-1: from --part-quad)");
+    flyover->add_option("--part-quad", fo->partQuadM, "With --vector-budget: the widest part quad (m), when --part-level is -1")
+        ->check(CLI::PositiveNumber);
     flyover->add_flag("--json", *foJson, "Print JSON (the only format)");
     flyover->callback([fo, foJson] { std::cout << bench::benchFlyover(*fo).dump(2) << "\n"; });
 

@@ -7,12 +7,15 @@
 // each without and with prefetching: the viewer `prefetchFrames` frames ahead on the path is
 // given to the session, which makes that viewer's tiles with the budget left. With a pyramid
 // (§7, issue 15: `--pyramid`), each budget is flown without and with it instead: the quads above
-// the pyramid's first vector level read their appearance from it.
+// the pyramid's first vector level read their appearance from it. A scene file with a vector
+// budget (`--vector-budget`, issue 23) is read lazily (editor/lazy_forest.h): the levels down to
+// the part level once, each part the view wants as it goes.
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -24,6 +27,7 @@
 #include "editor/camera.h"
 #include "editor/edit_session.h"
 #include "io/scene_file.h"
+#include "io/scene_region.h"
 #include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
@@ -117,7 +121,22 @@ nlohmann::json profileError(const EditSession& session, const FlyoverBenchOption
 nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     if (o.frames < 2) throw std::invalid_argument("bench flyover: --frames must be 2 or more");
     SceneDocument doc;
-    if (!o.scene.empty()) {
+    const bool lazy = !o.scene.empty() && o.vectorBudgetMiB > 0.0;
+    LazyParams lazyParams;
+    lazyParams.partLevel = o.partLevel;
+    lazyParams.partQuadM = o.partQuadM;
+    lazyParams.vectorBudgetMiB = o.vectorBudgetMiB;
+    lazyParams.topElevationOnly = !o.pyramid.empty();
+    SceneRegionStats topStats;
+    if (o.vectorBudgetMiB < 0.0 || (o.vectorBudgetMiB > 0.0 && o.scene.empty()))
+        throw std::invalid_argument("bench flyover: --vector-budget needs --scene and must be > 0");
+    if (lazy && o.pyramid == "auto") throw std::invalid_argument("bench flyover: --vector-budget takes a pyramid file, not auto");
+    if (lazy) {
+        // What the top tree reads (the session reads it again: the flight's path needs the DEM).
+        doc = LazyForest::readTop(o.scene, lazyParams, RefineParams{}, &topStats);
+        if (doc.scene.layers.size() <= kRoadsLayer || !doc.dem)
+            throw std::invalid_argument("bench flyover: " + o.scene + " has no DEM or no roads layer " + std::to_string(kRoadsLayer));
+    } else if (!o.scene.empty()) {
         doc = loadScene(o.scene);
         if (doc.scene.layers.size() <= kRoadsLayer || !doc.dem)
             throw std::invalid_argument("bench flyover: " + o.scene + " has no DEM or no roads layer " + std::to_string(kRoadsLayer));
@@ -132,7 +151,16 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     const Vec2 start = doc.scene.extent.center();
     Vec2 end = start;
     double best = 1e300;
-    for (const Curve& c : doc.scene.layers[kRoadsLayer].curves) {
+    // Read lazily, the roads within the path's length of the start (the same road point as with
+    // the whole scene: any farther is worse).
+    SceneDocument near;
+    if (lazy) {
+        SceneRegionOptions filter;
+        filter.dem = false;
+        near = loadSceneRegion(o.scene, Box{start - Vec2(length + 1000.0), start + Vec2(length + 1000.0)}, RefineParams{},
+                               LazyParams{lazyParams}.level(doc.scene.extent), nullptr, filter);
+    }
+    for (const Curve& c : (lazy ? near : doc).scene.layers[kRoadsLayer].curves) {
         if (!c.alive || c.vertices.empty()) continue;
         const Vec2 p = c.vertices[c.vertices.size() / 2].p;
         const double d = std::abs(glm::length(p - start) - length);
@@ -149,7 +177,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     // The camera looks ahead along the path, steeply from high up, nearly level near the ground.
     const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
     const double aspect = 1280.0 / 800.0;
-    const std::size_t curveCount = count(doc.scene).curves;
+    const std::size_t curveCount = lazy ? topStats.sceneCurves : count(doc.scene).curves;
+    near = SceneDocument();
     // The ground under the camera: the DEM in memory of the session's document (the last run takes
     // the document itself, so a large scene is not held twice).
     auto cameraAt = [&](int f, const Dem& ground) {
@@ -195,7 +224,18 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             pyramidJson = {{"built", true}, {"max_level", maxLevel}, {"quads", f.quads}, {"build_seconds", f.wallSeconds},
                            {"file_mib", double(std::filesystem::file_size(file)) / (1024.0 * 1024.0)}};
         }
-        pyramid = std::make_shared<PyramidReader>(file, doc);
+        if (lazy) {  // the top part is not the whole scene: the file's stored checksum
+            pyramid = std::make_shared<PyramidReader>(file, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string());
+            if (!pyramid->sceneChecksum().empty() && pyramid->sceneChecksum() != topStats.checksum)
+                throw std::invalid_argument(file + ": the pyramid was made from another state of " + o.scene);
+            const int partLevel = lazyParams.level(doc.scene.extent);
+            if (pyramid->vectorLevel() <= partLevel)
+                throw std::invalid_argument("bench flyover: the pyramid's appearance is made from vector data from level " +
+                                            std::to_string(pyramid->vectorLevel()) + ", not below the part level " +
+                                            std::to_string(partLevel) + ": choose --part-level below it");
+        } else {
+            pyramid = std::make_shared<PyramidReader>(file, doc);
+        }
         pyramidJson["file"] = o.pyramid == "auto" ? std::string("(temporary)") : file;
         pyramidJson["vector_level"] = pyramid->vectorLevel();
         pyramidJson["levels_read"] = {pyramid->minLevel(), pyramid->vectorLevel() - 1};
@@ -204,7 +244,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     std::vector<Run> plan;
     if (!o.scene.empty())  // a scene file (its DEM streamed, if it is a tree): each budget once, or without and with its pyramid
         for (double budget : o.budgetsMs)
-            for (const bool with : pyramid ? std::vector<bool>{false, true} : std::vector<bool>{false})
+            for (const bool with : pyramid && !lazy ? std::vector<bool>{false, true} : std::vector<bool>{bool(pyramid)})
                 plan.push_back({budget, false, true, 0.0, SessionParams{}.cacheTiles, with});
     else if (pyramid)  // each budget without and with the pyramid, nothing else
         for (double budget : o.budgetsMs)
@@ -229,11 +269,14 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         params.cacheTiles = run.cacheTiles;
         params.demStream.budgetMiB = o.demBudgetMiB;
         params.demStream.profileSpacing = o.demProfileSpacingM;
-        EditSession session(&run == &plan.back() ? std::move(doc) : SceneDocument(doc), params);
+        const std::unique_ptr<EditSession> owned =
+            lazy ? std::make_unique<EditSession>(o.scene, lazyParams, params)
+                 : std::make_unique<EditSession>(&run == &plan.back() ? std::move(doc) : SceneDocument(doc), params);
+        EditSession& session = *owned;
         const Dem& ground = *session.document().dem;
         std::optional<AdaptiveQuality> adaptive;
         if (o.adaptiveTargetMs > 0.0) adaptive.emplace(view.K, AdaptiveQualityParams{.targetMs = o.adaptiveTargetMs});
-        std::size_t demFallbackFrames = 0, demFallbackTiles = 0, demRemade = 0, demHeldPeak = 0;
+        std::size_t demFallbackFrames = 0, demFallbackTiles = 0, demRemade = 0, demHeldPeak = 0, partsArrived = 0;
         double kMin = view.K, kSum = 0.0;
         if (run.pyramid) session.setPyramid(pyramid);
         std::vector<double> ms, tiles, refine, produce;
@@ -257,6 +300,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             demFallbackFrames += r.demFallbacks > 0;
             demFallbackTiles += r.demFallbacks;
             demRemade += r.demRemade;
+            partsArrived += r.partsArrived;
             if (const DemStream* d = session.demStream()) demHeldPeak = std::max(demHeldPeak, d->stats().held);
             tiles.push_back(double(r.produced));
             refine.push_back(r.refineMs);
@@ -314,6 +358,17 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                    {"tiles_from_coarser_block", demFallbackTiles},
                    {"tiles_remade_when_finer_blocks_arrived", demRemade}};
         }
+        nlohmann::json lazyJson;
+        if (const LazyForest* f = session.lazyForest()) {
+            const LazyStats& st = f->stats();
+            lazyJson = {{"vector_budget_mib", o.vectorBudgetMiB}, {"part_level", st.partLevel},
+                        {"part_quad_m", doc.scene.extent.size().x / double(std::int64_t(1) << st.partLevel)},
+                        {"top_mib", st.topMiB}, {"top_elevation_only", lazyParams.topElevationOnly},
+                        {"parts_read", st.partsRead}, {"parts_evicted", st.partsEvicted}, {"parts_refused", st.partsRefused},
+                        {"parts_held_peak", st.partsHeldPeak}, {"parts_peak_mib", st.peakMiB},
+                        {"largest_part_mib", st.largestPartMiB}, {"read_ms_total", st.readMs},
+                        {"slowest_read_ms", st.slowestReadMs}, {"last_error", st.lastError}};
+        }
         nlohmann::json profileJson;
         if (o.profileError && session.demStream()) profileJson = profileError(session, o, start, end);
         nlohmann::json adaptiveJson;
@@ -322,6 +377,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                             {"lowered", adaptive->lowered()}, {"raised", adaptive->raised()}};
         runs.push_back({{"budget_ms", budget},
                         {"dem_stream", dem},
+                        {"lazy", lazyJson},
+                        {"tiles_remade_when_parts_arrived", partsArrived},
                         {"profile_error", profileJson},
                         {"adaptive_K", adaptiveJson},
                         {"peak_rss_mib_so_far", peakRssMiB()},

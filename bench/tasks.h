@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/lazy_forest.h"
 #include "io/dem_stream.h"
 #include "model/view_params.h"
 
@@ -89,6 +90,13 @@ struct FlyoverBenchOptions {
     // Frame-rate-adaptive K (editor/adaptive_quality.h) aiming at this update time per frame (ms;
     // 0: K fixed).
     double adaptiveTargetMs = 0.0;
+    // With `scene`: its vector data read lazily (editor/lazy_forest.h) within this many MiB (0: the
+    // scene loaded whole), each part a quad of `partLevel` (-1: the first level of quads at most
+    // `partQuadM` wide). With a pyramid file, the levels down to the part level read only what
+    // elevation needs (their appearance is the pyramid's: its L must be deeper than the parts').
+    double vectorBudgetMiB = 0.0;
+    int partLevel = -1;
+    double partQuadM = LazyParams{}.partQuadM;
 };
 nlohmann::json benchFlyover(const FlyoverBenchOptions& options);
 

@@ -6,7 +6,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "io/scene_region.h"
 #include "model/graph.h"
 
 namespace lacet {
@@ -62,14 +61,15 @@ LazyForest::LazyForest(std::string path, Quadtree& top, const CurveDataCache& to
                                std::to_string(lazy_.vectorBudgetMiB) + " MiB; raise it, or read their appearance from a pyramid");
 }
 
-SceneDocument LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine) {
+SceneDocument LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine,
+                                  SceneRegionStats* stats) {
     const Box extent = loadSceneExtent(path);
     const int level = lazy.level(extent);
     SceneRegionOptions filter;
     filter.elevationOnly = lazy.topElevationOnly;
     filter.minCurveWidth = 2.0 * extent.size().x / double(std::int64_t(1) << level) / double(refine.elevationResolution);
     filter.budgetMiB = lazy.vectorBudgetMiB;
-    return loadSceneRegion(path, extent, refine, level, nullptr, filter);
+    return loadSceneRegion(path, extent, refine, level, stats, filter);
 }
 
 LazyForest::~LazyForest() {

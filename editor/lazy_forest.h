@@ -32,6 +32,7 @@
 #include "editor/quad_forest.h"
 #include "editor/session_params.h"
 #include "io/document.h"
+#include "io/scene_region.h"
 #include "model/graph_step.h"
 #include "raster/dem_height_field.h"
 
@@ -79,7 +80,8 @@ public:
     // (elevation only with topElevationOnly: the road and river curves at least two elevation
     // samples wide at that level, lakes and river areas), with the DEM, within the vector budget.
     // Throws SceneFileError naming the file (SceneBudgetError past the budget).
-    static SceneDocument readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine);
+    static SceneDocument readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine,
+                                 SceneRegionStats* stats = nullptr);
 
     const Quad& root() const override { return top_.root(); }
     const Quad& resolve(const Quad& q) const override;

@@ -89,6 +89,7 @@ PyramidReader::PyramidReader(const std::string& path, const Box& extent, const s
 
 PyramidReader::~PyramidReader() = default;
 
+const std::string& PyramidReader::sceneChecksum() const { return impl_->info.sceneChecksum; }
 const std::string& PyramidReader::path() const { return impl_->store->path(); }
 int PyramidReader::minLevel() const { return impl_->info.minLevel; }
 int PyramidReader::maxLevel() const { return impl_->info.maxLevel; }

@@ -52,6 +52,8 @@ public:
     PyramidReader& operator=(const PyramidReader&) = delete;
 
     const std::string& path() const;
+    // The checksum text of the scene the tiles show (io/scene_checksum.h; empty: unknown).
+    const std::string& sceneChecksum() const;
     int minLevel() const;
     int maxLevel() const;
     // L: the first level whose appearance the pyramid made from vector data.
