@@ -3,6 +3,7 @@
 // import report printed, as `lacet import` prints it) when its data is there, else on a synthetic
 // scene. A scene file's pyramid (§7: `lacet pyramid build`, by default beside it as
 // NAME.pyramid.gpkg) gives the appearance of the coarse quads and is updated after each save.
+// With --vector-budget the scene file is read lazily (editor/lazy_forest.h) and viewed, not edited.
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -35,7 +36,8 @@ constexpr const char* kAndorraDemInZip = "N42E001.hgt";
 ui::EditorDocument chooseDocument(const EditCli& o) {
     ui::EditorDocument d;
     if (!o.scene.empty()) {
-        d.document = loadScene(o.scene);
+        d.lazy = o.editor.vectorBudgetMiB > 0.0;
+        if (!d.lazy) d.document = loadScene(o.scene);
         d.path = d.label = o.scene;
         return d;
     }
@@ -85,7 +87,14 @@ void addEditCommand(CLI::App& app) {
     cmd->add_option("--cache-tiles", o->editor.cacheTiles,
                     "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")
         ->check(CLI::PositiveNumber);
+    cmd->add_option("--vector-budget", o->editor.vectorBudgetMiB,
+                    "Read the scene file's vector data lazily within this many MiB, as the view needs it (0: load it whole); "
+                    "such a scene is viewed, not edited")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--part-level", o->editor.partLevel,
+                    "With --vector-budget: the level of the quads read as one part (-1: quads at most 5 km wide)");
     cmd->callback([o] {
+        if (o->editor.vectorBudgetMiB > 0.0 && o->scene.empty()) throw CLI::ValidationError("--vector-budget needs a scene file");
         if (!o->editor.script.empty()) std::filesystem::create_directories(o->editor.outDir);
         if (!o->editor.pyramid.empty() && o->editor.noPyramid) throw CLI::ValidationError("--pyramid and --no-pyramid exclude each other");
         if (!o->editor.pyramid.empty() && !std::filesystem::exists(o->editor.pyramid))

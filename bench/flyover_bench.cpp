@@ -127,13 +127,17 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     lazyParams.partQuadM = o.partQuadM;
     lazyParams.vectorBudgetMiB = o.vectorBudgetMiB;
     lazyParams.topElevationOnly = !o.pyramid.empty();
-    SceneRegionStats topStats;
+    std::string storedChecksum;
+    std::size_t lazyCurves = 0;
     if (o.vectorBudgetMiB < 0.0 || (o.vectorBudgetMiB > 0.0 && o.scene.empty()))
         throw std::invalid_argument("bench flyover: --vector-budget needs --scene and must be > 0");
     if (lazy && o.pyramid == "auto") throw std::invalid_argument("bench flyover: --vector-budget takes a pyramid file, not auto");
     if (lazy) {
         // What the top tree reads (the session reads it again: the flight's path needs the DEM).
-        doc = LazyForest::readTop(o.scene, lazyParams, RefineParams{}, &topStats);
+        LazyTop top = LazyForest::readTop(o.scene, lazyParams, RefineParams{});
+        doc = std::move(top.doc);
+        storedChecksum = top.stats.checksum;
+        lazyCurves = top.stats.sceneCurves;
         if (doc.scene.layers.size() <= kRoadsLayer || !doc.dem)
             throw std::invalid_argument("bench flyover: " + o.scene + " has no DEM or no roads layer " + std::to_string(kRoadsLayer));
     } else if (!o.scene.empty()) {
@@ -177,7 +181,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     // The camera looks ahead along the path, steeply from high up, nearly level near the ground.
     const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
     const double aspect = 1280.0 / 800.0;
-    const std::size_t curveCount = lazy ? topStats.sceneCurves : count(doc.scene).curves;
+    const std::size_t curveCount = lazy ? lazyCurves : count(doc.scene).curves;
     near = SceneDocument();
     // The ground under the camera: the DEM in memory of the session's document (the last run takes
     // the document itself, so a large scene is not held twice).
@@ -225,9 +229,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                            {"file_mib", double(std::filesystem::file_size(file)) / (1024.0 * 1024.0)}};
         }
         if (lazy) {  // the top part is not the whole scene: the file's stored checksum
-            pyramid = std::make_shared<PyramidReader>(file, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string());
-            if (!pyramid->sceneChecksum().empty() && pyramid->sceneChecksum() != topStats.checksum)
-                throw std::invalid_argument(file + ": the pyramid was made from another state of " + o.scene);
+            pyramid = std::make_shared<PyramidReader>(file, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string(),
+                                                      storedChecksum);
             const int partLevel = lazyParams.level(doc.scene.extent);
             if (pyramid->vectorLevel() <= partLevel)
                 throw std::invalid_argument("bench flyover: the pyramid's appearance is made from vector data from level " +

@@ -28,8 +28,11 @@ EditSession::EditSession(SceneDocument document, SessionParams params) : doc_(st
 }
 
 EditSession::EditSession(const std::string& path, LazyParams lazy, SessionParams params)
-    : EditSession(LazyForest::readTop(path, lazy, params.refine), params) {
-    lazyPath_ = path;
+    : EditSession(LazyForest::readTop(path, lazy, params.refine), lazy, params) {}
+
+EditSession::EditSession(LazyTop top, LazyParams lazy, SessionParams params) : EditSession(std::move(top.doc), params) {
+    lazyPath_ = top.path;
+    storedChecksum_ = top.stats.checksum;
     lazy_ = lazy;
     forest_ = std::make_unique<LazyForest>(lazyPath_, *quadtree_, *data_, *heights_, params_, *lazy_);
     loop_->setForest(*forest_);

@@ -147,10 +147,14 @@ public:
     const PyramidUse& pyramidUse() const { return loop_->pyramidUse(); }
     // The parts of a scene read lazily (nullptr: the whole scene is loaded).
     const LazyForest* lazyForest() const { return forest_.get(); }
+    // A scene read lazily: its file's stored checksum (io/scene_checksum.h; what a pyramid of it
+    // records); empty for a document loaded whole (its own checksum is computed from it).
+    const std::string& storedChecksum() const { return storedChecksum_; }
     // The streamed DEM (nullptr when the document's DEM is in memory whole).
     DemStream* demStream() const { return demStream_.get(); }
 
 private:
+    EditSession(LazyTop top, LazyParams lazy, SessionParams params);
     // After each command, undo or redo: the curve data, UPDATE and the loop's dirty tiles.
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     // Runs `step` (a history call) summing the reports of the edits it makes.
@@ -168,6 +172,7 @@ private:
     std::unique_ptr<CurveDataCache> data_;
     std::string lazyPath_;                 // a scene read lazily: its file,
     std::optional<LazyParams> lazy_;       // its knobs,
+    std::string storedChecksum_;           // its stored checksum,
     std::unique_ptr<LazyForest> forest_;   // and its parts (over the quadtree: destroyed before it)
     CommandHistory history_;
     std::unique_ptr<TileLoop> loop_;  // reads params_, doc_ and the tree

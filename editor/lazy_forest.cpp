@@ -61,15 +61,17 @@ LazyForest::LazyForest(std::string path, Quadtree& top, const CurveDataCache& to
                                std::to_string(lazy_.vectorBudgetMiB) + " MiB; raise it, or read their appearance from a pyramid");
 }
 
-SceneDocument LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine,
-                                  SceneRegionStats* stats) {
+LazyTop LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine) {
     const Box extent = loadSceneExtent(path);
     const int level = lazy.level(extent);
     SceneRegionOptions filter;
     filter.elevationOnly = lazy.topElevationOnly;
     filter.minCurveWidth = 2.0 * extent.size().x / double(std::int64_t(1) << level) / double(refine.elevationResolution);
     filter.budgetMiB = lazy.vectorBudgetMiB;
-    return loadSceneRegion(path, extent, refine, level, stats, filter);
+    LazyTop top;
+    top.path = path;
+    top.doc = loadSceneRegion(path, extent, refine, level, &top.stats, filter);
+    return top;
 }
 
 LazyForest::~LazyForest() {

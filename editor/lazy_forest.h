@@ -53,6 +53,14 @@ struct LazyParams {
     void validate() const;  // std::invalid_argument naming the bad knob
 };
 
+// What the top tree reads of a scene file (LazyForest::readTop) and the read's figures (its stored
+// checksum among them: the whole file's, which a pyramid of it records).
+struct LazyTop {
+    std::string path;
+    SceneDocument doc;
+    SceneRegionStats stats;
+};
+
 struct LazyStats {
     int partLevel = 0;
     double topMiB = 0.0;            // the top tree's vector data (the parts have the budget less this)
@@ -80,8 +88,7 @@ public:
     // (elevation only with topElevationOnly: the road and river curves at least two elevation
     // samples wide at that level, lakes and river areas), with the DEM, within the vector budget.
     // Throws SceneFileError naming the file (SceneBudgetError past the budget).
-    static SceneDocument readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine,
-                                 SceneRegionStats* stats = nullptr);
+    static LazyTop readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine);
 
     const Quad& root() const override { return top_.root(); }
     const Quad& resolve(const Quad& q) const override;
@@ -96,6 +103,7 @@ public:
 
     const LazyStats& stats() const { return stats_; }
     int partLevel() const { return level_; }
+    const LazyParams& params() const { return lazy_; }
     // Whether the part of quad `key` (of the part level) is held now.
     bool holds(const QuadKey& key) const { return parts_.count(key) > 0; }
 

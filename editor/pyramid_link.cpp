@@ -34,7 +34,12 @@ PyramidOpened PyramidLink::open(EditSession& session) {
     levels_.reset();
     if (pyramid_.empty()) return out;
     try {
-        auto reader = std::make_shared<PyramidReader>(pyramid_, session.document());
+        const SceneDocument& doc = session.document();
+        auto reader = session.lazyForest()  // the top part's checksum is not the file's
+                          ? std::make_shared<PyramidReader>(pyramid_, doc.scene.extent,
+                                                            doc.georeference.valid ? doc.georeference.crsWkt : std::string(),
+                                                            session.storedChecksum())
+                          : std::make_shared<PyramidReader>(pyramid_, doc);
         session.setPyramid(reader);
         out.levels = levels_ = PyramidLevels{pyramid_, reader->minLevel(), reader->vectorLevel(), reader->maxLevel(), reader->encoding()};
     } catch (const std::exception& e) {

@@ -56,10 +56,13 @@ struct PyramidReader::Impl {
 };
 
 PyramidReader::PyramidReader(const std::string& path, const SceneDocument& doc)
-    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string()) {
+    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string(), sceneChecksumText(doc)) {}
+
+PyramidReader::PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt, const std::string& sceneChecksum)
+    : PyramidReader(path, extent, crsWkt) {
     // Tiles of another state of the scene (edited without updating the pyramid, imported again)
     // would show what is no longer there.
-    if (!impl_->info.sceneChecksum.empty() && impl_->info.sceneChecksum != sceneChecksumText(doc))
+    if (!impl_->info.sceneChecksum.empty() && impl_->info.sceneChecksum != sceneChecksum)
         throw PyramidError(path + ": the pyramid was made from another state of the scene (edited or imported since): run lacet "
                                   "pyramid update on the scene");
 }
@@ -89,7 +92,6 @@ PyramidReader::PyramidReader(const std::string& path, const Box& extent, const s
 
 PyramidReader::~PyramidReader() = default;
 
-const std::string& PyramidReader::sceneChecksum() const { return impl_->info.sceneChecksum; }
 const std::string& PyramidReader::path() const { return impl_->store->path(); }
 int PyramidReader::minLevel() const { return impl_->info.minLevel; }
 int PyramidReader::maxLevel() const { return impl_->info.maxLevel; }

@@ -47,13 +47,14 @@ public:
     // made from another state of that scene (PyramidInfo::sceneChecksum: edited or imported again
     // without `lacet pyramid update`), whose tiles would show what is no longer there.
     PyramidReader(const std::string& path, const SceneDocument& doc);
+    // The same for a scene known by its extent, CRS and checksum text (io/scene_checksum.h: a
+    // scene file's stored one, for a scene never whole in memory).
+    PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt, const std::string& sceneChecksum);
     ~PyramidReader();
     PyramidReader(const PyramidReader&) = delete;
     PyramidReader& operator=(const PyramidReader&) = delete;
 
     const std::string& path() const;
-    // The checksum text of the scene the tiles show (io/scene_checksum.h; empty: unknown).
-    const std::string& sceneChecksum() const;
     int minLevel() const;
     int maxLevel() const;
     // L: the first level whose appearance the pyramid made from vector data.

@@ -16,6 +16,7 @@
 
 #include "io/image_file.h"
 #include "io/scene_file.h"
+#include "io/scene_region.h"
 #include "ui/object_renderer.h"
 #include "ui/overlay_renderer.h"
 #include "ui/script_player.h"
@@ -106,8 +107,8 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
     scenePath_ = document.path;
     pyramid_.setFiles(options_.noPyramid ? std::string() : options_.pyramid, document.path);
     log_["scene"] = document.label;
-    const Box ext = document.document.scene.extent;
-    resetSession(std::move(document.document));
+    const Box ext = document.lazy ? loadSceneExtent(document.path) : document.document.scene.extent;
+    resetSession(std::move(document.document), document.lazy ? document.path : std::string());
     camera_.target = glm::dvec3(ext.center().x, ext.center().y, 0.0);
     camera_.target.z = session_->displayedHeight(ext.center());
     camera_.distance = 0.8 * ext.size().x;
@@ -129,8 +130,8 @@ EditorApp::~EditorApp() {
     glfwTerminate();
 }
 
-void EditorApp::resetSession(SceneDocument doc) {
-    if (doc.scene.layers.empty()) throw std::runtime_error("lacet edit: the scene has no layer to edit");
+void EditorApp::resetSession(SceneDocument doc, const std::string& lazyPath) {
+    if (lazyPath.empty() && doc.scene.layers.empty()) throw std::runtime_error("lacet edit: the scene has no layer to edit");
     terrain_->reset();
     objects_->reset();
     std::optional<LayerId> current;
@@ -144,12 +145,31 @@ void EditorApp::resetSession(SceneDocument doc) {
     controller_.reset();
     session_.reset();
     sessionParams_.demStream.budgetMiB = options_.demBudgetMiB;
-    session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
+    if (lazyPath.empty()) {
+        session_ = std::make_unique<EditSession>(std::move(doc), sessionParams_);
+    } else {
+        LazyParams lazy;
+        lazy.vectorBudgetMiB = options_.vectorBudgetMiB;
+        lazy.partLevel = options_.partLevel;
+        lazy.topElevationOnly = !pyramid_.path().empty();  // its appearance down to the part level from the pyramid
+        session_ = std::make_unique<EditSession>(lazyPath, lazy, sessionParams_);
+        if (session_->document().scene.layers.empty()) throw std::runtime_error("lacet edit: the scene has no layer to show");
+    }
     adaptive_.reset();
     if (options_.adaptiveMs > 0.0 && options_.script.empty())
         adaptive_.emplace(sessionParams_.view.K, AdaptiveQualityParams{.targetMs = options_.adaptiveMs});
     pyramid_.sessionStarted();
     openPyramid();
+    if (const LazyForest* f = session_->lazyForest()) {
+        std::ostringstream m;
+        m << "Read lazily within " << options_.vectorBudgetMiB << " MiB, parts of level " << f->partLevel() << ": viewing only";
+        const auto& levels = pyramid_.levels();
+        if (f->params().topElevationOnly && (!levels || levels->vectorLevel <= f->partLevel()))
+            m << "; levels " << (levels ? levels->vectorLevel : 0) << " to " << f->partLevel()
+              << " are drawn without their narrow curves and land areas (no pyramid gives their appearance)";
+        status(m.str());
+        log_["lazy"] = {{"vector_budget_mib", options_.vectorBudgetMiB}, {"part_level", f->partLevel()}, {"top_mib", f->stats().topMiB}};
+    }
     controller_ = std::make_unique<EditingController>(*session_);
     controller_->onMessage = [this](const std::string& m) { status(m); };
     controller_->onCommand = [this](const CommandReport& r) {
@@ -277,7 +297,8 @@ void EditorApp::open(const std::string& path) {
     while (pyramid_.updating()) pollPyramidUpdate(true);  // the updates of the scene being left end first
     if (options_.noPyramid) pyramid_.setFiles({}, path);
     else pyramid_.setDefaultFiles(path);
-    resetSession(loadScene(path));
+    if (options_.vectorBudgetMiB > 0.0) resetSession({}, path);
+    else resetSession(loadScene(path));
     scenePath_ = path;
     status("Opened " + path);
 }

@@ -66,12 +66,17 @@ struct EditorOptions {
     // Off in scripted sessions, which must draw the same frames on every machine.
     double adaptiveMs = 1000.0 / 30.0;
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (io/dem_stream.h)
+    // > 0: a scene file's vector data read lazily within this many MiB (editor/lazy_forest.h; its
+    // parts quads of `partLevel`, -1: from LazyParams::partQuadM), the scene viewed, not edited.
+    double vectorBudgetMiB = 0.0;
+    int partLevel = -1;
 };
 
 // The document the editor opens: the scene, the file it saves to (empty: none yet, a save goes to
 // the output folder), how the log names it, and a first message for the status line.
 struct EditorDocument {
-    SceneDocument document;
+    SceneDocument document;  // empty when `lazy`: `path` is read lazily (EditorOptions::vectorBudgetMiB)
+    bool lazy = false;
     std::string path;
     std::string label;
     std::string message;
@@ -116,7 +121,8 @@ private:
         std::string path;
         bool panels = true, overlay = true;
     };
-    void resetSession(SceneDocument doc);
+    // A new session on `doc`, or on the scene file `lazyPath` read lazily (doc unused).
+    void resetSession(SceneDocument doc, const std::string& lazyPath = {});
     PickView pickView() const;
     void handle(const InputEvent& e);
     void onMouseDown(const InputEvent& e);

@@ -134,6 +134,15 @@ void EditorApp::drawPanels() {
                     static_cast<unsigned long long>(st.evicted));
         ImGui::Text("  tiles from a coarser block this frame: %zu; remade finer: %zu", lastFrame_.demFallbacks, lastFrame_.demRemade);
     }
+    if (const LazyForest* lazy = session_->lazyForest()) {
+        const LazyStats& st = lazy->stats();
+        ImGui::Separator();
+        ImGui::Text("Vector data: read lazily, parts of level %d (%.0f m), viewing only", st.partLevel,
+                    session_->document().scene.extent.size().x / double(std::int64_t(1) << st.partLevel));
+        ImGui::Text("  parts: %zu held (%.1f of %.1f MiB beside the top's %.1f), %zu read, %zu evicted, %zu refused", st.partsHeld,
+                    st.heldMiB, lazy->params().vectorBudgetMiB - st.topMiB, st.topMiB, st.partsRead, st.partsEvicted, st.partsRefused);
+        if (!st.lastError.empty()) ImGui::TextWrapped("  last part refused: %s", st.lastError.c_str());
+    }
     ImGui::Separator();
     ImGui::TextUnformatted("Accuracy");
     float K = float(adaptive_ ? adaptive_->userK() : session_->params().view.K);

@@ -16,7 +16,11 @@
 
 #include "editor/edit_session.h"
 #include "tests/io/gis_fixtures.h"
+#include "editor/pyramid_link.h"
 #include "io/scene_file.h"
+#include "io/tile_codec.h"
+#include "pyramid/pyramid_build.h"
+#include "pyramid/pyramid_reader.h"
 #include "model/edits.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -185,6 +189,37 @@ TEST_F(LazyForestTest, APartReadInTheBackgroundMakesItsQuadsTileAgainWhenItArriv
     EXPECT_GT(arrived, 0u);  // tiles of the part level made from the top tree, made again
     EXPECT_FALSE(r.refineDeferred);
     EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
+    expectSameTiles(lazy, whole);
+}
+
+TEST_F(LazyForestTest, APyramidOfTheFileGivesTheTopsAppearanceAndTheTopReadsOnlyItsElevation) {
+    // Levels 0..3, L = 3: below the part level 2 and at it the appearance is the pyramid's.
+    const std::string pyramid = (*dir_ / "scene.pyramid.gpkg").string();
+    PyramidParams pp;
+    pp.maxLevel = 3;
+    pp.vectorLevels = 1;
+    pp.encoding.format = TileFormat::Png;
+    buildPyramid(*path_, pyramid, pp, /*force=*/true, nullptr);
+    const SceneDocument doc = loadScene(*path_);
+    EditSession whole(SceneDocument(doc), sessionParams());
+    whole.setPyramid(std::make_shared<PyramidReader>(pyramid, doc));
+    LazyParams lp = lazyParams(1024.0);
+    lp.topElevationOnly = true;
+    EditSession lazy(*path_, lp, sessionParams());
+    EXPECT_LT(lazy.lazyForest()->stats().topMiB, 0.5 * EditSession(*path_, lazyParams(1024.0), sessionParams()).lazyForest()->stats().topMiB);
+    // The editor's link opens it for the session read lazily: its checksum is the file's stored one.
+    PyramidLink link;
+    link.setFiles(pyramid, *path_);
+    link.sessionStarted();
+    const PyramidOpened opened = link.open(lazy);
+    ASSERT_TRUE(opened.levels.has_value()) << opened.error;
+    EXPECT_EQ(opened.levels->vectorLevel, 3);
+    for (const glm::dvec3& v : viewers(doc.scene.extent, 4, 9)) {
+        whole.frame(v, 0.0);
+        lazy.frame(v, 0.0);
+    }
+    EXPECT_GT(lazy.pyramidUse().read, 0u);
+    EXPECT_EQ(lazy.pyramidUse().read, whole.pyramidUse().read);
     expectSameTiles(lazy, whole);
 }
 

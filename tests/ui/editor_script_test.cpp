@@ -7,6 +7,9 @@
 //    redo the second, and the saved then reopened scene the second again.
 //  - Drawing: a road drawn by clicking from an existing node joins it (a junction: the node's degree
 //    grows by one) and one undo removes the road and the node made for its other end.
+//  - A scene file read lazily (--vector-budget, editor/lazy_forest.h): viewed from high and low
+//    with no background through the terrain and parts read; a save is refused and leaves the file
+//    as it was.
 //  - Flyover: from 3000 m down to 5 m above a road with a 1 ms production budget per frame, read on
 //    a clock stepped 0.02 ms at each reading (model/work_clock.h), so that the same few tiles a
 //    frame are made on any machine and many leaves are shown with coarser ancestors' tiles, some
@@ -107,6 +110,37 @@ TEST(EditorScript, NoBackgroundShowsThroughTheTerrainAlongAFlyover) {
     }
     std::cout << "[ figures  ] " << log["frames"].size() << " frames, mean update " << sum / double(log["frames"].size())
               << " ms, " << coarser << " leaves shown coarser in the screenshots\n";
+}
+
+TEST(EditorScript, ASceneReadLazilyIsViewedWithItsPartsAndNeverSavedOver) {
+    if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed (scripts/install_deps.sh installs it)";
+    const std::string out = ::testing::TempDir() + "/lacet_editor_lazy";
+    const std::string dir = ::testing::TempDir() + "/lacet_editor_lazy_scene";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const std::string scene = dir + "/scene.gpkg";
+    ASSERT_EQ(std::system((std::string(LACET_BINARY) + " synth --curves 20000 --out " + scene + " > " + dir + "/synth.txt 2>&1").c_str()), 0);
+    const auto size = fs::file_size(scene);
+    const auto written = fs::last_write_time(scene);
+    fs::remove_all(out);
+    fs::create_directories(out);
+    const std::string cmd = std::string("ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1280x800x24' ") + LACET_BINARY + " edit " +
+                            scene + " --vector-budget 64 --part-level 3 --script " + LACET_SOURCE_DIR +
+                            "/tests/scripts/lazy_view.json --out " + out + " --width 800 --height 500 > " + out + "/stdout.txt 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(out + "/lazy-log.json");
+    ASSERT_TRUE(in) << cmd;
+    const nlohmann::json log = nlohmann::json::parse(in);
+    ASSERT_TRUE(log.contains("lazy"));
+    EXPECT_EQ(log["lazy"]["part_level"].get<int>(), 3);
+    ASSERT_EQ(log["screenshots"].size(), 2u);
+    for (const auto& s : log["screenshots"]) EXPECT_EQ(s["background_pixels"].get<int>(), 0) << s["file"];
+    bool refused = false;
+    for (const auto& m : log["messages"]) refused = refused || m.get<std::string>().rfind("Not saved", 0) == 0;
+    EXPECT_TRUE(refused) << log["messages"].dump();
+    EXPECT_EQ(fs::file_size(scene), size);
+    EXPECT_EQ(fs::last_write_time(scene), written);
+    fs::remove_all(dir);
 }
 
 TEST(EditorScript, ARoadDrawnFromANodeJoinsItAndOneUndoRemovesIt) {
