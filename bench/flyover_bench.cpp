@@ -272,10 +272,12 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         params.cacheTiles = run.cacheTiles;
         params.demStream.budgetMiB = o.demBudgetMiB;
         params.demStream.profileSpacing = o.demProfileSpacingM;
+        const auto opening = Clock::now();
         const std::unique_ptr<EditSession> owned =
             lazy ? std::make_unique<EditSession>(o.scene, lazyParams, params)
                  : std::make_unique<EditSession>(&run == &plan.back() ? std::move(doc) : SceneDocument(doc), params);
         EditSession& session = *owned;
+        const double openMs = msSince(opening);
         const Dem& ground = *session.document().dem;
         std::optional<AdaptiveQuality> adaptive;
         if (o.adaptiveTargetMs > 0.0) adaptive.emplace(view.K, AdaptiveQualityParams{.targetMs = o.adaptiveTargetMs});
@@ -381,6 +383,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         runs.push_back({{"budget_ms", budget},
                         {"dem_stream", dem},
                         {"lazy", lazyJson},
+                        {"session_open_ms", openMs},
                         {"tiles_remade_when_parts_arrived", partsArrived},
                         {"profile_error", profileJson},
                         {"adaptive_K", adaptiveJson},

@@ -6,6 +6,8 @@
 // curves saved in a temporary directory.
 #include "editor/lazy_forest.h"
 
+#include <sqlite3.h>
+
 #include <filesystem>
 #include <random>
 #include <string>
@@ -221,6 +223,53 @@ TEST_F(LazyForestTest, APyramidOfTheFileGivesTheTopsAppearanceAndTheTopReadsOnly
     EXPECT_GT(lazy.pyramidUse().read, 0u);
     EXPECT_EQ(lazy.pyramidUse().read, whole.pyramidUse().read);
     expectSameTiles(lazy, whole);
+}
+
+TEST_F(LazyForestTest, APartTheFileCannotGiveIsRefusedByNameAndItsQuadDrawnFromTheTop) {
+    // A copy of the scene whose one field, in one quad of the part level (and maybe its
+    // neighbours), has a spoilt ring blob: the top tree (elevation only) never reads fields.
+    const std::string copy = (*dir_ / "spoilt.gpkg").string();
+    std::filesystem::copy_file(*path_, copy, std::filesystem::copy_options::overwrite_existing);
+    const SceneDocument doc = loadScene(*path_);
+    const Box e = doc.scene.extent;
+    const double side = e.size().x / double(1 << kPartLevel);
+    const Box quad{e.min + Vec2(side, side), e.min + Vec2(2.0 * side, 2.0 * side)};  // 2/1/1
+    ElementId spoilt = kNoElement;
+    const Layer& fields = doc.scene.layers[kFieldsLayer];
+    for (ElementId id = 0; id < fields.areas.size() && spoilt == kNoElement; ++id) {
+        if (!fields.areas[id].alive) continue;
+        for (const AreaEdge& edge : fields.areas[id].loops[0])
+            for (const Vertex& v : fields.curves[edge.curve].vertices)
+                if (quad.dilated(-0.1 * side).contains(v.p)) spoilt = id;
+    }
+    ASSERT_NE(spoilt, kNoElement);
+    {
+        sqlite3* db = nullptr;
+        ASSERT_EQ(sqlite3_open(copy.c_str(), &db), SQLITE_OK);
+        const std::string sql = "UPDATE lacet_areas SET loops = x'010203' WHERE layer = " + std::to_string(kFieldsLayer) +
+                                " AND id = " + std::to_string(spoilt);
+        EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
+        sqlite3_close(db);
+    }
+    LazyParams lp = lazyParams(1024.0);
+    lp.topElevationOnly = true;
+    EditSession lazy(copy, lp, sessionParams());
+    const Vec2 c = quad.center();
+    const FrameReport r = lazy.frame({c.x, c.y, 50.0}, 0.0);
+    EXPECT_EQ(r.pending, 0u);
+    const LazyStats& st = lazy.lazyForest()->stats();
+    EXPECT_GE(st.partsRefused, 1u);
+    EXPECT_NE(st.lastError.find(copy), std::string::npos) << st.lastError;
+    EXPECT_FALSE(lazy.lazyForest()->holds({kPartLevel, 1, 1}));
+    // Drawn from the top tree: the quad is a leaf with its tile.
+    const auto [q, tile] = lazy.tileAt(c);
+    ASSERT_NE(q, nullptr);
+    EXPECT_EQ(q->level, kPartLevel);
+    EXPECT_NE(tile, nullptr);
+    // The next frame does not read it again.
+    const std::size_t refused = st.partsRefused;
+    lazy.frame({c.x, c.y, 50.0}, 0.0);
+    EXPECT_EQ(lazy.lazyForest()->stats().partsRefused, refused);
 }
 
 TEST_F(LazyForestTest, EditsAreRefusedAndChangeNothing) {
