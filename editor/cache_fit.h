@@ -28,7 +28,10 @@ struct CacheFit {
 // (Quadtree::viewDistance), a quad whose shown descendants are all its children is shown in their
 // place, until the count fits: with the root alone shown, one tile is kept, so `kept` exceeds
 // the capacity only when that is 0.
+// With a `forest` (editor/quad_forest.h: a scene read lazily), the quads' parents and children are
+// the forest's (QuadForest::parentOf, resolve), not those of the tree each quad is in.
+class QuadForest;
 CacheFit fitToCache(std::span<const Quad* const> leaves, std::size_t capacity, glm::dvec3 viewer,
-                    const std::function<bool(const Quad&)>& hasTile);
+                    const std::function<bool(const Quad&)>& hasTile, const QuadForest* forest = nullptr);
 
 }  // namespace lacet

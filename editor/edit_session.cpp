@@ -34,7 +34,7 @@ EditSession::EditSession(LazyTop top, LazyParams lazy, SessionParams params) : E
     lazyPath_ = top.path;
     storedChecksum_ = top.stats.checksum;
     lazy_ = lazy;
-    forest_ = std::make_unique<LazyForest>(lazyPath_, *quadtree_, *data_, *heights_, params_, *lazy_);
+    forest_ = std::make_unique<LazyForest>(lazyPath_, storedChecksum_, *quadtree_, *data_, *heights_, params_, *lazy_);
     loop_->setForest(*forest_);
 }
 
@@ -47,7 +47,7 @@ void EditSession::buildTree() {
     data_ = std::make_unique<CurveDataCache>(*quadtree_, *heights_, params_.profiles);
     loop_->setTree(*quadtree_, *data_);
     if (lazy_) {
-        forest_ = std::make_unique<LazyForest>(lazyPath_, *quadtree_, *data_, *heights_, params_, *lazy_);
+        forest_ = std::make_unique<LazyForest>(lazyPath_, storedChecksum_, *quadtree_, *data_, *heights_, params_, *lazy_);
         loop_->setForest(*forest_);
     }
 }
@@ -95,6 +95,7 @@ void EditSession::beginGroup() { history_.beginGroup(); }
 void EditSession::endGroup() { history_.endGroup(); }
 
 bool EditSession::undo(CommandReport* report) {
+    if (forest_) return false;  // a scene read lazily has no edit to undo
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.undo(doc_.scene, after); });
     if (done && report) *report = r;
@@ -102,6 +103,7 @@ bool EditSession::undo(CommandReport* report) {
 }
 
 bool EditSession::redo(CommandReport* report) {
+    if (forest_) return false;
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.redo(doc_.scene, after); });
     if (done && report) *report = r;
@@ -116,6 +118,9 @@ void EditSession::setK(double K) {
 }
 
 void EditSession::setRefineParams(const RefineParams& refine) {
+    // A scene read lazily: what the top tree needs depends on the refinement (the reach, the
+    // narrowest curve read), so it is read again (the DEM stays).
+    if (lazy_) doc_.scene = std::move(LazyForest::readTop(lazyPath_, *lazy_, refine, /*dem=*/false).doc.scene);
     params_.refine = refine;
     buildTree();
 }

@@ -40,9 +40,10 @@ struct LazyForest::Part {
         : doc(std::move(d)), graphStep(doc.scene, graph), tree(doc.scene, refine, &graphStep), data(tree, heights, profiles) {}
 };
 
-LazyForest::LazyForest(std::string path, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
+LazyForest::LazyForest(std::string path, std::string storedChecksum, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
                        const SessionParams& params, LazyParams lazy)
     : path_(std::move(path)),
+      storedChecksum_(std::move(storedChecksum)),
       top_(top),
       topData_(topData),
       heights_(heights),
@@ -61,13 +62,14 @@ LazyForest::LazyForest(std::string path, Quadtree& top, const CurveDataCache& to
                                std::to_string(lazy_.vectorBudgetMiB) + " MiB; raise it, or read their appearance from a pyramid");
 }
 
-LazyTop LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine) {
+LazyTop LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem) {
     const Box extent = loadSceneExtent(path);
     const int level = lazy.level(extent);
     SceneRegionOptions filter;
     filter.elevationOnly = lazy.topElevationOnly;
     filter.minCurveWidth = 2.0 * extent.size().x / double(std::int64_t(1) << level) / double(refine.elevationResolution);
     filter.budgetMiB = lazy.vectorBudgetMiB;
+    filter.dem = dem;
     LazyTop top;
     top.path = path;
     top.doc = loadSceneRegion(path, extent, refine, level, &top.stats, filter);
@@ -87,6 +89,9 @@ std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box
     const Box inside = bounds.dilated(-1e-3 * bounds.size().x);
     SceneRegionStats st;
     SceneDocument doc = loadSceneRegion(path_, inside, refine_, level_, &st, filter);
+    if (!storedChecksum_.empty() && st.checksum != storedChecksum_)
+        throw SceneFileError(path_ + ": the file changed since it was opened (its stored checksum is " + st.checksum + ", was " +
+                             storedChecksum_ + "): open it again");
     auto part = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
     part->quad = &part->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
     part->bytes = st.bytes;
@@ -118,7 +123,7 @@ void LazyForest::settle(Read& r) {
     }
     refused_.erase(r.key);
     held_ += part->bytes;
-    part->wanted = clock_;
+    part->wanted = wanted_.count(r.key) > 0 ? clock_ : clock_ - 1;  // one no viewer wants now goes first
     stats_.largestPartMiB = std::max(stats_.largestPartMiB, toMiB(part->bytes));
     ++stats_.partsRead;
     arrived_.push_back(r.key);
@@ -152,11 +157,6 @@ double LazyForest::budgetLeft() const {
 
 bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
     ++clock_;
-    std::erase_if(reading_, [&](Read& r) {
-        if (r.result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
-        settle(r);
-        return true;
-    });
     ViewParams topView = view;
     topView.maxLevel = std::min(view.maxLevel, level_);
     bool done = top_.refineForViewers(viewers, topView, deadline);
@@ -171,8 +171,17 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
     std::stable_sort(wanted.begin(), wanted.end(), [&](const Quad* a, const Quad* b) {
         return Quadtree::viewDistance(*a, viewers[0]) < Quadtree::viewDistance(*b, viewers[0]);
     });
-    for (const Quad* q : wanted)
+    wanted_.clear();
+    for (const Quad* q : wanted) {
+        wanted_.insert(keyOf(*q));
         if (const auto it = parts_.find(keyOf(*q)); it != parts_.end()) it->second->wanted = clock_;
+    }
+    // The parts the worker finished, now that the parts wanted are known (those are kept).
+    std::erase_if(reading_, [&](Read& r) {
+        if (r.result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+        settle(r);
+        return true;
+    });
     // A part no viewer wants now is its quad alone (a leaf, as the top tree has it): what was
     // refined below it for an earlier view goes.
     for (auto& [key, part] : parts_)
@@ -238,6 +247,13 @@ const Quad& LazyForest::resolve(const Quad& q) const {
     if (q.level != level_) return q;
     const auto it = parts_.find(keyOf(q));
     return it != parts_.end() ? *it->second->quad : q;
+}
+
+const Quad* LazyForest::parentOf(const Quad& q) const {
+    if (q.level != level_ || !owner(q)) return q.parent;
+    // A part's quad: its parent is the top tree's quad above the top's quad it stands for (the
+    // levels above P resolve to the top tree's own quads).
+    return findQuad(*this, {level_ - 1, q.tx >> 1, q.ty >> 1});
 }
 
 const Quadtree& LazyForest::treeOf(const Quad& q) const {

@@ -10,13 +10,21 @@
 //     step, quadtree (subdivided down the path to the quad, refined for the viewers below it) and
 //     curve data.
 // Memory follows the view: the parts' vector data (SceneRegionStats::bytes) stays within
-// `vectorBudgetMiB`; past it, the parts no viewer wants now go, least recently wanted first, as the
-// DEM stream drops blocks. A part that does not fit beside those wanted now is refused (counted) and
+// `vectorBudgetMiB` less the top tree's; past it, the parts no viewer wants now go, least recently
+// wanted first, as the DEM stream drops blocks. Not counted: a part being read (at most the budget
+// left when its read began, so the peak is up to twice the parts' budget), the parts' clipped
+// quadtrees and curve data (io/scene_region.h lists what else a read holds). Without a pyramid
+// (topElevationOnly false) the top tree reads every curve and area, for the appearance of the levels
+// down to P: the whole scene, within the budget (refused past it); lazy reading pays with a
+// pyramid. A part that does not fit beside those wanted now is refused (counted) and
 // its quad stays a leaf of the top tree, drawn with its tile; so is a part the file cannot give (a
 // corrupt row: counted, its error kept). Parts are read on a worker thread while frames go on
 // (or in the frame that wants them, `background` false: deterministic, for tests); until a part
 // arrives its quad is a leaf of the top tree, and its tile is made again when the part arrives
 // (takeArrived).
+//
+// A part's read also checks the file's stored checksum against the top's: a file changed since is
+// refused (counted, its error kept).
 //
 // Not yet: editing (the session refuses edits of a scene read lazily), parts stored clipped in the
 // scene file (each part is clipped from the root curves it reads), and a part's own graph step sees
@@ -26,6 +34,7 @@
 #include <future>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -77,8 +86,10 @@ struct LazyStats {
 class LazyForest final : public QuadForest {
 public:
     // `top` (refined here no deeper than the part level), `topData` and `heights` must outlive the
-    // forest; the parts are made with `params`' refinement, graph step and z-profile knobs.
-    LazyForest(std::string path, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
+    // forest; the parts are made with `params`' refinement, graph step and z-profile knobs. A part
+    // whose read finds another stored checksum than `storedChecksum` (the file the top was read
+    // from; empty: unchecked) is refused: the file changed since.
+    LazyForest(std::string path, std::string storedChecksum, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
                const SessionParams& params, LazyParams lazy);
     ~LazyForest() override;  // waits for a read in flight
     LazyForest(const LazyForest&) = delete;
@@ -88,10 +99,11 @@ public:
     // (elevation only with topElevationOnly: the road and river curves at least two elevation
     // samples wide at that level, lakes and river areas), with the DEM, within the vector budget.
     // Throws SceneFileError naming the file (SceneBudgetError past the budget).
-    static LazyTop readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine);
+    static LazyTop readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem = true);
 
     const Quad& root() const override { return top_.root(); }
     const Quad& resolve(const Quad& q) const override;
+    const Quad* parentOf(const Quad& q) const override;
     const Quadtree& treeOf(const Quad& q) const override;
     const CurveDataCache& dataOf(const Quad& q) const override;
     // The top tree for the viewers down to P, then each wanted part's tree below its quad; takes
@@ -121,6 +133,7 @@ private:
     const Part* owner(const Quad& q) const;  // the part whose tree holds q (nullptr: the top tree)
 
     std::string path_;
+    std::string storedChecksum_;
     Quadtree& top_;
     const CurveDataCache& topData_;
     const HeightField& heights_;
@@ -134,6 +147,7 @@ private:
     std::map<QuadKey, double> refused_;  // key -> the budget left (MiB) when it was refused
     std::vector<Read> reading_;          // at most one in background
     std::vector<QuadKey> arrived_;
+    std::set<QuadKey> wanted_;  // the parts' quads the last refine wanted
     std::uint64_t clock_ = 0;
     std::size_t held_ = 0;  // bytes
     LazyStats stats_;

@@ -29,6 +29,9 @@ public:
     virtual const Quad& root() const = 0;
     // The quad whose subtree and data stand for q (q itself where no part replaces it).
     virtual const Quad& resolve(const Quad& q) const { return q; }
+    // The parent of resolved quad q in the forest (its own tree's, except a part's quad, whose
+    // parent is the top tree's).
+    virtual const Quad* parentOf(const Quad& q) const { return q.parent; }
     // The tree (its ancestors and procedural curves) and curve data a resolved quad is made from.
     virtual const Quadtree& treeOf(const Quad& q) const = 0;
     virtual const CurveDataCache& dataOf(const Quad& q) const = 0;

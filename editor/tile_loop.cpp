@@ -252,7 +252,7 @@ FrameReport TileLoop::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibi
     if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
     FrameLeaves leaves = collectLeaves(viewer, predicted, visible, r);
-    const CacheFit fit = fitToCache(leaves.view, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; });
+    const CacheFit fit = fitToCache(leaves.view, params_.cacheTiles, viewer, [&](const Quad& q) { return cache_.count(keyOf(q)) > 0; }, forest_);
     r.shown = fit.shown.size();
     r.replaced = fit.replaced.size();
     if (stream_) followDemStream(fit, viewer, r);
@@ -326,7 +326,7 @@ std::vector<const Quad*> TileLoop::keepShown(const CacheFit& fit) {
         if (it != cache_.end()) it->second.lastUsed = clock_;
         // The ancestors' tiles stay too: they are what is drawn while a quad is made (the draw
         // plan). A tile already marked this frame was reached from a sibling: so were those above it.
-        for (const Quad* a = q->parent; a; a = a->parent) {
+        for (const Quad* a = forest_->parentOf(*q); a; a = forest_->parentOf(*a)) {
             const auto at = cache_.find(keyOf(*a));
             if (at == cache_.end()) continue;
             if (at->second.lastUsed == clock_) break;
