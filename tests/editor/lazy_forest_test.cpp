@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <random>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -82,10 +83,10 @@ std::string* LazyForestTest::path_ = nullptr;
 // Every tile of `whole` is `lazy`'s too, the same. `lazy` may hold more of the part level: the
 // tiles of its quads drawn from the top tree while their parts were read, and those an arriving
 // part made dirty that no frame showed since (an ancestor's, made again when shown).
-void expectSameTiles(const EditSession& lazy, const EditSession& whole) {
+void expectSameTiles(const EditSession& lazy, const EditSession& whole, int partLevel = kPartLevel) {
     for (const auto& [key, t] : lazy.tiles()) {
         if (!whole.tile(key)) {
-            EXPECT_EQ(std::get<0>(key), kPartLevel) << "a tile only the lazy session made";
+            EXPECT_EQ(std::get<0>(key), partLevel) << "a tile only the lazy session made";
         }
     }
     for (const auto& [key, w] : whole.tiles()) {
@@ -93,7 +94,7 @@ void expectSameTiles(const EditSession& lazy, const EditSession& whole) {
         const auto [level, x, y] = key;
         ASSERT_NE(t, nullptr) << level << "/" << x << "/" << y;
         if (t->dirty) {
-            EXPECT_EQ(level, kPartLevel) << x << "/" << y;
+            EXPECT_EQ(level, partLevel) << x << "/" << y;
             continue;
         }
         EXPECT_EQ(t->texels(), w.texels()) << level << "/" << x << "/" << y;
@@ -126,6 +127,86 @@ TEST_F(LazyForestTest, TilesAreThoseOfTheWholeSceneWhereverTheViewerGoes) {
     // to the part level needs them): the whole scene's vector data.
     const SceneDocument doc = loadScene(*path_);
     EXPECT_NEAR(st.topMiB, toMiB(memoryBytes(doc.scene)), 0.2 * toMiB(memoryBytes(doc.scene)));
+}
+
+// Hard cases of parts (issue 23), each viewed low and from a little higher by a whole and a lazy
+// session: a road whose root crosses many parts, a roundabout at a node on a part's border, and a
+// bridge near a part's border (its river read with the road that crosses it).
+TEST_F(LazyForestTest, ARoadAcrossManyPartsARoundaboutOnABorderAndABridgeNearOneAreDrawnAsInTheWholeScene) {
+    // The scene with a roundabout made at the junction nearest a border of the parts of level 3, its
+    // ring across that border.
+    constexpr int kLevel = 3;
+    SceneDocument doc = loadScene(*path_);
+    const Box e = doc.scene.extent;
+    const double side = e.size().x / double(1 << kLevel);
+    // Distance from p to the nearest part border inside the scene.
+    const auto toBorder = [&](Vec2 p) {
+        const Vec2 g = (p - e.min) / side;
+        const double gx = std::round(g.x), gy = std::round(g.y);
+        const bool inX = gx > 0 && gx < (1 << kLevel), inY = gy > 0 && gy < (1 << kLevel);
+        return std::min(inX ? std::abs(g.x - gx) * side : 1e300, inY ? std::abs(g.y - gy) * side : 1e300);
+    };
+    Layer& junctions = doc.scene.layers[kRoadsLayer];
+    ElementId ringNode = kNoElement;
+    for (ElementId id = 0; id < junctions.nodes.size(); ++id) {
+        const Node& n = junctions.nodes[id];
+        if (n.alive && n.curves.size() >= 3 && n.roundabout == 0.0f &&
+            (ringNode == kNoElement || toBorder(n.p) < toBorder(junctions.nodes[ringNode].p)))
+            ringNode = id;
+    }
+    ASSERT_NE(ringNode, kNoElement);
+    // A ring across the border: its radius past the junction's distance to it.
+    const double across = toBorder(junctions.nodes[ringNode].p);
+    ASSERT_LT(across, 60.0) << "no junction near a part border";
+    junctions.nodes[ringNode].roundabout = float(std::max(20.0, across + 10.0));
+    const std::string ringed = (*dir_ / "ringed.gpkg").string();
+    saveScene(ringed, doc);
+    EditSession whole(loadScene(ringed), sessionParams());
+    const Scene& s = whole.document().scene;
+    std::vector<Vec2> spots{s.layers[kRoadsLayer].nodes[ringNode].p};
+    const Layer& roads = s.layers[kRoadsLayer];
+    // The road whose vertices meet the most parts: along it.
+    std::size_t most = 0;
+    ElementId longest = kNoElement;
+    for (ElementId id = 0; id < roads.curves.size(); ++id) {
+        if (!roads.curves[id].alive) continue;
+        std::set<std::pair<int, int>> parts;
+        for (const Vertex& v : roads.curves[id].vertices)
+            parts.insert({int((v.p.x - e.min.x) / side), int((v.p.y - e.min.y) / side)});
+        if (parts.size() > most) most = parts.size(), longest = id;
+    }
+    ASSERT_GE(most, 3u) << "no road crosses three parts";
+    const std::vector<Vertex>& along = roads.curves[longest].vertices;
+    for (std::size_t k = 0; k < along.size(); k += std::max<std::size_t>(1, along.size() / 6)) spots.push_back(along[k].p);
+    // The bridge (a procedural curve over a river) nearest a part border.
+    whole.frame({e.center().x, e.center().y, 5000.0}, 0.0);
+    double nearest = 1e300;
+    Vec2 bridge{};
+    whole.quadtree().forEachQuad([&](const Quad& q) {
+        if (q.layers.empty()) return;  // the root
+        for (const auto& [a, pieces] : q.layers[kRoadsLayer].curves) {
+            const ProceduralCurve* pc = whole.quadtree().proceduralCurve(kRoadsLayer, a);
+            if (!pc || !(pc->curve.flags & kBridge) || pc->curve.vertices.empty()) continue;
+            const Vec2 mid = pc->curve.vertices[pc->curve.vertices.size() / 2].p;
+            if (toBorder(mid) < nearest) nearest = toBorder(mid), bridge = mid;
+        }
+    });
+    ASSERT_LT(nearest, 1e300) << "no bridge";
+    spots.push_back(bridge);
+    LazyParams lp = lazyParams(1024.0);
+    lp.partLevel = kLevel;
+    EditSession lazy(ringed, lp, sessionParams());
+    lazy.frame({e.center().x, e.center().y, 5000.0}, 0.0);  // as the whole session was
+    for (const Vec2 p : spots)
+        for (const double h : {15.0, 150.0}) {
+            whole.frame({p.x, p.y, h}, 0.0);
+            lazy.frame({p.x, p.y, h}, 0.0);
+            EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
+        }
+    expectSameTiles(lazy, whole, kLevel);
+    // The bridge's deck was made in the lazy session too (the objects are in the tiles compared).
+    EXPECT_GT(lazy.objectCounters().bridges.load(), 0u);
+    EXPECT_EQ(lazy.objectCounters().bridges.load(), whole.objectCounters().bridges.load());
 }
 
 TEST_F(LazyForestTest, UnderCachePressureAndNewRefinementTheTilesAreStillTheWholeScenes) {
