@@ -107,4 +107,13 @@ Changeset undo(Scene& s, const Applied& a) {
     return back;
 }
 
+bool continuesDrag(const Command& last, const Command& next) {
+    if (const auto* a = std::get_if<MoveVertexCmd>(&last))
+        if (const auto* b = std::get_if<MoveVertexCmd>(&next))
+            return a->layer == b->layer && a->curve == b->curve && a->index == b->index;
+    if (const auto* a = std::get_if<MoveNodeCmd>(&last))
+        if (const auto* b = std::get_if<MoveNodeCmd>(&next)) return a->layer == b->layer && a->node == b->node;
+    return false;
+}
+
 }  // namespace lacet

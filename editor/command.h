@@ -47,5 +47,7 @@ Applied apply(Scene& scene, const Command& command);
 // Restores the scene as it was before `applied` (which must be the last command applied) and
 // returns the changeset of that restoration.
 Changeset undo(Scene& scene, const Applied& applied);
+// Whether `next` continues `last` as a drag of the same vertex or node (one undo step).
+bool continuesDrag(const Command& last, const Command& next);
 
 }  // namespace lacet

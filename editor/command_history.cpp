@@ -10,16 +10,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Whether `next` continues `last` as a drag of the same vertex or node.
-bool continuesDrag(const Command& last, const Command& next) {
-    if (const auto* a = std::get_if<MoveVertexCmd>(&last))
-        if (const auto* b = std::get_if<MoveVertexCmd>(&next))
-            return a->layer == b->layer && a->curve == b->curve && a->index == b->index;
-    if (const auto* a = std::get_if<MoveNodeCmd>(&last))
-        if (const auto* b = std::get_if<MoveNodeCmd>(&next)) return a->layer == b->layer && a->node == b->node;
-    return false;
-}
-
 }  // namespace
 
 void CommandHistory::execute(Scene& scene, const Command& command, bool merge, const AfterEdit& after) {

@@ -1,6 +1,8 @@
 #include "editor/edit_session.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -33,7 +35,9 @@ EditSession::EditSession(const std::string& path, LazyParams lazy, SessionParams
 EditSession::EditSession(LazyTop top, LazyParams lazy, SessionParams params) : EditSession(std::move(top.doc), params) {
     lazyPath_ = top.path;
     storedChecksum_ = top.stats.checksum;
+    topReach_ = top.stats.reach;
     lazy_ = lazy;
+    lazyEdits_ = std::make_unique<LazyEdits>(lazyPath_, params_.refine);
     forest_ = std::make_unique<LazyForest>(lazyPath_, storedChecksum_, *quadtree_, *data_, *heights_, params_, *lazy_);
     loop_->setForest(*forest_);
 }
@@ -48,8 +52,81 @@ void EditSession::buildTree() {
     loop_->setTree(*quadtree_, *data_);
     if (lazy_) {
         forest_ = std::make_unique<LazyForest>(lazyPath_, storedChecksum_, *quadtree_, *data_, *heights_, params_, *lazy_);
+        if (lazyEdits_) forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
         loop_->setForest(*forest_);
     }
+}
+
+void EditSession::readTopAgain() {
+    LazyTop top = LazyForest::readTop(lazyPath_, *lazy_, params_.refine, /*dem=*/false, lazyEdits_->overlay().get());
+    doc_.scene = std::move(top.doc.scene);
+    doc_.attributes = std::move(top.doc.attributes);
+    auto step = std::make_unique<GraphStep>(doc_.scene, params_.graph);
+    auto tree = std::make_unique<Quadtree>(doc_.scene, params_.refine, step.get());
+    auto data = std::make_unique<CurveDataCache>(*tree, *heights_, params_.profiles);
+    forest_->setTop(*tree, *data);
+    data_ = std::move(data);  // the old curve data goes before its tree, the tree before its graph step
+    quadtree_ = std::move(tree);
+    graphStep_ = std::move(step);
+}
+
+bool EditSession::topTouched(const LazyStep& step) const {
+    if (!lazy_->topElevationOnly) return true;  // the top holds the whole scene
+    if (LazyForest::holdsAny(doc_, step.refs)) return true;
+    const double minWidth = LazyForest::topMinCurveWidth(doc_.scene.extent, *lazy_, params_.refine);
+    const SceneOverlay& overlay = *lazyEdits_->overlay();
+    for (const ElementRef& r : step.refs) {
+        const LayerKind kind = doc_.scene.layers.at(r.layer).kind;
+        // A river anywhere may be one a road of the top bridges, or upstream of one of its rivers.
+        if (kind == LayerKind::Rivers || kind == LayerKind::Lakes) return true;
+        const OverlayElement* e = overlay.find(r);
+        const Curve* c = e ? std::get_if<Curve>(&e->value) : nullptr;
+        // A curve the top would read now (one it read before it holds).
+        if (c && c->alive && kind == LayerKind::Roads && ((c->flags & kBridge) || double(c->w) >= minWidth)) return true;
+    }
+    return false;
+}
+
+CommandReport EditSession::afterLazyStep(const LazyStep& step, double applyMs) {
+    CommandReport r;
+    r.applyMs = applyMs;
+    const auto t0 = std::chrono::steady_clock::now();
+    forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
+    // How far beyond a part's reach what changed may now reach: its footprint and ring.
+    double margin = 0.0;
+    for (const ElementRef& ref : step.refs)
+        if (const OverlayElement* e = lazyEdits_->overlay()->find(ref)) {
+            if (const Curve* c = std::get_if<Curve>(&e->value)) margin = std::max(margin, double(c->wf));
+            if (const Node* n = std::get_if<Node>(&e->value)) margin = std::max(margin, double(n->roundabout));
+            if (const Area* a = std::get_if<Area>(&e->value)) margin = std::max(margin, double(a->wf));
+        }
+    r.topReadAgain = topTouched(step);
+    if (r.topReadAgain) readTopAgain();
+    const std::vector<QuadKey> renewed = forest_->renew(step.refs, step.boxes, margin);
+    r.updateMs = msBetween(t0, std::chrono::steady_clock::now());
+    r.changedQuads = renewed.size() + (r.topReadAgain ? 1 : 0);
+    // The tiles to make again: below the parts read again, and the top's when it was.
+    const int P = forest_->partLevel();
+    const std::set<QuadKey> parts(renewed.begin(), renewed.end());
+    std::set<QuadKey> changed;
+    for (const auto& [key, tile] : loop_->tiles()) {
+        const auto [level, x, y] = key;
+        if (level < P ? r.topReadAgain : parts.count({P, x >> (level - P), y >> (level - P)}) > 0 || (r.topReadAgain && level == P))
+            changed.insert(key);
+    }
+    // The quads of the part level where the step was and is, and every quad below them: their
+    // appearance is made from the parts now, no longer read from the pyramid.
+    std::set<QuadKey> touched(renewed.begin(), renewed.end());
+    const Box extent = doc_.scene.extent;
+    const double cells = double(std::int64_t(1) << P), side = extent.size().x / cells;
+    for (const Box& b : step.boxes) {
+        const Box d = b.dilated(topReach_ + margin);
+        const auto cell = [&](double v, double origin) { return std::int64_t(std::clamp(std::floor((v - origin) / side), 0.0, cells - 1.0)); };
+        for (std::int64_t x = cell(d.min.x, extent.min.x); x <= cell(d.max.x, extent.min.x); ++x)
+            for (std::int64_t y = cell(d.min.y, extent.min.y); y <= cell(d.max.y, extent.min.y); ++y) touched.insert({P, int(x), int(y)});
+    }
+    r.dirtyTiles = loop_->editedLazily(changed, std::vector<QuadKey>(touched.begin(), touched.end()));
+    return r;
 }
 
 CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
@@ -77,7 +154,6 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
 
 template <class Step>
 CommandReport EditSession::edits(Step&& step) {
-    if (forest_) throw EditError("EditSession: " + lazyPath_ + " is read lazily (a vector budget): editing it is not built yet");
     CommandReport total;
     step([&](const Changeset& cs, double applyMs) {
         const CommandReport r = afterEdit(cs, applyMs);
@@ -88,14 +164,25 @@ CommandReport EditSession::edits(Step&& step) {
 }
 
 CommandReport EditSession::execute(const Command& command, bool merge) {
+    if (lazyEdits_) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const LazyStep step = lazyEdits_->execute(command, merge);
+        return afterLazyStep(step, msBetween(t0, std::chrono::steady_clock::now()));
+    }
     return edits([&](const CommandHistory::AfterEdit& after) { history_.execute(doc_.scene, command, merge, after); });
 }
 
-void EditSession::beginGroup() { history_.beginGroup(); }
-void EditSession::endGroup() { history_.endGroup(); }
+void EditSession::beginGroup() { lazyEdits_ ? lazyEdits_->beginGroup() : history_.beginGroup(); }
+void EditSession::endGroup() { lazyEdits_ ? lazyEdits_->endGroup() : history_.endGroup(); }
 
 bool EditSession::undo(CommandReport* report) {
-    if (forest_) return false;  // a scene read lazily has no edit to undo
+    if (lazyEdits_) {
+        const std::optional<LazyStep> step = lazyEdits_->undo();
+        if (!step) return false;
+        const CommandReport r = afterLazyStep(*step, 0.0);
+        if (report) *report = r;
+        return true;
+    }
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.undo(doc_.scene, after); });
     if (done && report) *report = r;
@@ -103,7 +190,13 @@ bool EditSession::undo(CommandReport* report) {
 }
 
 bool EditSession::redo(CommandReport* report) {
-    if (forest_) return false;
+    if (lazyEdits_) {
+        const std::optional<LazyStep> step = lazyEdits_->redo();
+        if (!step) return false;
+        const CommandReport r = afterLazyStep(*step, 0.0);
+        if (report) *report = r;
+        return true;
+    }
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.redo(doc_.scene, after); });
     if (done && report) *report = r;
@@ -120,7 +213,8 @@ void EditSession::setK(double K) {
 void EditSession::setRefineParams(const RefineParams& refine) {
     // A scene read lazily: what the top tree needs depends on the refinement (the reach, the
     // narrowest curve read), so it is read again (the DEM stays).
-    if (lazy_) doc_.scene = std::move(LazyForest::readTop(lazyPath_, *lazy_, refine, /*dem=*/false).doc.scene);
+    if (lazy_)
+        doc_.scene = std::move(LazyForest::readTop(lazyPath_, *lazy_, refine, /*dem=*/false, lazyEdits_->overlay().get()).doc.scene);
     params_.refine = refine;
     buildTree();
 }

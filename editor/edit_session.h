@@ -31,6 +31,7 @@
 #include "editor/command.h"
 #include "editor/command_history.h"
 #include "editor/draw_plan.h"
+#include "editor/lazy_edits.h"
 #include "editor/lazy_forest.h"
 #include "editor/session_params.h"
 #include "editor/tile_loop.h"
@@ -46,9 +47,10 @@
 namespace lacet {
 
 struct CommandReport {
-    double applyMs = 0.0, updateMs = 0.0;  // the edit and the quadtree UPDATE
-    std::size_t changedQuads = 0;          // quads whose graph changed
+    double applyMs = 0.0, updateMs = 0.0;  // the edit and the quadtree UPDATE (lazily: reading the parts again)
+    std::size_t changedQuads = 0;          // quads whose graph changed (lazily: the parts read again, and the top's root)
     std::size_t dirtyTiles = 0;            // cached tiles marked dirty (graph or curve data)
+    bool topReadAgain = false;             // lazily: the top tree was read again
 };
 
 class EditSession {
@@ -56,8 +58,9 @@ public:
     EditSession(SceneDocument document, SessionParams params = {});
     // The scene file at `path` read lazily (§7; editor/lazy_forest.h): the levels down to the part
     // level now (LazyForest::readTop), each part as the view wants it, within lazy.vectorBudgetMiB.
-    // Such a session is not edited yet: execute, undo and redo throw EditError. Throws
-    // SceneFileError naming the file.
+    // Its commands name the file's ids (editor/lazy_edits.h: the edits are kept over the file,
+    // not saved yet); each reads again the parts it touches, and the top tree where it holds, or
+    // would hold, what changed. Throws SceneFileError naming the file.
     EditSession(const std::string& path, LazyParams lazy, SessionParams params = {});
     EditSession(const EditSession&) = delete;
     EditSession& operator=(const EditSession&) = delete;
@@ -72,17 +75,17 @@ public:
     // Undo the last command (or group) / redo the last undone one; false when there is none.
     bool undo(CommandReport* report = nullptr);
     bool redo(CommandReport* report = nullptr);
-    std::size_t undoDepth() const { return history_.undoDepth(); }
-    std::size_t redoDepth() const { return history_.redoDepth(); }
+    std::size_t undoDepth() const { return lazyEdits_ ? lazyEdits_->undoDepth() : history_.undoDepth(); }
+    std::size_t redoDepth() const { return lazyEdits_ ? lazyEdits_->redoDepth() : history_.redoDepth(); }
 
     // Unsaved changes: the scene differs from the one last saved (or opened).
-    bool modified() const { return history_.modified(); }
+    bool modified() const { return lazyEdits_ ? lazyEdits_->modified() : history_.modified(); }
     // Marks the document as saved (by the caller, with io/scene_file.h: the session knows no file
     // format): modified() is false while the scene is in this state.
     void markSaved() { history_.markSaved(); }
     // Forgets the redo history (after a command group was taken back because it was refused: its
     // undoing is no step of the user's to redo).
-    void forgetRedo() { history_.forgetRedo(); }
+    void forgetRedo() { lazyEdits_ ? lazyEdits_->forgetRedo() : history_.forgetRedo(); }
 
     // Refines the quadtree for `viewer` (x, y, height above the ground; metres) and produces
     // missing or dirty tiles of its visible leaves, nearest first, until `budgetMs` is spent (at
@@ -157,6 +160,12 @@ private:
     EditSession(LazyTop top, LazyParams lazy, SessionParams params);
     // After each command, undo or redo: the curve data, UPDATE and the loop's dirty tiles.
     CommandReport afterEdit(const Changeset& cs, double applyMs);
+    // After a step of a scene read lazily: reads again what it touched, marks the tiles to make.
+    CommandReport afterLazyStep(const LazyStep& step, double applyMs);
+    // Whether the top tree holds, or would hold, an element the step changed.
+    bool topTouched(const LazyStep& step) const;
+    // Reads the top tree's vector data again with the edits and makes its tree and curve data.
+    void readTopAgain();
     // Runs `step` (a history call) summing the reports of the edits it makes.
     template <class Step>
     CommandReport edits(Step&& step);
@@ -173,6 +182,8 @@ private:
     std::string lazyPath_;                 // a scene read lazily: its file,
     std::optional<LazyParams> lazy_;       // its knobs,
     std::string storedChecksum_;           // its stored checksum,
+    double topReach_ = 0.0;                // m around a part's quad its read searches (the top's, at the part level)
+    std::unique_ptr<LazyEdits> lazyEdits_;  // its edits
     std::unique_ptr<LazyForest> forest_;   // and its parts (over the quadtree: destroyed before it)
     CommandHistory history_;
     std::unique_ptr<TileLoop> loop_;  // reads params_, doc_ and the tree

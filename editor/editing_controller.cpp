@@ -72,6 +72,12 @@ void EditingController::setTool(Tool tool) {
 }
 
 bool EditingController::execute(const Command& command, bool merge) {
+    // A scene read lazily takes commands in its file's ids (editor/lazy_edits.h); what the window
+    // picks has the ids of the part it was drawn from, which an edit may renumber: not yet.
+    if (session_.lazyForest()) {
+        message("Refused: the scene is read lazily (a vector budget): the window views it only, for now");
+        return false;
+    }
     if (layerLocked(layerOf(command))) {
         message("Refused: the layer is locked");
         return false;

@@ -33,6 +33,7 @@ struct LazyForest::Part {
     CurveDataCache data;
     Quad* quad = nullptr;
     std::size_t bytes = 0;
+    double reach = 0.0;        // m around the quad its read searched
     std::uint64_t wanted = 0;  // the clock of the last refine that wanted it
     double readMs = 0.0;       // its reading and clipping
     Part(SceneDocument d, const GraphStepParams& graph, const RefineParams& refine, const ZProfileParams& profiles,
@@ -44,17 +45,18 @@ LazyForest::LazyForest(std::string path, std::string storedChecksum, Quadtree& t
                        const SessionParams& params, LazyParams lazy)
     : path_(std::move(path)),
       storedChecksum_(std::move(storedChecksum)),
-      top_(top),
-      topData_(topData),
+      top_(&top),
+      topData_(&topData),
+      overlay_(std::make_shared<const SceneOverlay>()),
       heights_(heights),
       refine_(params.refine),
       graph_(params.graph),
       profiles_(params.profiles),
       lazy_(lazy) {
-    level_ = lazy_.level(top_.root().bounds);
+    level_ = lazy_.level(top_->root().bounds);
     stats_.partLevel = level_;
     // The parts share the budget with the top tree's vector data.
-    stats_.topMiB = toMiB(memoryBytes(top_.scene()));
+    stats_.topMiB = toMiB(memoryBytes(top_->scene()));
     partsBudgetMiB_ = lazy_.vectorBudgetMiB - stats_.topMiB;
     if (!(partsBudgetMiB_ > 0.0))
         throw SceneBudgetError(path_ + ": the levels down to the part level " + std::to_string(level_) + " hold " +
@@ -62,14 +64,20 @@ LazyForest::LazyForest(std::string path, std::string storedChecksum, Quadtree& t
                                std::to_string(lazy_.vectorBudgetMiB) + " MiB; raise it, or read their appearance from a pyramid");
 }
 
-LazyTop LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem) {
+double LazyForest::topMinCurveWidth(const Box& extent, const LazyParams& lazy, const RefineParams& refine) {
+    return 2.0 * extent.size().x / double(std::int64_t(1) << lazy.level(extent)) / double(refine.elevationResolution);
+}
+
+LazyTop LazyForest::readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem,
+                            const SceneOverlay* overlay) {
     const Box extent = loadSceneExtent(path);
     const int level = lazy.level(extent);
     SceneRegionOptions filter;
     filter.elevationOnly = lazy.topElevationOnly;
-    filter.minCurveWidth = 2.0 * extent.size().x / double(std::int64_t(1) << level) / double(refine.elevationResolution);
+    filter.minCurveWidth = topMinCurveWidth(extent, lazy, refine);
     filter.budgetMiB = lazy.vectorBudgetMiB;
     filter.dem = dem;
+    filter.overlay = overlay;
     LazyTop top;
     top.path = path;
     top.doc = loadSceneRegion(path, extent, refine, level, &top.stats, filter);
@@ -81,8 +89,10 @@ LazyForest::~LazyForest() {
         if (r.result.valid()) r.result.wait();
 }
 
-std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB) const {
+std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
+                                                   std::shared_ptr<const SceneOverlay> overlay) const {
     SceneRegionOptions filter;
+    filter.overlay = overlay.get();
     filter.dem = false;  // the session's DEM serves every part
     filter.budgetMiB = budgetMiB;
     // The quad alone, as a pyramid shard reads it: a box inside it (its neighbours touch its border).
@@ -95,6 +105,7 @@ std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box
     auto part = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
     part->quad = &part->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
     part->bytes = st.bytes;
+    part->reach = st.reach;
     return part;
 }
 
@@ -102,6 +113,7 @@ void LazyForest::settle(Read& r) {
     std::unique_ptr<Part> part;
     try {
         part = r.result.get();
+        if (r.version != version_) return;  // read before the last edit: read again when wanted
     } catch (const SceneBudgetError&) {
         refused_[r.key] = r.budgetMiB;  // tried again only with more room
         ++stats_.partsRefused;
@@ -159,11 +171,11 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
     ++clock_;
     ViewParams topView = view;
     topView.maxLevel = std::min(view.maxLevel, level_);
-    bool done = top_.refineForViewers(viewers, topView, deadline);
+    bool done = top_->refineForViewers(viewers, topView, deadline);
     // The quads of level P a viewer wants subdivided, nearest to the first viewer first.
     std::vector<const Quad*> wanted;
     if (view.maxLevel > level_)
-        top_.forEachQuad([&](const Quad& q) {
+        top_->forEachQuad([&](const Quad& q) {
             if (q.level != level_) return;
             for (const glm::dvec3& v : viewers)
                 if (Quadtree::wantsSubdivision(q, v, view)) return wanted.push_back(&q);
@@ -206,10 +218,10 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
             continue;
         }
         const Box bounds = q->bounds;
-        Read r{key, left, {}};
-        auto job = [this, key, bounds, left] {
+        Read r{key, left, version_, {}};
+        auto job = [this, key, bounds, left, overlay = overlay_] {
             const auto t0 = std::chrono::steady_clock::now();
-            std::unique_ptr<Part> part = read(key, bounds, left);
+            std::unique_ptr<Part> part = read(key, bounds, left, overlay);
             part->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return part;
         };
@@ -227,6 +239,72 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
             done = it->second->tree.refineSubtree(*it->second->quad, viewers, view, deadline) && done;
     evict(0);
     return done;
+}
+
+void LazyForest::setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version) {
+    if (!overlay) throw std::invalid_argument("LazyForest::setOverlay: no overlay");
+    overlay_ = std::move(overlay);
+    version_ = version;
+}
+
+void LazyForest::setTop(Quadtree& top, const CurveDataCache& topData) {
+    top_ = &top;
+    topData_ = &topData;
+    stats_.topMiB = toMiB(memoryBytes(top_->scene()));
+    partsBudgetMiB_ = lazy_.vectorBudgetMiB - stats_.topMiB;
+    evict(0);
+}
+
+bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs) {
+    for (const ElementRef& r : refs) {
+        if (r.layer >= doc.scene.layers.size()) continue;
+        const Layer::SceneIds& ids = doc.scene.layers[r.layer].sceneIds;
+        const std::vector<ElementId>& of = r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas;
+        if (std::binary_search(of.begin(), of.end(), r.id)) return true;
+    }
+    return false;
+}
+
+std::vector<QuadKey> LazyForest::renew(const std::vector<ElementRef>& refs, const std::vector<Box>& boxes, double margin) {
+    std::vector<QuadKey> renewed;
+    for (auto it = parts_.begin(); it != parts_.end();) {
+        Part& part = *it->second;
+        const Box region = part.quad->bounds.dilated(part.reach + margin);
+        const bool touched = holdsAny(part.doc, refs) ||
+                             std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.intersects(region); });
+        if (!touched) {
+            ++it;
+            continue;
+        }
+        const QuadKey key = it->first;
+        renewed.push_back(key);
+        held_ -= part.bytes;
+        const std::uint64_t wanted = part.wanted;
+        const Box bounds = part.quad->bounds;
+        it = parts_.erase(it);
+        try {
+            const auto t0 = std::chrono::steady_clock::now();
+            std::unique_ptr<Part> again = read(key, bounds, budgetLeft(), overlay_);
+            again->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            again->wanted = wanted;
+            held_ += again->bytes;
+            stats_.largestPartMiB = std::max(stats_.largestPartMiB, toMiB(again->bytes));
+            ++stats_.partsRenewed;
+            it = parts_.emplace_hint(it, key, std::move(again));
+            ++it;
+        } catch (const SceneBudgetError&) {
+            refused_[key] = budgetLeft();
+            ++stats_.partsRefused;
+        } catch (const std::exception& e) {
+            refused_[key] = std::numeric_limits<double>::infinity();
+            ++stats_.partsRefused;
+            stats_.lastError = e.what();
+        }
+    }
+    stats_.partsHeld = parts_.size();
+    stats_.heldMiB = toMiB(held_);
+    stats_.peakMiB = std::max(stats_.peakMiB, stats_.heldMiB);
+    return renewed;
 }
 
 std::vector<QuadKey> LazyForest::takeArrived() {
@@ -258,12 +336,12 @@ const Quad* LazyForest::parentOf(const Quad& q) const {
 
 const Quadtree& LazyForest::treeOf(const Quad& q) const {
     const Part* p = owner(q);
-    return p ? p->tree : top_;
+    return p ? p->tree : *top_;
 }
 
 const CurveDataCache& LazyForest::dataOf(const Quad& q) const {
     const Part* p = owner(q);
-    return p ? p->data : topData_;
+    return p ? p->data : *topData_;
 }
 
 }  // namespace lacet

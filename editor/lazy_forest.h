@@ -26,9 +26,12 @@
 // A part's read also checks the file's stored checksum against the top's: a file changed since is
 // refused (counted, its error kept).
 //
-// Not yet: editing (the session refuses edits of a scene read lazily), parts stored clipped in the
-// scene file (each part is clipped from the root curves it reads), and a part's own graph step sees
-// the part alone (as a pyramid shard's does).
+// Edits not saved (editor/lazy_edits.h) are read over the file (setOverlay): a part read sees them,
+// a read begun before the last edit is dropped when it arrives (and read again), and renew()
+// reads again at once the parts an edit touched.
+//
+// Not yet: parts stored clipped in the scene file (each part is clipped from the root curves it
+// reads), and a part's own graph step sees the part alone (as a pyramid shard's does).
 
 #include <cstdint>
 #include <future>
@@ -76,6 +79,7 @@ struct LazyStats {
     std::size_t partsRead = 0;      // parts read (again after an eviction: counted again)
     std::size_t partsEvicted = 0;   // parts dropped for the budget
     std::size_t partsRefused = 0;   // reads refused: past the budget left, or the file could not give them
+    std::size_t partsRenewed = 0;   // read again after an edit (renew)
     std::size_t partsHeld = 0;      // now
     std::size_t partsHeldPeak = 0;
     double heldMiB = 0.0, peakMiB = 0.0, largestPartMiB = 0.0;
@@ -99,9 +103,27 @@ public:
     // (elevation only with topElevationOnly: the road and river curves at least two elevation
     // samples wide at that level, lakes and river areas), with the DEM, within the vector budget.
     // Throws SceneFileError naming the file (SceneBudgetError past the budget).
-    static LazyTop readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem = true);
+    static LazyTop readTop(const std::string& path, const LazyParams& lazy, const RefineParams& refine, bool dem = true,
+                           const SceneOverlay* overlay = nullptr);
 
-    const Quad& root() const override { return top_.root(); }
+    // The narrowest road or river curve the top tree reads with topElevationOnly (m): two
+    // elevation samples of the part level's quads.
+    static double topMinCurveWidth(const Box& extent, const LazyParams& lazy, const RefineParams& refine);
+
+    // Edits not saved, read over the file from now on (never null), and their version: a part whose
+    // read began with another version is dropped when it arrives.
+    void setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version);
+    // The top tree read again (the same knobs; both must outlive the forest).
+    void setTop(Quadtree& top, const CurveDataCache& topData);
+    // After an edit of `refs` (the file's ids) that lay and lies in `boxes`: reads again, with the
+    // overlay, every part held that holds one of them or whose region (its quad and reach) meets a
+    // box dilated by `margin` (m); a part that no longer fits or cannot be read goes (its quad a
+    // leaf of the top tree). Returns the parts' keys read again or gone.
+    std::vector<QuadKey> renew(const std::vector<ElementRef>& refs, const std::vector<Box>& boxes, double margin);
+    // Whether `doc` (a part read: the file's ids in Layer::sceneIds) holds one of `refs`.
+    static bool holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs);
+
+    const Quad& root() const override { return top_->root(); }
     const Quad& resolve(const Quad& q) const override;
     const Quad* parentOf(const Quad& q) const override;
     const Quadtree& treeOf(const Quad& q) const override;
@@ -112,6 +134,7 @@ public:
     // there yet.
     bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) override;
     std::vector<QuadKey> takeArrived() override;
+    bool holdsAppearance(const Quad& q) const override { return !lazy_.topElevationOnly || owner(q) != nullptr; }
 
     const LazyStats& stats() const { return stats_; }
     int partLevel() const { return level_; }
@@ -124,9 +147,10 @@ private:
     struct Read {
         QuadKey key;
         double budgetMiB = 0.0;
+        std::uint64_t version = 0;  // of the overlay it reads
         std::future<std::unique_ptr<Part>> result;
     };
-    std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB) const;
+    std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay) const;
     void settle(Read& r);        // takes a finished read's part, or its refusal
     void evict(std::size_t keepBytes);  // drops parts not wanted now while held + keepBytes > budget
     double budgetLeft() const;   // MiB left beside the parts wanted now
@@ -134,8 +158,10 @@ private:
 
     std::string path_;
     std::string storedChecksum_;
-    Quadtree& top_;
-    const CurveDataCache& topData_;
+    Quadtree* top_;
+    const CurveDataCache* topData_;
+    std::shared_ptr<const SceneOverlay> overlay_;
+    std::uint64_t version_ = 0;
     const HeightField& heights_;
     const RefineParams refine_;
     const GraphStepParams graph_;

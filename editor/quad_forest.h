@@ -37,6 +37,9 @@ public:
     virtual const CurveDataCache& dataOf(const Quad& q) const = 0;
     // Refines for `viewers` (Quadtree::refineForViewers); false when a subdivision was deferred.
     virtual bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) = 0;
+    // Whether the forest holds what the appearance of resolved quad q is made from (false: the
+    // levels above a lazy scene's parts read without it, whose appearance only a pyramid gives).
+    virtual bool holdsAppearance(const Quad&) const { return true; }
     // Quads whose vector data arrived since the last call (a part read): tiles made of them before
     // are made again.
     virtual std::vector<QuadKey> takeArrived() { return {}; }

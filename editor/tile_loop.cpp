@@ -53,6 +53,21 @@ void TileLoop::setForest(QuadForest& forest) {
 
 std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited) {
     ++edits_;
+    const std::size_t dirty = markDirty(changed, dropped);
+    if (touchLevels_ > 0) recordTouched(changed, dropped, edited);
+    return dirty;
+}
+
+std::size_t TileLoop::editedLazily(const std::set<QuadKey>& changed, const std::vector<QuadKey>& touched) {
+    ++edits_;
+    const std::size_t dirty = markDirty(changed, {});
+    if (touchLevels_ > 0)
+        for (const QuadKey& key : touched)
+            if (std::get<0>(key) < touchLevels_) touched_[key] = touchedBelow_[key] = edits_;
+    return dirty;
+}
+
+std::size_t TileLoop::markDirty(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped) {
     std::size_t dirty = 0;
     for (auto& [key, tile] : cache_) {
         if (tile.dirty) continue;
@@ -63,7 +78,6 @@ std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector
             ++dirty;
         }
     }
-    if (touchLevels_ > 0) recordTouched(changed, dropped, edited);
     return dirty;
 }
 
@@ -120,7 +134,9 @@ bool TileLoop::readsPyramid(const Quad& q) const {
     if (!pyramid_ || !pyramid_->serves(q.level)) return false;
     const std::vector<bool>& hidden = params_.appearance.hiddenLayers;
     if (std::find(hidden.begin(), hidden.end(), true) != hidden.end()) return false;  // made with every layer
-    return !touched(q);
+    // Where the forest cannot make it (a lazy scene's levels above its parts), an edit shows once
+    // the pyramid is updated.
+    return !touched(q) || !forest_->holdsAppearance(q);
 }
 
 void TileLoop::setPyramid(std::shared_ptr<PyramidReader> pyramid, std::optional<std::uint64_t> madeAt) {

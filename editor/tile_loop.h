@@ -109,7 +109,12 @@ public:
     // those holding a curve whose z-profile was `dropped`; records the touched quads below the
     // pyramid's L. Returns how many tiles became dirty.
     std::size_t edited(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited);
-    // Edits seen so far (every call of edited()).
+    // After an edit of a scene read lazily (editor/lazy_forest.h): marks dirty the tiles of the
+    // `changed` quads and of quads not in the forest now; records the `touched` quads and every
+    // quad below them as touched (their appearance no longer read from the pyramid). Returns how
+    // many tiles became dirty.
+    std::size_t editedLazily(const std::set<QuadKey>& changed, const std::vector<QuadKey>& touched);
+    // Edits seen so far (every call of edited() and editedLazily()).
     std::uint64_t editCount() const { return edits_; }
     // Marks dirty the tiles of the quads holding `layer`'s elements (a layer hidden or shown).
     void layerChanged(LayerId layer);
@@ -148,6 +153,9 @@ private:
                         FrameReport& r);
     // Records the quads below the pyramid's level L whose appearance the edit changed.
     void recordTouched(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited);
+    // Marks dirty the tiles of the `changed` quads, of those not in the forest now and of those
+    // holding a curve whose z-profile was `dropped`; returns how many.
+    std::size_t markDirty(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped);
     bool touched(const Quad& q) const;
     // Whether cached `q` holds one of `dropped`'s curves (its tile used a dropped z-profile).
     bool holdsDropped(const Quad& q, const std::vector<ElementRef>& dropped) const;

@@ -377,6 +377,44 @@ std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double toleran
     return out;
 }
 
+namespace {
+
+// SQLite's R-tree keeps 32-bit floats, the lower bound rounded down and the upper bound up, as
+// its rtreeValueDown and rtreeValueUp do (a factor of 1 -/+ 2^-23 where the cast rounded the
+// wrong way).
+constexpr double kRoundTowards = 1.0 - 1.0 / 8388608.0, kRoundAway = 1.0 + 1.0 / 8388608.0;
+double floatDown(double v) {
+    float f = float(v);
+    if (double(f) > v) f = float(v * (v < 0.0 ? kRoundAway : kRoundTowards));
+    return f;
+}
+double floatUp(double v) {
+    float f = float(v);
+    if (double(f) < v) f = float(v * (v < 0.0 ? kRoundTowards : kRoundAway));
+    return f;
+}
+std::optional<Box> rtreeBox(const Envelope& e) {
+    if (e.empty()) return std::nullopt;
+    return Box{{floatDown(e.minX), floatDown(e.minY)}, {floatUp(e.maxX), floatUp(e.maxY)}};
+}
+
+}  // namespace
+
+std::optional<Box> featureBox(const Layer& layer, const Curve& c, double tolerance) {
+    if (!isLineFeature(layer, c)) return std::nullopt;
+    Envelope e;
+    for (Vec2 p : flattenSpline(c.vertices, tolerance)) e.add(p);
+    return rtreeBox(e);
+}
+
+std::optional<Box> featureBox(const Layer& layer, const Area& a, double tolerance) {
+    if (!a.alive) return std::nullopt;
+    Envelope e;
+    for (const auto& ring : polygonRings(layer, a, tolerance))
+        for (Vec2 p : ring) e.add(p);
+    return rtreeBox(e);
+}
+
 std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std::vector<std::string>& takenNames) {
     std::set<std::string> taken(takenNames.begin(), takenNames.end());
     std::vector<FeatureTable> tables;

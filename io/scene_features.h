@@ -49,6 +49,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -122,5 +123,12 @@ std::int64_t featureSrsId(SqliteDb& db, const SceneDocument& doc);
 // end of each flat sub-piece of each Bezier piece, halved until flatness() <= tolerance (metres,
 // > 0); a point equal to the one before it is left out, except that a chain gives two points at least.
 std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double tolerance);
+
+// The box the feature of curve `c` (of `layer`) or area `a` has in its table's R-tree, as
+// writeFeatureTables writes it with `tolerance`: its polyline's envelope, rounded outward to
+// floats as SQLite's R-tree stores it; none where the element has no feature (dead, or a curve of
+// an alive area's loop). An area's loops and a curve's areas name elements of `layer`.
+std::optional<Box> featureBox(const Layer& layer, const Curve& c, double tolerance);
+std::optional<Box> featureBox(const Layer& layer, const Area& a, double tolerance);
 
 }  // namespace lacet

@@ -125,6 +125,19 @@ public:
                 slots_[layer].of(table[6] == 'n' ? ElementKind::Node : table[6] == 'c' ? ElementKind::Curve : ElementKind::Area).fileCount =
                     counts[layer];
         }
+        if (const SceneOverlay* o = filter_.overlay) {
+            // Elements added by the edits have ids past the file's; a layer's features the file has
+            // no table for are found in the overlay alone.
+            for (const auto& [ref, e] : o->elements) {
+                if (ref.layer >= n) throw FormatError("the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
+                KindSlots& k = slots_[ref.layer].of(ref.kind);
+                k.fileCount = std::max(k.fileCount, std::size_t(ref.id) + 1);
+                if (ref.kind == ElementKind::Node) continue;
+                const bool polygons = ref.kind == ElementKind::Area;
+                if (std::none_of(tables_.begin(), tables_.end(), [&](const FeatureTableRef& t) { return t.layer == ref.layer && t.polygons == polygons; }))
+                    tables_.push_back({std::string(), ref.layer, polygons});
+            }
+        }
         charge(memoryBytes(doc.scene));  // the layers, without elements yet
     }
 
@@ -242,7 +255,21 @@ public:
     std::size_t bytes = 0;  // held so far (charge())
 
 private:
+    // The features of table `t` whose boxes meet `box`: the file's R-tree's, except those the
+    // edits changed, found by their boxes now.
     std::vector<ElementId> query(const FeatureTableRef& t, const Box& box) {
+        const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
+        std::vector<ElementId> ids = t.name.empty() ? std::vector<ElementId>{} : fileQuery(t, box);
+        if (const SceneOverlay* o = filter_.overlay) {
+            std::erase_if(ids, [&](ElementId id) { return o->find({t.layer, kind, id}) != nullptr; });
+            o->forEach(t.layer, kind, [&](ElementId id, const OverlayElement& e) {
+                if (e.box && e.box->intersects(box)) ids.push_back(id);
+            });
+        }
+        return ids;
+    }
+
+    std::vector<ElementId> fileQuery(const FeatureTableRef& t, const Box& box) {
         auto s = db_.prepare("SELECT lacet_id FROM \"" + t.name + "\" WHERE fid IN (SELECT id FROM \"" +
                              featureRtreeName(t.name) + "\" WHERE minx <= ? AND maxx >= ? AND miny <= ? AND maxy >= ?)");
         s.bind(1, box.max.x);
@@ -258,6 +285,26 @@ private:
             ids.push_back(ElementId(id));
         }
         return ids;
+    }
+
+    // An element's row, or its value in the edits.
+    template <class T>
+    const T* edited(LayerId l, ElementKind kind, ElementId id) const {
+        if (!filter_.overlay) return nullptr;
+        const OverlayElement* e = filter_.overlay->find({l, kind, id});
+        return e ? &std::get<T>(e->value) : nullptr;
+    }
+    Node nodeRow(LayerId l, ElementId id) {
+        const Node* e = edited<Node>(l, ElementKind::Node, id);
+        return e ? *e : rows_.node(l, id);
+    }
+    Curve curveRow(LayerId l, ElementId id) {
+        const Curve* e = edited<Curve>(l, ElementKind::Curve, id);
+        return e ? *e : rows_.curve(l, id);
+    }
+    Area areaRow(LayerId l, ElementId id) {
+        const Area* e = edited<Area>(l, ElementKind::Area, id);
+        return e ? *e : rows_.area(l, id);
     }
 
     // Counts `n` more bytes of elements held; refuses the read when they pass the budget.
@@ -285,7 +332,7 @@ private:
         LayerSlots& s = slots_[l];
         if (s.nodes.loaded[id]) return;
         s.nodes.loaded[id] = true;
-        Node n = rows_.node(l, s.nodes.file[id]);
+        Node n = nodeRow(l, s.nodes.file[id]);
         if (n.alive)
             for (ElementId& c : n.curves) c = curveSlot(l, c);
         else {
@@ -303,7 +350,7 @@ private:
         if (s.curves.loaded[id] && (!near || s.curveNear[id])) return;
         if (!s.curves.loaded[id]) {
             s.curves.loaded[id] = true;
-            Curve c = row ? std::move(*row) : rows_.curve(l, s.curves.file[id]);
+            Curve c = row ? std::move(*row) : curveRow(l, s.curves.file[id]);
             if (c.alive) {
                 c.start = nodeSlot(l, c.start);
                 c.end = nodeSlot(l, c.end);
@@ -326,7 +373,7 @@ private:
         const KindSlots& kind = slots_[l].curves;
         if (const auto it = kind.byFile.find(fileId); it != kind.byFile.end() && kind.loaded[it->second])
             return loadCurve(l, it->second, true);
-        Curve c = rows_.curve(l, fileId);
+        Curve c = curveRow(l, fileId);
         if (c.alive && !(c.flags & (kBridge | kTunnel)) && double(c.w) >= filter_.minCurveWidth)
             loadCurve(l, curveSlot(l, fileId), true, std::move(c));
     }
@@ -335,7 +382,7 @@ private:
         LayerSlots& s = slots_[l];
         if (s.areas.loaded[id]) return;
         s.areas.loaded[id] = true;
-        Area a = rows_.area(l, s.areas.file[id]);
+        Area a = areaRow(l, s.areas.file[id]);
         if (a.alive) {
             for (auto& loop : a.loops)
                 for (AreaEdge& e : loop) e.curve = curveSlot(l, e.curve);
@@ -350,16 +397,6 @@ private:
         for (const auto& loop : a.loops)
             for (const AreaEdge& e : loop) loadCurve(l, e.curve, near);
         if (a.axial != kNoElement) loadCurve(l, a.axial, near);
-    }
-
-    static Box hullBox(const Curve& c) {
-        Box b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
-              {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
-        for (const Vertex& v : c.vertices) {
-            b.min = glm::min(b.min, v.p);
-            b.max = glm::max(b.max, v.p);
-        }
-        return b;
     }
 
     void closeCurve(const Pending& p) {
@@ -396,7 +433,7 @@ private:
                     if (s.curves.loaded[other]) continue;
                     const ElementId file = s.curves.file[other];
                     if (!s.upstreamChecked.insert(file).second) continue;  // each curve's row read once for this test
-                    const Curve row = rows_.curve(p.layer, file);
+                    const Curve row = curveRow(p.layer, file);
                     if (row.alive && row.end == s.nodes.file[n]) loadCurve(p.layer, other, false);  // flows into n
                 }
             }
@@ -432,6 +469,8 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
     const auto readRegion = [&](SqliteDb& db, SceneDocument& d) {
         indexed = db.hasTable(kFeatureIndexTable);
         if (!indexed) {
+            if (filter.overlay && !filter.overlay->empty())
+                throw SceneFileError(path + ": the file has no feature index, which reading it with edits not saved needs: save it again");
             readElementTables(db, d);
             return;
         }
@@ -469,6 +508,15 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
                 areaWf = std::max(areaWf, aw);
             }
         }
+        // The edits' widths and rings: what the file would say of them saved.
+        double editedRadius = 0.0;
+        if (filter.overlay)
+            for (const auto& [ref, e] : filter.overlay->elements) {
+                if (const Curve* c = std::get_if<Curve>(&e.value); c && c->alive) curveWf = std::max(curveWf, double(c->wf));
+                if (const Area* a = std::get_if<Area>(&e.value); a && a->alive) areaWf = std::max(areaWf, double(a->wf));
+                if (const Node* n = std::get_if<Node>(&e.value); n && n->alive) editedRadius = std::max(editedRadius, double(n->roundabout));
+            }
+        st.tolerance = tolerance;
         const Vec2 extent = d.scene.extent.size();
         const double quadSize = std::max(extent.x, extent.y) / double(std::int64_t(1) << level);
         // The largest margin of any element at this quad size (a curve's delta is never above the
@@ -483,7 +531,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
             auto s = db.prepare("SELECT max(roundabout) FROM lacet_nodes WHERE alive AND roundabout > 0");
             const double radius = s.step() ? s.real(0) : 0.0;
             if (!(radius >= 0.0) || !std::isfinite(radius)) throw FormatError("lacet_nodes: a roundabout radius is not finite and >= 0");
-            st.reach += radius;
+            st.reach += std::max(radius, editedRadius);
         }
         st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
                                      std::fabs(region.max.y)});
@@ -543,6 +591,43 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
             st.areas += l.areas.size();
         }
     return doc;
+}
+
+Box loadSceneElementBox(const std::string& path, const ElementRef& ref, const SceneOverlay* overlay) {
+    SceneDocument doc;
+    Box box;
+    loadSceneParts(
+        path, doc,
+        [&](SqliteDb& db, SceneDocument& d) {
+            readLayerTable(db, d.scene);
+            const std::string what = std::string(ref.kind == ElementKind::Node ? "node " : ref.kind == ElementKind::Curve ? "curve " : "area ") +
+                                     std::to_string(ref.id) + " of layer " + std::to_string(ref.layer);
+            if (ref.layer >= d.scene.layers.size()) throw FormatError(what + ": the file has no such layer");
+            ElementRows rows(db);
+            const auto value = [&](ElementKind kind, ElementId id) -> OverlayElement {
+                if (overlay)
+                    if (const OverlayElement* e = overlay->find({ref.layer, kind, id})) return *e;
+                if (kind == ElementKind::Node) return {rows.node(ref.layer, id), {}};
+                if (kind == ElementKind::Curve) return {rows.curve(ref.layer, id), {}};
+                return {rows.area(ref.layer, id), {}};
+            };
+            const OverlayElement e = value(ref.kind, ref.id);
+            if (const Node* n = std::get_if<Node>(&e.value)) {
+                box = {n->p, n->p};
+            } else if (const Curve* c = std::get_if<Curve>(&e.value)) {
+                box = hullBox(*c);
+            } else {
+                box = {Vec2(std::numeric_limits<double>::infinity()), Vec2(-std::numeric_limits<double>::infinity())};
+                for (const auto& loop : std::get<Area>(e.value).loops)
+                    for (const AreaEdge& edge : loop) {
+                        const Box b = hullBox(std::get<Curve>(value(ElementKind::Curve, edge.curve).value));
+                        box = {glm::min(box.min, b.min), glm::max(box.max, b.max)};
+                    }
+            }
+            if (!(box.min.x <= box.max.x && box.min.y <= box.max.y)) throw FormatError(what + " has no vertex");
+        },
+        /*readDem=*/false, /*wholeFileCheck=*/false);
+    return box;
 }
 
 Box loadSceneExtent(const std::string& path) {

@@ -44,6 +44,7 @@
 
 #include "io/document.h"
 #include "io/scene_file.h"
+#include "io/scene_overlay.h"
 #include "model/clip_and_refine.h"
 
 namespace lacet {
@@ -62,6 +63,7 @@ struct SceneRegionStats {
     std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;  // ids of the whole scene (max id + 1)
     std::string checksum;  // the whole file's stored checksum (loadScene checks it; a region load cannot)
     std::size_t bytes = 0;  // the loaded document's vector data in memory (model/graph.h: memoryBytes)
+    double tolerance = 0.0;  // the feature tables' (io/scene_features.h), for their boxes
 };
 
 // What a region load starts from. By default every curve and area the R-trees find; with
@@ -82,6 +84,9 @@ struct SceneRegionOptions {
     bool wholeFileCheck = false;
     // MiB of vector data the read may hold (> 0; infinity: no bound); past it, SceneBudgetError.
     double budgetMiB = std::numeric_limits<double>::infinity();
+    // Edits not saved (io/scene_overlay.h), read over the file: the region gets what it would get
+    // from the file saved with them (or more). Must outlive the call.
+    const SceneOverlay* overlay = nullptr;
 };
 
 // Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with
@@ -89,6 +94,11 @@ struct SceneRegionOptions {
 // level out of 0..30, an empty region or a bad filter.
 SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
                               SceneRegionStats* stats = nullptr, const SceneRegionOptions& filter = {});
+
+// Where element `ref` (its id in the file) of the scene file at `path` lies, read with `overlay`
+// (nullptr: none): a node's point, the box of a curve's vertices, of an area's loops' vertices.
+// Throws SceneFileError naming the file and the element when the file has no such element.
+Box loadSceneElementBox(const std::string& path, const ElementRef& ref, const SceneOverlay* overlay = nullptr);
 
 // The extent of the scene file at `path` (its root quad), read from its metadata alone. Throws
 // SceneFileError naming the file.

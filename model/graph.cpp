@@ -1,6 +1,7 @@
 #include "model/graph.h"
 
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -118,6 +119,16 @@ std::size_t heapBytes(const std::vector<T>& v) {
 }  // namespace
 
 std::size_t memoryBytes(const Node& n) { return sizeof(Node) + heapBytes(n.curves); }
+Box hullBox(const Curve& c) {
+    Box b{{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()},
+          {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()}};
+    for (const Vertex& v : c.vertices) {
+        b.min = glm::min(b.min, v.p);
+        b.max = glm::max(b.max, v.p);
+    }
+    return b;
+}
+
 std::size_t memoryBytes(const Curve& c) { return sizeof(Curve) + heapBytes(c.vertices) + heapBytes(c.areas); }
 std::size_t memoryBytes(const Area& a) {
     std::size_t b = sizeof(Area) + heapBytes(a.loops);

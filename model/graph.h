@@ -162,6 +162,9 @@ SceneCounts count(const Scene& scene);
 // memory budget of vector data counts (io/scene_region.h: SceneRegionOptions::budgetMiB).
 std::size_t memoryBytes(const Node& n);
 std::size_t memoryBytes(const Curve& c);
+// The box of a curve's vertices, control points included (it holds the spline); empty (min above
+// max) without vertices.
+Box hullBox(const Curve& c);
 std::size_t memoryBytes(const Area& a);
 // A layer's elements, each vector's unused capacity and a part's file ids included; a scene's layers.
 std::size_t memoryBytes(const Layer& layer);

@@ -15,8 +15,10 @@
 
 #include "io/scene_features.h"
 #include "io/scene_file.h"
+#include "io/scene_overlay.h"
 #include "io/sqlite_db.h"
 #include "model/curve_data.h"
+#include "model/edits.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
 #include "model/validate.h"
@@ -406,6 +408,118 @@ TEST_F(SceneRegion, AttributesOfWhatWasReadComeThroughTheIndexInTheFilesOrder) {
         seen += expected.size();
     }
     EXPECT_GT(seen, 50u);
+}
+
+// Edits not saved, read over the file (io/scene_overlay.h): random edits of every kind the editor
+// makes (moves of vertices and nodes far enough to enter other regions, widths, flags, rings,
+// deleted curves) on the whole scene, kept as an overlay of the changed elements; random regions
+// read with the overlay give the tiles and digests of the edited whole scene, bit for bit, and hold
+// its values.
+TEST_F(SceneRegion, EditsReadOverTheFileGiveTheEditedScenesTiles) {
+    SceneDocument edited = *whole_;
+    Scene& scene = edited.scene;
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto pick = [&](std::size_t n) { return std::size_t(unit(rng) * double(n)) % n; };
+    const Vec2 size = scene.extent.size();
+    Changeset all;
+    std::size_t applied = 0;
+    for (int k = 0; k < 300; ++k) {
+        const LayerId l = LayerId(pick(scene.layers.size()));
+        Layer& layer = scene.layers[l];
+        if (layer.curves.empty()) continue;
+        const ElementId c = ElementId(pick(layer.curves.size()));
+        if (!layer.curves[c].alive) continue;
+        const Vec2 shift = (Vec2(unit(rng), unit(rng)) - 0.5) * size * 0.02;  // up to 180 m each way
+        try {
+            Changeset cs;
+            switch (k % 6) {
+            case 0:
+            case 1: {
+                const std::size_t n = layer.curves[c].vertices.size();
+                if (n < 3) continue;
+                const std::size_t i = 1 + pick(n - 2);
+                cs = moveVertex(scene, l, c, i, layer.curves[c].vertices[i].p + shift);
+                break;
+            }
+            case 2: {
+                const ElementId node = unit(rng) < 0.5 ? layer.curves[c].start : layer.curves[c].end;
+                cs = moveNode(scene, l, node, layer.nodes[node].p + shift);
+                break;
+            }
+            case 3: {
+                const float w = float(2.0 + 20.0 * unit(rng));
+                cs = setCurveWidth(scene, l, c, w, w * float(1.5 + 2.0 * unit(rng)));
+                break;
+            }
+            case 4:
+                if (layer.kind == LayerKind::Roads && unit(rng) < 0.5)
+                    cs = setNodeRoundabout(scene, l, layer.curves[c].start, float(8.0 + 20.0 * unit(rng)));
+                else
+                    cs = setCurveFlags(scene, l, c, std::uint16_t(layer.curves[c].flags ^ kBridge));
+                break;
+            default:
+                cs = deleteCurve(scene, l, c);
+                break;
+            }
+            all.append(cs);
+            ++applied;
+        } catch (const EditError&) {  // a ring that does not fit, a curve of an area: not made
+        }
+    }
+    all.normalize();
+    ASSERT_GT(applied, 150u);
+    const double tolerance = FeatureTableParams{}.tolerance;
+    SceneOverlay overlay;
+    for (const std::vector<ElementRef>* refs : {&all.removed, &all.added})
+        for (const ElementRef& r : *refs) overlay.elements[r] = overlayElement(scene.layers[r.layer], r.kind, r.id, tolerance);
+    const Box extent = scene.extent;
+    for (int k = 0; k < 24; ++k) {
+        const int level = 5 + k % 3;
+        const double side = size.x * (0.002 + 0.05 * unit(rng));
+        const Vec2 at = extent.min + Vec2(unit(rng), unit(rng)) * (size - side);
+        const Box region{at, at + side};
+        SceneRegionStats stats;
+        SceneRegionOptions options;
+        options.overlay = &overlay;
+        const SceneDocument part = loadSceneRegion(*path_, region, {}, level, &stats, options);
+        SCOPED_TRACE("region " + std::to_string(k) + " at level " + std::to_string(level));
+        EXPECT_EQ(stats.tolerance, tolerance);
+        const RegionTiles a = tilesOf(edited, region, level), b = tilesOf(part, region, level);
+        ASSERT_EQ(a.appearance.size(), b.appearance.size());
+        for (std::size_t q = 0; q < a.appearance.size(); ++q) {
+            EXPECT_TRUE(a.appearance[q] == b.appearance[q]) << "appearance tile " << q;
+            EXPECT_TRUE(a.elevation[q] == b.elevation[q]) << "elevation tile " << q;
+            EXPECT_EQ(a.digests[q], b.digests[q]) << "digest of quad " << q;
+        }
+        EXPECT_EQ(a.bridges, b.bridges);
+        expectCompactPartOf(part, edited, stats);
+    }
+    // What the overlay keeps is what the feature tables would write: its boxes are the R-tree's of
+    // the edited scene saved.
+    const std::string saved = (*dir_ / "edited.gpkg").string();
+    saveScene(saved, edited);
+    SqliteDb db(saved, SqliteDb::Mode::ReadOnly);
+    std::size_t boxes = 0;
+    auto tables = db.prepare(std::string("SELECT table_name, layer, polygons FROM ") + kFeatureIndexTable);
+    while (tables.step()) {
+        const std::string name = tables.text(0);
+        const LayerId l = LayerId(tables.integer(1));
+        const ElementKind kind = tables.integer(2) != 0 ? ElementKind::Area : ElementKind::Curve;
+        auto rows = db.prepare("SELECT f.lacet_id, r.minx, r.maxx, r.miny, r.maxy FROM \"" + name + "\" f JOIN \"" +
+                               featureRtreeName(name) + "\" r ON r.id = f.fid");
+        while (rows.step()) {
+            const OverlayElement* e = overlay.find({l, kind, ElementId(rows.integer(0))});
+            if (!e) continue;
+            ASSERT_TRUE(e->box.has_value());
+            EXPECT_EQ(e->box->min.x, rows.real(1));
+            EXPECT_EQ(e->box->max.x, rows.real(2));
+            EXPECT_EQ(e->box->min.y, rows.real(3));
+            EXPECT_EQ(e->box->max.y, rows.real(4));
+            ++boxes;
+        }
+    }
+    EXPECT_GT(boxes, 100u);
 }
 
 }  // namespace

@@ -1,0 +1,188 @@
+#include "editor/lazy_edits.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <set>
+#include <utility>
+#include <variant>
+
+#include "io/scene_region.h"
+#include "model/edits.h"
+
+namespace lacet {
+namespace {
+
+// The level whose quads a command's region is read at: the deepest, so that the region is the
+// elements' own boxes and the margins of what lies at them.
+constexpr int kEditLevel = 30;
+
+const char* kindName(ElementKind k) { return k == ElementKind::Node ? "node" : k == ElementKind::Curve ? "curve" : "area"; }
+
+// The elements a command names, the file's ids.
+std::vector<ElementRef> named(const Command& command) {
+    return std::visit(
+        [](const auto& c) -> std::vector<ElementRef> {
+            using T = std::decay_t<decltype(c)>;
+            if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
+                return {{c.layer, ElementKind::Node, c.node}};
+            else if constexpr (std::is_same_v<T, AddNodeCmd> || std::is_same_v<T, AddCurveCmd>)
+                throw EditError("adding a node or a curve to a scene read lazily (a vector budget) is not built yet");
+            else
+                return {{c.layer, ElementKind::Curve, c.curve}};
+        },
+        command);
+}
+
+// The id of file id `file` among `ids` (a part's Layer::sceneIds, ascending).
+ElementId localId(const std::vector<ElementId>& ids, const ElementRef& ref) {
+    const auto it = std::lower_bound(ids.begin(), ids.end(), ref.id);
+    if (it == ids.end() || *it != ref.id)
+        throw EditError(std::string(kindName(ref.kind)) + " " + std::to_string(ref.id) + " of layer " + std::to_string(ref.layer) +
+                        " is not in the scene");
+    return ElementId(it - ids.begin());
+}
+
+// `command` with the ids of `scene` (a part read) for the file's.
+Command localized(Command command, const Scene& scene) {
+    std::visit(
+        [&](auto& c) {
+            using T = std::decay_t<decltype(c)>;
+            if (c.layer >= scene.layers.size()) throw EditError("the scene has no layer " + std::to_string(c.layer));
+            const Layer::SceneIds& ids = scene.layers[c.layer].sceneIds;
+            if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
+                c.node = localId(ids.nodes, {c.layer, ElementKind::Node, c.node});
+            else if constexpr (!std::is_same_v<T, AddNodeCmd> && !std::is_same_v<T, AddCurveCmd>)
+                c.curve = localId(ids.curves, {c.layer, ElementKind::Curve, c.curve});
+        },
+        command);
+    return command;
+}
+
+std::optional<Box> boxOf(const OverlayElement& e) {
+    if (const Node* n = std::get_if<Node>(&e.value)) return Box{n->p, n->p};
+    if (const Curve* c = std::get_if<Curve>(&e.value)) {
+        const Box b = hullBox(*c);
+        return b.min.x <= b.max.x ? std::optional<Box>(b) : std::nullopt;
+    }
+    return e.box;
+}
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+LazyEdits::LazyEdits(std::string path, RefineParams refine)
+    : path_(std::move(path)), refine_(refine), overlay_(std::make_shared<const SceneOverlay>()) {}
+
+LazyStep LazyEdits::execute(const Command& command, bool merge) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Box region{Vec2(std::numeric_limits<double>::infinity()), Vec2(-std::numeric_limits<double>::infinity())};
+    for (const ElementRef& ref : named(command)) {
+        const Box b = loadSceneElementBox(path_, ref, overlay_.get());
+        region = {glm::min(region.min, b.min), glm::max(region.max, b.max)};
+    }
+    SceneRegionOptions options;
+    options.dem = false;
+    options.overlay = overlay_.get();
+    SceneRegionStats stats;
+    SceneDocument doc = loadSceneRegion(path_, region, refine_, kEditLevel, &stats, options);
+    if (stats.wholeScene) throw EditError(path_ + " has no feature index, which editing it read lazily needs: save it again");
+    const double readMs = msSince(t0);
+
+    Scene& scene = doc.scene;
+    const Applied applied = lacet::apply(scene, localized(command, scene));  // EditError: nothing changed
+    // The elements the command changed (the ids of the part read): its snapshot's and changeset's.
+    std::set<ElementRef> local;
+    for (const auto& [id, n] : applied.before.nodes) local.insert({applied.before.layer, ElementKind::Node, id});
+    for (const auto& [id, c] : applied.before.curves) local.insert({applied.before.layer, ElementKind::Curve, id});
+    for (const std::vector<ElementRef>* refs : {&applied.changeset.removed, &applied.changeset.added}) local.insert(refs->begin(), refs->end());
+    std::vector<Change> changes;
+    for (const ElementRef& ref : local) {
+        const Layer& layer = scene.layers[ref.layer];
+        Change ch;
+        ch.ref = fileRef(layer, ref.layer, ref.kind, ref.id);
+        if (const OverlayElement* e = overlay_->find(ch.ref)) ch.before = *e;
+        ch.after = overlayElement(layer, ref.kind, ref.id, stats.tolerance);
+        ch.afterBox = boxOf(ch.after);
+        for (const auto& [id, n] : applied.before.nodes)
+            if (ref.kind == ElementKind::Node && id == ref.id) ch.beforeBox = Box{n.p, n.p};
+        for (const auto& [id, c] : applied.before.curves)
+            if (ref.kind == ElementKind::Curve && id == ref.id) ch.beforeBox = boxOf({c, {}});
+        if (!ch.beforeBox && ch.before) ch.beforeBox = boxOf(*ch.before);
+        changes.push_back(std::move(ch));
+    }
+
+    undone_.clear();
+    if (merge && !done_.empty() && continuesDrag(done_.back().command, command) && done_.back().serial != savedSerial_) {
+        // One undo step: each element's state before the drag began, after this command.
+        Step& last = done_.back();
+        for (const Change& ch : changes) {
+            const auto it = std::find_if(last.changes.begin(), last.changes.end(), [&](const Change& c) { return c.ref == ch.ref; });
+            if (it == last.changes.end()) {
+                last.changes.push_back(ch);
+            } else {
+                it->after = ch.after;
+                it->afterBox = ch.afterBox;
+            }
+        }
+        last.command = command;
+        last.serial = ++serial_;
+    } else {
+        done_.push_back({command, changes, group_, ++serial_});
+    }
+    LazyStep step = replay(changes, true);
+    step.readMs = readMs;
+    return step;
+}
+
+LazyStep LazyEdits::replay(const std::vector<Change>& changes, bool forward) {
+    auto next = std::make_shared<SceneOverlay>(*overlay_);
+    LazyStep step;
+    for (const Change& ch : changes) {
+        if (forward)
+            next->elements[ch.ref] = ch.after;
+        else if (ch.before)
+            next->elements[ch.ref] = *ch.before;
+        else
+            next->elements.erase(ch.ref);
+        step.refs.push_back(ch.ref);
+        for (const std::optional<Box>& b : {ch.beforeBox, ch.afterBox})
+            if (b) step.boxes.push_back(*b);
+    }
+    overlay_ = std::move(next);
+    ++version_;
+    return step;
+}
+
+std::optional<LazyStep> LazyEdits::undo() {
+    if (done_.empty()) return std::nullopt;
+    const std::uint64_t group = done_.back().group;
+    LazyStep total;
+    do {
+        const LazyStep s = replay(done_.back().changes, false);
+        total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
+        total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
+        undone_.push_back(std::move(done_.back()));
+        done_.pop_back();
+    } while (group != 0 && !done_.empty() && done_.back().group == group);
+    return total;
+}
+
+std::optional<LazyStep> LazyEdits::redo() {
+    if (undone_.empty()) return std::nullopt;
+    const std::uint64_t group = undone_.back().group;
+    LazyStep total;
+    do {
+        const LazyStep s = replay(undone_.back().changes, true);
+        total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
+        total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
+        done_.push_back(std::move(undone_.back()));
+        undone_.pop_back();
+    } while (group != 0 && !undone_.empty() && undone_.back().group == group);
+    return total;
+}
+
+}  // namespace lacet

@@ -1,0 +1,84 @@
+#pragma once
+// Edits of a scene file read lazily (issue 23: editing a partial scene; §6 over §7's out-of-core
+// vector data). Commands (editor/command.h) name the file's ids. Each is applied to what it touches
+// read alone: the region of the elements it names, read from the file with the edits before it
+// (io/scene_region.h over an io/scene_overlay.h), which holds every curve at a node it moves and
+// every area of a curve it changes. What the command changed (the elements of its snapshot and
+// changeset) goes into the next overlay, in the file's ids, with the feature boxes the file saved
+// would give them. The history keeps, for each step, each changed element before and after:
+// undo and redo set the overlay back and forth exactly; a drag of one vertex or node is one step
+// (editor/command.h: continuesDrag); groups are undone together.
+//
+// The session (editor/edit_session.h) reads again, with the new overlay, the parts and the top tree
+// that a step touches (LazyStep: the elements and where they were and are).
+//
+// Not yet: commands that add elements (AddNodeCmd, AddCurveCmd: the file's ids for new elements),
+// refused with EditError; saving the overlay into the file.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "editor/command.h"
+#include "io/scene_overlay.h"
+#include "model/clip_and_refine.h"
+
+namespace lacet {
+
+// What one execute, undo or redo changed: the elements (the file's ids) and where each lay before
+// and lies after (a node's point, a curve's vertices' box, an area's feature box).
+struct LazyStep {
+    std::vector<ElementRef> refs;
+    std::vector<Box> boxes;
+    double readMs = 0.0;  // reading what the command touches (execute only)
+};
+
+class LazyEdits {
+public:
+    explicit LazyEdits(std::string path, RefineParams refine = {});
+
+    // Applies `command` (the file's ids) over the edits so far; EditError (naming the element and
+    // the reason) leaves everything as it was; SceneFileError when the file cannot give what it
+    // touches. Clears the redo steps. `merge`: as CommandHistory::execute.
+    LazyStep execute(const Command& command, bool merge = false);
+    std::optional<LazyStep> undo();
+    std::optional<LazyStep> redo();
+    void beginGroup() { group_ = ++nextGroup_; }
+    void endGroup() { group_ = 0; }
+    std::size_t undoDepth() const { return done_.size(); }
+    std::size_t redoDepth() const { return undone_.size(); }
+    bool modified() const { return topSerial() != savedSerial_; }
+    void forgetRedo() { undone_.clear(); }
+
+    // The edits now (never null; a new object after each step: reads in flight keep theirs).
+    const std::shared_ptr<const SceneOverlay>& overlay() const { return overlay_; }
+    // Changes with each step (0: no edit yet).
+    std::uint64_t version() const { return version_; }
+
+private:
+    struct Change {
+        ElementRef ref;
+        std::optional<OverlayElement> before;  // its overlay entry before (none: the file's row)
+        OverlayElement after;
+        std::optional<Box> beforeBox, afterBox;  // where it lay and lies
+    };
+    struct Step {
+        Command command;
+        std::vector<Change> changes;
+        std::uint64_t group = 0, serial = 0;
+    };
+    std::uint64_t topSerial() const { return done_.empty() ? 0 : done_.back().serial; }
+    // Sets each change's after (redo) or before (undo) state into a new overlay.
+    LazyStep replay(const std::vector<Change>& changes, bool forward);
+
+    std::string path_;
+    RefineParams refine_;
+    std::shared_ptr<const SceneOverlay> overlay_;
+    std::uint64_t version_ = 0;
+    std::vector<Step> done_, undone_;
+    std::uint64_t serial_ = 0, savedSerial_ = 0, group_ = 0, nextGroup_ = 0;
+};
+
+}  // namespace lacet

@@ -1,0 +1,56 @@
+#pragma once
+// Edits of a scene file not yet saved, over the file (issue 23: editing a scene read lazily, §7):
+// the root elements an edit changed, by their ids in the file, each with its value now (naming
+// file ids) and its feature box now. A region read given an overlay (io/scene_region.h) reads
+// each of these elements from the overlay instead of its row, finds it by its box now instead of
+// the file's R-tree box, and so loads what it would load from the file saved with the edits:
+// everything that read loads, with the same values (it may load more, where the file's
+// R-tree boxes or largest widths are those from before the edit).
+//
+// A value is copied in whole (a node with its whole list of curves, read where every curve at it
+// was loaded). Dead elements stay as dead values (an edit never frees an id). Immutable once
+// shared: an edit makes the next overlay from a copy (reads in flight keep theirs).
+
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <variant>
+
+#include "model/changeset.h"
+#include "model/graph.h"
+
+namespace lacet {
+
+struct OverlayElement {
+    std::variant<Node, Curve, Area> value;  // by its ElementRef's kind
+    // Its feature's box in the file's R-tree as the feature tables would write it now
+    // (io/scene_features.h: featureBox); none for a node, a dead element or a curve of an area's loop.
+    std::optional<Box> box;
+};
+
+struct SceneOverlay {
+    std::map<ElementRef, OverlayElement> elements;  // ordered by layer, kind, file id
+
+    bool empty() const { return elements.empty(); }
+    const OverlayElement* find(const ElementRef& ref) const {
+        const auto it = elements.find(ref);
+        return it != elements.end() ? &it->second : nullptr;
+    }
+    // The elements of one kind of a layer, by file id.
+    template <class F>
+    void forEach(LayerId layer, ElementKind kind, F&& f) const {
+        for (auto it = elements.lower_bound({layer, kind, 0}); it != elements.end() && it->first.layer == layer && it->first.kind == kind;
+             ++it)
+            f(it->first.id, it->second);
+    }
+};
+
+// Element `id` of `layer` as an overlay keeps it: its references turned into the file's ids
+// (Layer::sceneIds; a whole layer's are the file's), its feature box with the feature tables'
+// `tolerance`. An element of a part must have been read with every element it names that the file
+// saved would hold (a node with every curve at it): what the part did not read is left out.
+OverlayElement overlayElement(const Layer& layer, ElementKind kind, ElementId id, double tolerance);
+// Its ElementRef in the file.
+ElementRef fileRef(const Layer& layer, LayerId l, ElementKind kind, ElementId id);
+
+}  // namespace lacet
