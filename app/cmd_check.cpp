@@ -1,5 +1,6 @@
 // `lacet check incremental`: random edits on a synthetic scene; after each, the incrementally
-// updated quadtree is compared with a rebuild from scratch. Exits non-zero on any mismatch.
+// updated quadtree is compared with a rebuild from scratch. Exits non-zero on any mismatch. With
+// `--lazy`: edits of the scene read lazily against edits of it whole, tile for tile.
 // `lacet check bridges`: a scene's decks clear the water and leave the river bed as it is
 // (raster/bridge_check.h); exits non-zero when they do not, or when no bridge spans a river.
 // `lacet check rivers`: river profiles and nodes against the DEM (raster/river_check.h); exits
@@ -7,6 +8,9 @@
 // `lacet check fit`: the Hausdorff distance between a scene's curves and the GIS sources they
 // were imported from, per layer (io/fit_check.h). Exits non-zero when anything is farther than
 // the tolerance.
+#include <unistd.h>
+
+#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -14,6 +18,8 @@
 
 #include "app/commands.h"
 #include "bench/bench_util.h"
+#include "editor/edit_session.h"
+#include "editor/lazy_edit_check.h"
 #include "io/dem_stream.h"
 #include "io/fit_check.h"
 #include "io/scene_file.h"
@@ -23,6 +29,7 @@
 #include "raster/river_check.h"
 #include "synth/incremental_check.h"
 #include "synth/random_edits.h"
+#include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
 namespace lacet::app {
@@ -35,7 +42,63 @@ struct CheckOptions {
     int depth = 12;
     int viewEvery = 10;
     bool json = false;
+    bool lazy = false;             // edits of the scene read lazily against the whole scene's
+    double vectorBudgetMiB = 512.0;
+    int partLevel = -1;
 };
+
+// `--lazy`: the synthetic scene saved into a temporary file, edited through a session reading it
+// lazily and one holding it whole (editor/lazy_edit_check.h); exits non-zero on any mismatch, or
+// when nothing was compared.
+int runLazy(const CheckOptions& o) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({o.seed, o.curves});
+    doc.dem = makeSyntheticDem(doc.scene, {o.seed, 5000});
+    struct Remove {
+        std::string path;
+        ~Remove() { std::filesystem::remove(path); }
+    } file{(std::filesystem::temp_directory_path() / ("lacet_check_lazy_" + std::to_string(::getpid()) + ".gpkg")).string()};
+    saveScene(file.path, doc);
+    const std::size_t curves = count(doc.scene).curves;
+    doc = SceneDocument();
+    SessionParams params;
+    params.view.maxLevel = o.depth;
+    params.cacheTiles = 1u << 20;  // every tile made stays to be compared
+    EditSession whole(loadScene(file.path), params);
+    LazyParams lazy;
+    lazy.vectorBudgetMiB = o.vectorBudgetMiB;
+    lazy.partLevel = o.partLevel;
+    lazy.background = false;  // deterministic: a part is read in the frame that wants it
+    EditSession session(file.path, lazy, params);
+    const LazyEditCheckReport r = checkLazyEdits(session, whole, {.seed = o.seed * 7919 + 1, .edits = o.edits});
+    const LazyStats& st = session.lazyForest()->stats();
+    const nlohmann::json out = {{"seed", o.seed},
+                                {"curves", curves},
+                                {"depth", o.depth},
+                                {"lazy", {{"vector_budget_mib", o.vectorBudgetMiB}, {"part_level", st.partLevel}, {"parts_read", st.partsRead},
+                                          {"parts_renewed", st.partsRenewed}, {"top_reads", r.topReads}}},
+                                {"edits", r.edits},
+                                {"commands", r.commands},
+                                {"refused_by_both", r.refused},
+                                {"refused_by_one", r.refusedDifferently},
+                                {"undos", r.undos},
+                                {"redos", r.redos},
+                                {"tiles_compared", r.tilesCompared},
+                                {"mismatches", r.mismatches},
+                                {"mismatch_details", r.details},
+                                {"lazy_command_median_ms", bench::median(r.lazyMs)},
+                                {"lazy_command_p95_ms", bench::quantile(r.lazyMs, 0.95)},
+                                {"whole_command_median_ms", bench::median(r.wholeMs)}};
+    if (o.json) std::cout << out.dump(2) << "\n";
+    else
+        std::cout << r.edits << " edits of a scene read lazily (" << r.commands << " commands, " << r.undos << " undos, " << r.redos
+                  << " redos), " << r.tilesCompared << " tiles compared with the whole scene's, " << r.mismatches << " mismatches\n";
+    if (r.edits == 0 || r.tilesCompared == 0) {
+        std::cerr << "lacet check incremental --lazy: nothing was compared\n";
+        return 2;
+    }
+    return r.mismatches == 0 ? 0 : 2;
+}
 
 int run(const CheckOptions& o) {
     Scene s = makeSyntheticScene({o.seed, o.curves});
@@ -193,8 +256,11 @@ void addCheckCommand(CLI::App& app) {
     inc->add_option("--depth", o->depth, "Deepest quadtree level around the random viewpoints");
     inc->add_option("--view-every", o->viewEvery, "Move the viewer every this many edits");
     inc->add_flag("--json", o->json, "Print JSON");
+    inc->add_flag("--lazy", o->lazy, "Edits of the scene read lazily (saved into a temporary file) against edits of the whole scene, tile for tile");
+    inc->add_option("--vector-budget", o->vectorBudgetMiB, "With --lazy: MiB of vector data the lazy session holds");
+    inc->add_option("--part-level", o->partLevel, "With --lazy: the level of the quads read as one part (-1: quads of at most 5 km)");
     inc->callback([o] {
-        if (const int rc = run(*o); rc != 0) throw CLI::RuntimeError(rc);
+        if (const int rc = o->lazy ? runLazy(*o) : run(*o); rc != 0) throw CLI::RuntimeError(rc);
     });
 
     auto b = std::make_shared<BridgesOptions>();

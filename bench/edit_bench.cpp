@@ -5,6 +5,8 @@
 // step, the time from the command to every visible dirty tile (in the view frustum) being made
 // again (both producers, TBB worker threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
 // they come into view. Also reported: the same without frustum culling (every leaf of the view).
+// With `--scene F --vector-budget M [--pyramid P]`: a scene file read lazily (issue 23), its edits
+// kept over the file; the drags from the view only (the frustum).
 #include <algorithm>
 #include <cmath>
 
@@ -16,6 +18,9 @@
 #include "bench/tasks.h"
 #include "editor/camera.h"
 #include "editor/edit_session.h"
+#include "io/scene_region.h"
+#include "model/graph_step.h"
+#include "pyramid/pyramid_reader.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -67,115 +72,216 @@ Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible
     return d;
 }
 
+// What the drags move, the file's ids: the road control point nearest the centre, the field node
+// nearest to it, and (issue 14) the bridge nearest the centre: the road's vertex nearest the
+// bridge's middle dragged 60 m across the road's direction, so that the crossing moves and the
+// graph step re-makes the road's bridge at every step. `s` is the whole scene or a part of the file
+// read around the centre, `qt` its quadtree (its graph step's bridges).
+struct Targets {
+    ElementId road = kNoElement;
+    std::size_t index = 0;
+    Vec2 at{0.0};
+    ElementId field = kNoElement;
+    Vec2 fieldAt{0.0};
+    bool river = false;
+    ElementId bridged = kNoElement, node = kNoElement;
+    std::size_t vertex = 0;
+    bool isNode = false;
+    Vec2 from{0.0}, across{0.0}, bridgeAt{0.0};
+    double bridgeDistance = 0.0, vertexDistance = 0.0;
+    std::string dragged;
+};
+
+Targets pickTargets(const Scene& s, const Quadtree& qt, Vec2 centre) {
+    Targets t;
+    const Layer& roads = s.layers.at(kRoadsLayer);
+    const Layer& fields = s.layers.at(kFieldsLayer);
+    double best = 1e300;
+    for (ElementId id = 0; id < roads.curves.size(); ++id) {
+        const auto& v = roads.curves[id].vertices;
+        if (!roads.curves[id].alive) continue;
+        for (std::size_t i = 1; i + 1 < v.size(); ++i)
+            if (!v[i].onCurve && glm::length(v[i].p - centre) < best) best = glm::length(v[i].p - centre), t.road = id, t.index = i;
+    }
+    if (t.road == kNoElement) throw std::runtime_error("bench edit: the scene has no road control point");
+    t.at = roads.curves[t.road].vertices[t.index].p;
+    best = 1e300;
+    for (ElementId id = 0; id < fields.nodes.size(); ++id)
+        if (fields.nodes[id].alive && glm::length(fields.nodes[id].p - t.at) < best) best = glm::length(fields.nodes[id].p - t.at), t.field = id;
+    if (t.field == kNoElement) throw std::runtime_error("bench edit: the scene has no field node");
+    t.fieldAt = fields.nodes[t.field].p;
+    best = 1e300;
+    for (ElementId id = 0; id < roads.curves.size(); ++id)
+        for (AncestorId a : qt.expansionOf(kRoadsLayer, id)) {
+            const Curve& b = qt.ancestorCurve(kRoadsLayer, a);
+            if (!(b.flags & kBridge)) continue;
+            const Vec2 mid = 0.5 * (b.vertices.front().p + b.vertices.back().p);
+            if (glm::length(mid - centre) < best) best = glm::length(mid - centre), t.bridged = id, t.bridgeAt = mid;
+        }
+    if (t.bridged != kNoElement) {
+        t.river = true;
+        t.bridgeDistance = best;
+        const Curve& r = roads.curves[t.bridged];
+        // An inner vertex (the road alone moves, as with the control point above) when the road
+        // has one, else its end node (its junction's other roads move too).
+        best = 1e300;
+        const bool inner = r.vertices.size() > 2;
+        for (std::size_t i = inner ? 1 : 0; i < (inner ? r.vertices.size() - 1 : r.vertices.size()); ++i)
+            if (glm::length(r.vertices[i].p - t.bridgeAt) < best) best = glm::length(r.vertices[i].p - t.bridgeAt), t.vertex = i;
+        t.vertexDistance = best;
+        const Vec2 along = glm::normalize(r.vertices.back().p - r.vertices.front().p);
+        t.across = Vec2(-along.y, along.x);
+        t.from = r.vertices[t.vertex].p;
+        t.isNode = t.vertex == 0 || t.vertex + 1 == r.vertices.size();
+        t.node = roads.sceneNodeId(t.vertex == 0 ? r.start : r.end);
+        t.dragged = t.isNode ? "end node" : r.vertices[t.vertex].onCurve ? "inner on-curve vertex" : "control point";
+        t.bridged = roads.sceneCurveId(t.bridged);
+    }
+    t.road = roads.sceneCurveId(t.road);
+    t.field = fields.sceneNodeId(t.field);
+    return t;
+}
+
+// The camera south-west of `target`, `altitude` above the ground, looking at it.
+std::pair<QuadVisibility, glm::dvec3> viewOf(Vec2 target, const Dem& dem, double altitude) {
+    const glm::dvec2 zRange = frustumHeightRange(dem);
+    Camera camera;
+    camera.fly = true;
+    const Vec2 from = target + Vec2(-56.0, -56.0);
+    camera.flyPosition = glm::dvec3(from.x, from.y, dem.sample(from) + altitude);
+    const glm::dvec3 look = glm::dvec3(target.x, target.y, dem.sample(target)) - camera.flyPosition;
+    camera.yaw = std::atan2(look.x, look.y);
+    camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
+    return {frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(altitude), zRange), glm::dvec3(from.x, from.y, altitude)};
+}
+
+// The road and field drags from the view of the road's point (`visible` or every leaf), and, with
+// `river`, the road over the river from the view of its bridge.
+nlohmann::json dragRuns(EditSession& session, const Targets& t, const EditBenchOptions& o, const QuadVisibility& visible,
+                        glm::dvec3 viewer, bool river) {
+    const Drag roadDrag = drag(session, viewer, visible, o.steps, o.repeats, [&](int i) -> Command {
+        const double f = double(i + 1) / o.steps;
+        return MoveVertexCmd{kRoadsLayer, t.road, t.index, t.at + Vec2(30.0, 20.0) * f};
+    });
+    const Drag fieldDrag = drag(session, viewer, visible, o.steps, o.repeats, [&](int i) -> Command {
+        const double f = double(i + 1) / o.steps;
+        return MoveNodeCmd{kFieldsLayer, t.field, t.fieldAt + Vec2(8.0, -6.0) * f};
+    });
+    nlohmann::json runs = {{"road_control_point", roadDrag.json()}, {"field_border", fieldDrag.json()}};
+    if (!river || !t.river) return runs;
+    const auto [riverVisible, riverViewer] = viewOf(t.bridgeAt, *session.document().dem, o.altitude);
+    session.frame(riverViewer, 0.0, riverVisible);
+    const Drag riverDrag = drag(session, riverViewer, riverVisible, o.steps, o.repeats, [&](int i) -> Command {
+        const Vec2 p = t.from + t.across * (60.0 * double(i + 1) / o.steps);
+        if (t.isNode) return MoveNodeCmd{kRoadsLayer, t.node, p};
+        return MoveVertexCmd{kRoadsLayer, t.bridged, t.vertex, p};
+    });
+    runs["road_over_river"] = riverDrag.json();
+    runs["road_over_river"]["bridge_distance_from_centre_m"] = t.bridgeDistance;
+    runs["road_over_river"]["dragged"] = t.dragged;
+    runs["road_over_river"]["dragged_distance_from_bridge_m"] = t.vertexDistance;
+    return runs;
+}
+
+SessionParams benchParams(const EditBenchOptions& o) {
+    SessionParams params;
+    params.cacheTiles = 1u << 20;
+    if (!o.objects) {
+        params.objects.bridges = false;
+        params.objects.trees.clear();
+    }
+    return params;
+}
+
+// `--scene F --vector-budget M`: the scene file read lazily (editor/lazy_forest.h), its edits kept
+// over the file (editor/lazy_edits.h); the targets picked from the part of the file around its
+// centre.
+nlohmann::json benchEditLazy(const EditBenchOptions& o) {
+    auto t0 = Clock::now();
+    LazyParams lazy;
+    lazy.vectorBudgetMiB = o.vectorBudgetMiB;
+    lazy.partLevel = o.partLevel;
+    lazy.topElevationOnly = !o.pyramid.empty();
+    EditSession session(o.scene, lazy, benchParams(o));
+    const double openMs = msSince(t0);
+    const Box extent = session.document().scene.extent;
+    if (!o.pyramid.empty())
+        session.setPyramid(std::make_shared<PyramidReader>(o.pyramid, extent,
+                                                           session.document().georeference.valid ? session.document().georeference.crsWkt
+                                                                                                 : std::string(),
+                                                           session.storedChecksum()));
+    const Vec2 centre = extent.center();
+    Targets targets;
+    {
+        SceneRegionOptions filter;
+        filter.dem = false;
+        SceneDocument near = loadSceneRegion(o.scene, Box{centre - 1500.0, centre + 1500.0}, RefineParams{}, 12, nullptr, filter);
+        GraphStep step(near.scene);
+        Quadtree qt(near.scene, {}, &step);
+        targets = pickTargets(near.scene, qt, centre);
+    }
+    const auto [visible, viewer] = viewOf(targets.at, *session.document().dem, o.altitude);
+    t0 = Clock::now();
+    const FrameReport first = session.frame(viewer, 0.0, visible);
+    const double firstMs = msSince(t0);
+    nlohmann::json runs = {{"frustum_culled", dragRuns(session, targets, o, visible, viewer, false)}};
+    runs["road_over_river"] = dragRuns(session, targets, o, visible, viewer, true)["road_over_river"];
+    const LazyStats& st = session.lazyForest()->stats();
+    return {{"scene", o.scene},
+            {"lazy",
+             {{"vector_budget_mib", o.vectorBudgetMiB},
+              {"part_level", st.partLevel},
+              {"top_mib", st.topMiB},
+              {"parts_read", st.partsRead},
+              {"parts_renewed", st.partsRenewed},
+              {"parts_held_peak", st.partsHeldPeak},
+              {"held_mib_peak", st.peakMiB},
+              {"pyramid", o.pyramid}}},
+            {"threads", tbb::info::default_concurrency()},
+            {"viewer_altitude_m", o.altitude},
+            {"steps_per_drag", o.steps},
+            {"drags", o.repeats},
+            {"object_meshes", o.objects},
+            {"visible_quads", first.viewQuads},
+            {"open_ms", openMs},
+            {"first_frame_ms", firstMs},
+            {"field_node_distance_m", glm::length(targets.fieldAt - targets.at)},
+            {"runs", runs},
+            {"peak_rss_mib", peakRssMiB()}};
+}
+
 }  // namespace
 
 nlohmann::json benchEdit(const EditBenchOptions& o) {
+    if (!o.scene.empty()) {
+        if (!(o.vectorBudgetMiB > 0.0)) throw std::invalid_argument("bench edit: --scene takes --vector-budget (MiB, > 0): it is read lazily");
+        return benchEditLazy(o);
+    }
+    if (!o.pyramid.empty()) throw std::invalid_argument("bench edit: --pyramid goes with --scene");
     auto t0 = Clock::now();
     SceneDocument doc;
     doc.scene = makeSyntheticScene({o.seed, o.curves});
     doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
     const double prepareMs = msSince(t0);
-    // The road control point nearest the scene centre, and the field node nearest to it.
-    const Scene& s = doc.scene;
-    const Vec2 centre = s.extent.center();
-    ElementId road = kNoElement;
-    std::size_t index = 0;
-    double best = 1e300;
-    for (ElementId id = 0; id < s.layers[kRoadsLayer].curves.size(); ++id) {
-        const auto& v = s.layers[kRoadsLayer].curves[id].vertices;
-        for (std::size_t i = 1; i + 1 < v.size(); ++i)
-            if (!v[i].onCurve && glm::length(v[i].p - centre) < best) best = glm::length(v[i].p - centre), road = id, index = i;
-    }
-    if (road == kNoElement) throw std::runtime_error("bench edit: the scene has no road control point");
-    const Vec2 at = s.layers[kRoadsLayer].curves[road].vertices[index].p;
-    ElementId field = kNoElement;
-    best = 1e300;
-    for (ElementId id = 0; id < s.layers[kFieldsLayer].nodes.size(); ++id)
-        if (glm::length(s.layers[kFieldsLayer].nodes[id].p - at) < best) best = glm::length(s.layers[kFieldsLayer].nodes[id].p - at), field = id;
-    const Vec2 fieldAt = s.layers[kFieldsLayer].nodes[field].p;
-
-    // The camera: south-west of the point, `altitude` above the ground, looking at it.
-    const glm::dvec2 zRange = frustumHeightRange(*doc.dem);
-    auto viewOf = [&](Vec2 target) {
-        Camera camera;
-        camera.fly = true;
-        const Vec2 from = target + Vec2(-56.0, -56.0);
-        camera.flyPosition = glm::dvec3(from.x, from.y, doc.dem->sample(from) + o.altitude);
-        const glm::dvec3 look = glm::dvec3(target.x, target.y, doc.dem->sample(target)) - camera.flyPosition;
-        camera.yaw = std::atan2(look.x, look.y);
-        camera.pitch = std::atan2(-look.z, glm::length(glm::dvec2(look)));
-        return std::pair{frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(o.altitude), zRange),
-                         glm::dvec3(from.x, from.y, o.altitude)};
-    };
-    const auto [visible, viewer] = viewOf(at);
-
+    const Vec2 centre = doc.scene.extent.center();
     nlohmann::json runs;
     std::size_t viewQuads = 0, visibleQuads = 0;
-    double firstMs = 0.0;
+    double firstMs = 0.0, fieldDistance = 0.0;
     for (const bool cull : {true, false}) {
-        SessionParams params;
-        params.cacheTiles = 1u << 20;
-        if (!o.objects) {
-            params.objects.bridges = false;
-            params.objects.trees.clear();
-        }
         t0 = Clock::now();
-        EditSession session{SceneDocument(doc), params};
+        EditSession session{SceneDocument(doc), benchParams(o)};
+        const Targets targets = pickTargets(doc.scene, session.quadtree(), centre);
+        fieldDistance = glm::length(targets.fieldAt - targets.at);
+        const auto [visible, viewer] = viewOf(targets.at, *doc.dem, o.altitude);
         const FrameReport first = session.frame(viewer, 0.0, cull ? visible : QuadVisibility{});
         if (cull) firstMs = msSince(t0), viewQuads = first.viewQuads + first.culled, visibleQuads = first.viewQuads;
-        const QuadVisibility& v = cull ? visible : QuadVisibility{};
-        const Drag roadDrag = drag(session, viewer, v, o.steps, o.repeats, [&](int i) -> Command {
-            const double f = double(i + 1) / o.steps;
-            return MoveVertexCmd{kRoadsLayer, road, index, at + Vec2(30.0, 20.0) * f};
-        });
-        const Drag fieldDrag = drag(session, viewer, v, o.steps, o.repeats, [&](int i) -> Command {
-            const double f = double(i + 1) / o.steps;
-            return MoveNodeCmd{kFieldsLayer, field, fieldAt + Vec2(8.0, -6.0) * f};
-        });
-        runs[cull ? "frustum_culled" : "every_leaf"] = {{"road_control_point", roadDrag.json()}, {"field_border", fieldDrag.json()}};
-        if (!cull) continue;
-        // A road over a river (issue 14): the bridge nearest the centre; the road's vertex nearest
-        // the bridge's middle dragged 60 m across the road's direction, so that the crossing moves
-        // and the graph step re-makes the road's bridge at every step (the bridge, its deck and
-        // the river under it are in the view).
-        const Quadtree& qt = session.quadtree();
-        Vec2 bridgeAt(0.0);
-        ElementId bridged = kNoElement;
-        best = 1e300;
-        for (ElementId id = 0; id < s.layers[kRoadsLayer].curves.size(); ++id)
-            for (AncestorId a : qt.expansionOf(kRoadsLayer, id)) {
-                const Curve& b = qt.ancestorCurve(kRoadsLayer, a);
-                if (!(b.flags & kBridge)) continue;
-                const Vec2 mid = 0.5 * (b.vertices.front().p + b.vertices.back().p);
-                if (glm::length(mid - centre) < best) best = glm::length(mid - centre), bridged = id, bridgeAt = mid;
-            }
-        if (bridged == kNoElement) continue;
-        const Curve& r = s.layers[kRoadsLayer].curves[bridged];
-        // An inner vertex (the road alone moves, as with the control point above) when the road
-        // has one, else its end node (its junction's other roads move too).
-        std::size_t vi = 0;
-        best = 1e300;
-        const bool inner = r.vertices.size() > 2;
-        for (std::size_t i = inner ? 1 : 0; i < (inner ? r.vertices.size() - 1 : r.vertices.size()); ++i)
-            if (glm::length(r.vertices[i].p - bridgeAt) < best) best = glm::length(r.vertices[i].p - bridgeAt), vi = i;
-        const Vec2 along = glm::normalize(r.vertices.back().p - r.vertices.front().p);
-        const Vec2 across(-along.y, along.x);
-        const Vec2 from = r.vertices[vi].p;
-        const bool isNode = vi == 0 || vi + 1 == r.vertices.size();
-        const ElementId node = vi == 0 ? r.start : r.end;
-        const auto [riverVisible, riverViewer] = viewOf(bridgeAt);
-        session.frame(riverViewer, 0.0, riverVisible);
-        const std::size_t bridgesBefore = qt.proceduralCount(kBridge);
-        const Drag riverDrag = drag(session, riverViewer, riverVisible, o.steps, o.repeats, [&](int i) -> Command {
-            const Vec2 p = from + across * (60.0 * double(i + 1) / o.steps);
-            if (isNode) return MoveNodeCmd{kRoadsLayer, node, p};
-            return MoveVertexCmd{kRoadsLayer, bridged, vi, p};
-        });
-        runs["road_over_river"] = riverDrag.json();
-        runs["road_over_river"]["bridge_distance_from_centre_m"] = glm::length(bridgeAt - centre);
-        runs["road_over_river"]["dragged"] = isNode ? "end node" : r.vertices[vi].onCurve ? "inner on-curve vertex" : "control point";
-        runs["road_over_river"]["dragged_distance_from_bridge_m"] = best;
-        runs["road_over_river"]["bridges_in_scene"] = bridgesBefore;
+        const std::size_t bridges = session.quadtree().proceduralCount(kBridge);
+        const nlohmann::json r = dragRuns(session, targets, o, cull ? visible : QuadVisibility{}, viewer, cull);
+        runs[cull ? "frustum_culled" : "every_leaf"] = {{"road_control_point", r["road_control_point"]}, {"field_border", r["field_border"]}};
+        if (r.contains("road_over_river")) {
+            runs["road_over_river"] = r["road_over_river"];
+            runs["road_over_river"]["bridges_in_scene"] = bridges;
+        }
     }
     return {{"curves", count(doc.scene).curves},
             {"threads", tbb::info::default_concurrency()},
@@ -189,7 +295,7 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
             {"visible_quads", visibleQuads},
             {"prepare_ms", prepareMs},
             {"first_frame_ms", firstMs},
-            {"field_node_distance_m", glm::length(fieldAt - at)},
+            {"field_node_distance_m", fieldDistance},
             {"runs", runs},
             {"peak_rss_mib", peakRssMiB()}};
 }

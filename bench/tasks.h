@@ -57,6 +57,11 @@ struct EditBenchOptions {
     int steps = 60;
     int repeats = 3;  // drags of each kind, their steps pooled
     bool objects = true;  // false: no object meshes (bridges' decks, trees), to see what they cost
+    // A scene file read lazily within `vectorBudgetMiB` (parts of `partLevel`, -1: at most 5 km
+    // wide), with the `pyramid` of it (empty: none), instead of the synthetic scene.
+    std::string scene, pyramid;
+    double vectorBudgetMiB = 0.0;
+    int partLevel = -1;
 };
 nlohmann::json benchEdit(const EditBenchOptions& options);
 
