@@ -18,3 +18,8 @@ scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS
 ./build/lacet check incremental --seed 3 --curves 20000 --edits 60 --depth 14 --json > build/check-incremental.json
 grep -q '"mismatches": 0' build/check-incremental.json
 echo "lacet check incremental: 0 mismatches"
+
+# Edits of a scene read lazily (its vector data within a budget) equal edits of it whole, tile for tile.
+./build/lacet check incremental --lazy --seed 3 --curves 5000 --edits 24 --json > build/check-incremental-lazy.json
+grep -q '"mismatches": 0' build/check-incremental-lazy.json
+echo "lacet check incremental --lazy: 0 mismatches"
