@@ -102,21 +102,22 @@ CommandReport EditSession::afterLazyStep(const LazyStep& step, double applyMs) {
         }
     r.topReadAgain = topTouched(step);
     if (r.topReadAgain) readTopAgain();
-    const std::vector<QuadKey> renewed = forest_->renew(step.refs, step.boxes, margin);
+    const LazyForest::Renewal renewed = forest_->renew(step, margin);
     r.updateMs = msBetween(t0, std::chrono::steady_clock::now());
-    r.changedQuads = renewed.size() + (r.topReadAgain ? 1 : 0);
-    // The tiles to make again: below the parts read again, and the top's when it was.
+    r.changedQuads = renewed.parts.size() + (r.topReadAgain ? 1 : 0);
+    // The tiles to make again: below the parts made anew, the quads UPDATE changed in the parts
+    // updated in place, and the top's when it was read again.
     const int P = forest_->partLevel();
-    const std::set<QuadKey> parts(renewed.begin(), renewed.end());
-    std::set<QuadKey> changed;
+    const std::set<QuadKey> rebuilt(renewed.rebuilt.begin(), renewed.rebuilt.end());
+    std::set<QuadKey> changed = renewed.changed;
     for (const auto& [key, tile] : loop_->tiles()) {
         const auto [level, x, y] = key;
-        if (level < P ? r.topReadAgain : parts.count({P, x >> (level - P), y >> (level - P)}) > 0 || (r.topReadAgain && level == P))
+        if (level < P ? r.topReadAgain : rebuilt.count({P, x >> (level - P), y >> (level - P)}) > 0 || (r.topReadAgain && level == P))
             changed.insert(key);
     }
     // The quads of the part level where the step was and is, and every quad below them: their
     // appearance is made from the parts now, no longer read from the pyramid.
-    std::set<QuadKey> touched(renewed.begin(), renewed.end());
+    std::set<QuadKey> touched(renewed.parts.begin(), renewed.parts.end());
     const Box extent = doc_.scene.extent;
     const double cells = double(std::int64_t(1) << P), side = extent.size().x / cells;
     for (const Box& b : step.boxes) {

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <map>
 #include <set>
 #include <utility>
 #include <variant>
 
+#include "io/scene_features.h"
 #include "io/scene_region.h"
 #include "model/edits.h"
 
@@ -93,7 +95,25 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
     const double readMs = msSince(t0);
 
     Scene& scene = doc.scene;
-    const Applied applied = lacet::apply(scene, localized(command, scene));  // EditError: nothing changed
+    const Command localCommand = localized(command, scene);
+    // The feature boxes before the command of the areas it may change: those of the curves it
+    // names, or of the node's curves.
+    std::map<ElementRef, std::optional<Box>> areaBoxes;
+    std::visit(
+        [&](const auto& c) {
+            using T = std::decay_t<decltype(c)>;
+            const Layer& layer = scene.layers[c.layer];
+            std::vector<ElementId> curves;
+            if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
+                curves = layer.nodes.at(c.node).curves;
+            else if constexpr (!std::is_same_v<T, AddNodeCmd> && !std::is_same_v<T, AddCurveCmd>)
+                curves = {c.curve};
+            for (ElementId curve : curves)
+                for (ElementId a : layer.curves.at(curve).areas)
+                    areaBoxes[{c.layer, ElementKind::Area, a}] = featureBox(layer, layer.areas[a], stats.tolerance);
+        },
+        localCommand);
+    const Applied applied = lacet::apply(scene, localCommand);  // EditError: nothing changed
     // The elements the command changed (the ids of the part read): its snapshot's and changeset's.
     std::set<ElementRef> local;
     for (const auto& [id, n] : applied.before.nodes) local.insert({applied.before.layer, ElementKind::Node, id});
@@ -107,11 +127,25 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
         if (const OverlayElement* e = overlay_->find(ch.ref)) ch.before = *e;
         ch.after = overlayElement(layer, ref.kind, ref.id, stats.tolerance);
         ch.afterBox = boxOf(ch.after);
+        // Its value before: the snapshot's (nodes and curves), else as now (an area's value does
+        // not change, its box does); with the ids of the file.
+        Layer before = layer;  // a copy of the part read, for its ids; only the element is set back
+        ch.value = ch.after;
         for (const auto& [id, n] : applied.before.nodes)
-            if (ref.kind == ElementKind::Node && id == ref.id) ch.beforeBox = Box{n.p, n.p};
+            if (ref.kind == ElementKind::Node && id == ref.id) {
+                before.nodes[id] = n;
+                ch.value = overlayElement(before, ref.kind, ref.id, stats.tolerance);
+            }
         for (const auto& [id, c] : applied.before.curves)
-            if (ref.kind == ElementKind::Curve && id == ref.id) ch.beforeBox = boxOf({c, {}});
-        if (!ch.beforeBox && ch.before) ch.beforeBox = boxOf(*ch.before);
+            if (ref.kind == ElementKind::Curve && id == ref.id) {
+                before.curves[id] = c;
+                ch.value = overlayElement(before, ref.kind, ref.id, stats.tolerance);
+            }
+        if (ref.kind == ElementKind::Area) {
+            const auto it = areaBoxes.find(ref);
+            ch.value.box = it != areaBoxes.end() ? it->second : ch.before ? ch.before->box : std::nullopt;
+        }
+        ch.beforeBox = boxOf(ch.value);
         changes.push_back(std::move(ch));
     }
 
@@ -149,6 +183,8 @@ LazyStep LazyEdits::replay(const std::vector<Change>& changes, bool forward) {
         else
             next->elements.erase(ch.ref);
         step.refs.push_back(ch.ref);
+        step.before.push_back(forward ? ch.value : ch.after);
+        step.after.push_back(forward ? ch.after : ch.value);
         for (const std::optional<Box>& b : {ch.beforeBox, ch.afterBox})
             if (b) step.boxes.push_back(*b);
     }
@@ -165,6 +201,8 @@ std::optional<LazyStep> LazyEdits::undo() {
         const LazyStep s = replay(done_.back().changes, false);
         total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
         total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
+        total.before.insert(total.before.end(), s.before.begin(), s.before.end());
+        total.after.insert(total.after.end(), s.after.begin(), s.after.end());
         undone_.push_back(std::move(done_.back()));
         done_.pop_back();
     } while (group != 0 && !done_.empty() && done_.back().group == group);
@@ -179,6 +217,8 @@ std::optional<LazyStep> LazyEdits::redo() {
         const LazyStep s = replay(undone_.back().changes, true);
         total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
         total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
+        total.before.insert(total.before.end(), s.before.begin(), s.before.end());
+        total.after.insert(total.after.end(), s.after.begin(), s.after.end());
         done_.push_back(std::move(undone_.back()));
         undone_.pop_back();
     } while (group != 0 && !undone_.empty() && undone_.back().group == group);

@@ -32,6 +32,8 @@ namespace lacet {
 struct LazyStep {
     std::vector<ElementRef> refs;
     std::vector<Box> boxes;
+    // Each of `refs`' value and feature box before and after (OverlayElement: the file's ids).
+    std::vector<OverlayElement> before, after;
     double readMs = 0.0;  // reading what the command touches (execute only)
 };
 
@@ -61,6 +63,7 @@ private:
     struct Change {
         ElementRef ref;
         std::optional<OverlayElement> before;  // its overlay entry before (none: the file's row)
+        OverlayElement value;                  // its value and feature box before, from either
         OverlayElement after;
         std::optional<Box> beforeBox, afterBox;  // where it lay and lies
     };

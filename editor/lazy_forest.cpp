@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "model/graph.h"
+#include "model/quadtree.h"
 
 namespace lacet {
 
@@ -34,6 +35,7 @@ struct LazyForest::Part {
     Quad* quad = nullptr;
     std::size_t bytes = 0;
     double reach = 0.0;        // m around the quad its read searched
+    double tolerance = 0.0;    // of the file's feature boxes (io/scene_features.h)
     std::uint64_t wanted = 0;  // the clock of the last refine that wanted it
     double readMs = 0.0;       // its reading and clipping
     Part(SceneDocument d, const GraphStepParams& graph, const RefineParams& refine, const ZProfileParams& profiles,
@@ -89,31 +91,125 @@ LazyForest::~LazyForest() {
         if (r.result.valid()) r.result.wait();
 }
 
-std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
-                                                   std::shared_ptr<const SceneOverlay> overlay) const {
+SceneDocument LazyForest::readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& st) const {
     SceneRegionOptions filter;
-    filter.overlay = overlay.get();
+    filter.overlay = overlay;
     filter.dem = false;  // the session's DEM serves every part
     filter.budgetMiB = budgetMiB;
     // The quad alone, as a pyramid shard reads it: a box inside it (its neighbours touch its border).
     const Box inside = bounds.dilated(-1e-3 * bounds.size().x);
-    SceneRegionStats st;
     SceneDocument doc = loadSceneRegion(path_, inside, refine_, level_, &st, filter);
     if (!storedChecksum_.empty() && st.checksum != storedChecksum_)
         throw SceneFileError(path_ + ": the file changed since it was opened (its stored checksum is " + st.checksum + ", was " +
                              storedChecksum_ + "): open it again");
+    return doc;
+}
+
+std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
+                                                   std::shared_ptr<const SceneOverlay> overlay) const {
+    SceneRegionStats st;
+    SceneDocument doc = readPart(bounds, budgetMiB, overlay.get(), st);
     auto part = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
     part->quad = &part->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
     part->bytes = st.bytes;
     part->reach = st.reach;
+    part->tolerance = st.tolerance;
     return part;
+}
+
+namespace {
+
+// Whether two parts read hold the same elements (the same file ids, layer by layer).
+bool sameElements(const Scene& a, const Scene& b) {
+    if (a.layers.size() != b.layers.size()) return false;
+    for (std::size_t l = 0; l < a.layers.size(); ++l) {
+        const Layer::SceneIds &x = a.layers[l].sceneIds, &y = b.layers[l].sceneIds;
+        if (x.nodes != y.nodes || x.curves != y.curves || x.areas != y.areas) return false;
+    }
+    return true;
+}
+
+// Sets each element of `into` that differs from `from`'s (the same ids) and names it modified.
+template <class T>
+void copyChanged(std::vector<T>& into, const std::vector<T>& from, LayerId l, ElementKind kind, Changeset& cs) {
+    for (std::size_t id = 0; id < into.size(); ++id)
+        if (!(into[id] == from[id])) {
+            into[id] = from[id];
+            cs.modify({l, kind, ElementId(id)});
+        }
+}
+
+}  // namespace
+
+namespace {
+
+// The id in `ids` (a part's Layer::sceneIds, ascending) of file id `file`; kNoElement: not held.
+ElementId heldId(const std::vector<ElementId>& ids, ElementId file) {
+    const auto it = std::lower_bound(ids.begin(), ids.end(), file);
+    return it != ids.end() && *it == file ? ElementId(it - ids.begin()) : kNoElement;
+}
+
+}  // namespace
+
+void LazyForest::update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed) {
+    Changeset cs;
+    Scene& scene = part.doc.scene;
+    // What the edit named changed besides the values that differ: the areas whose loops a moved
+    // curve is in, the nodes whose curves' widths changed (model/edits.h).
+    for (const ElementRef& r : step.refs) {
+        if (r.layer >= scene.layers.size()) continue;
+        const Layer::SceneIds& ids = scene.layers[r.layer].sceneIds;
+        const ElementId id = heldId(r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas, r.id);
+        if (id != kNoElement) cs.modify({r.layer, r.kind, id});
+    }
+    for (std::size_t l = 0; l < scene.layers.size(); ++l) {
+        Layer& into = scene.layers[l];
+        const Layer& from = doc.scene.layers[l];
+        copyChanged(into.nodes, from.nodes, LayerId(l), ElementKind::Node, cs);
+        copyChanged(into.curves, from.curves, LayerId(l), ElementKind::Curve, cs);
+        copyChanged(into.areas, from.areas, LayerId(l), ElementKind::Area, cs);
+    }
+    part.doc.attributes = std::move(doc.attributes);
+    applyChangeset(part, std::move(cs), changed);
+}
+
+void LazyForest::applyChangeset(Part& part, Changeset cs, std::set<QuadKey>& changed) {
+    if (cs.empty()) return;
+    cs.normalize();
+    const Scene& scene = part.doc.scene;
+    // As a whole scene's edit (editor/edit_session.cpp: afterEdit): the curve data, UPDATE, and
+    // the procedural curves expanded again.
+    std::vector<ElementRef> dropped = part.data.invalidate(cs);
+    const UpdateStats st = part.tree.update(cs);
+    if (!st.reexpanded.empty()) {
+        Changeset again;
+        for (const ElementRef& e : st.reexpanded) again.modify(e);
+        const std::vector<ElementRef> more = part.data.invalidate(again);
+        dropped.insert(dropped.end(), more.begin(), more.end());
+    }
+    const std::set<const Quad*> updated(st.changedQuads.begin(), st.changedQuads.end());
+    auto visit = [&](const Quad& q, const auto& self) -> void {
+        if (updated.count(&q) > 0 || holdsDropped(q, part.tree, scene, dropped)) changed.insert(keyOf(q));
+        if (!q.isLeaf())
+            for (const auto& c : q.children) self(*c, self);
+    };
+    visit(*part.quad, visit);
 }
 
 void LazyForest::settle(Read& r) {
     std::unique_ptr<Part> part;
     try {
         part = r.result.get();
-        if (r.version != version_) return;  // read before the last edit: read again when wanted
+        if (r.version != version_) {
+            // Read before the last edits: read again now if one of them touched it.
+            const bool stale = std::any_of(steps_.begin(), steps_.end(), [&](const Step& s) {
+                return s.version > r.version && touches(*part, s.step, s.margin);
+            });
+            if (stale) {
+                const Box bounds = part->quad->bounds;
+                part = read(r.key, bounds, r.budgetMiB, overlay_);
+            }
+        }
     } catch (const SceneBudgetError&) {
         refused_[r.key] = r.budgetMiB;  // tried again only with more room
         ++stats_.partsRefused;
@@ -265,46 +361,136 @@ bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef
     return false;
 }
 
-std::vector<QuadKey> LazyForest::renew(const std::vector<ElementRef>& refs, const std::vector<Box>& boxes, double margin) {
-    std::vector<QuadKey> renewed;
+bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) {
+    const Box region = part.quad->bounds.dilated(part.reach + margin);
+    return holdsAny(part.doc, step.refs) ||
+           std::any_of(step.boxes.begin(), step.boxes.end(), [&](const Box& b) { return b.intersects(region); });
+}
+
+
+bool LazyForest::moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>& changed) {
+    Scene& scene = part.doc.scene;
+    // What the part's read searched: its quad, dilated by its reach (io/scene_region.cpp).
+    const Box searched = part.quad->bounds.dilated(part.reach);
+    const auto meets = [&](const std::optional<Box>& b) { return b && b->intersects(searched); };
+    if (step.before.size() != step.refs.size() || step.after.size() != step.refs.size()) return false;
+    std::vector<std::pair<std::size_t, ElementId>> held;  // (index in the step, id in the part)
+    for (std::size_t k = 0; k < step.refs.size(); ++k) {
+        const ElementRef& r = step.refs[k];
+        if (r.layer >= scene.layers.size()) return false;
+        const Layer& layer = scene.layers[r.layer];
+        if (layer.kind == LayerKind::Rivers) return false;  // upstream walks, axial rivers, bridges over them
+        const OverlayElement &was = step.before[k], &is = step.after[k];
+        // Geometry alone: the reach, the filters and the lists stay.
+        if (const Node* a = std::get_if<Node>(&was.value)) {
+            Node b = std::get<Node>(is.value);
+            b.p = a->p;
+            if (!(b == *a)) return false;
+        } else if (const Curve* c = std::get_if<Curve>(&was.value)) {
+            Curve d = std::get<Curve>(is.value);
+            if ((c->flags | d.flags) & kBridge) return false;  // a bridge road brings the roads it crosses
+            d.vertices = c->vertices;
+            if (!(d == *c)) return false;
+        } else if (!(std::get<Area>(was.value) == std::get<Area>(is.value))) {
+            return false;
+        }
+        const Layer::SceneIds& ids = layer.sceneIds;
+        const ElementId id = heldId(r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas, r.id);
+        // Found by the region's R-tree search now: held, and found before (else the curves at its
+        // nodes, or its loops, would be read now).
+        if (meets(is.box) && (id == kNoElement || !meets(was.box))) return false;
+        if (id == kNoElement) continue;  // not found now, not held: what it brought stays as it was
+        // A road's rivers (the graph step's bridges) are those whose boxes meet its hull: within
+        // the region searched, every one is held.
+        if (const Curve* c = std::get_if<Curve>(&is.value);
+            c && layer.kind == LayerKind::Roads && !searched.contains(hullBox(*c).dilated(part.tolerance)))
+            return false;
+        held.emplace_back(k, id);
+    }
+    Changeset cs;
+    for (const auto& [k, id] : held) {
+        const ElementRef& r = step.refs[k];
+        Layer& layer = scene.layers[r.layer];
+        if (r.kind == ElementKind::Node) {
+            layer.nodes[id].p = std::get<Node>(step.after[k].value).p;
+        } else if (r.kind == ElementKind::Curve) {
+            Curve& c = layer.curves[id];
+            part.bytes -= memoryBytes(c);
+            c.vertices = std::get<Curve>(step.after[k].value).vertices;
+            part.bytes += memoryBytes(c);
+        }
+        cs.modify({r.layer, r.kind, id});
+    }
+    applyChangeset(part, std::move(cs), changed);
+    return true;
+}
+
+LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
+    // The steps a read in flight began before (settle() reads such a part again when one touches it).
+    std::uint64_t oldest = version_;
+    for (const Read& r : reading_) oldest = std::min(oldest, r.version);
+    std::erase_if(steps_, [&](const Step& s) { return s.version <= oldest; });
+    if (!reading_.empty()) steps_.push_back({version_, step, margin});
+    Renewal out;
     for (auto it = parts_.begin(); it != parts_.end();) {
         Part& part = *it->second;
-        const Box region = part.quad->bounds.dilated(part.reach + margin);
-        const bool touched = holdsAny(part.doc, refs) ||
-                             std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.intersects(region); });
-        if (!touched) {
+        if (!touches(part, step, margin)) {
             ++it;
             continue;
         }
         const QuadKey key = it->first;
-        renewed.push_back(key);
-        held_ -= part.bytes;
-        const std::uint64_t wanted = part.wanted;
-        const Box bounds = part.quad->bounds;
-        it = parts_.erase(it);
+        out.parts.push_back(key);
+        ++stats_.partsRenewed;
+        const std::size_t bytes = part.bytes;
+        if (moveInPlace(part, step, out.changed)) {
+            held_ = held_ - bytes + part.bytes;
+            ++stats_.partsMoved;
+            ++it;
+            continue;
+        }
+        const auto t0 = std::chrono::steady_clock::now();
         try {
-            const auto t0 = std::chrono::steady_clock::now();
-            std::unique_ptr<Part> again = read(key, bounds, budgetLeft(), overlay_);
+            SceneRegionStats st;
+            // Room for it beside the others wanted now.
+            SceneDocument doc = readPart(part.quad->bounds, budgetLeft() + (part.wanted == clock_ ? toMiB(part.bytes) : 0.0), overlay_.get(), st);
+            if (sameElements(part.doc.scene, doc.scene)) {
+                update(part, std::move(doc), step, out.changed);
+                held_ = held_ - part.bytes + st.bytes;
+                part.bytes = st.bytes;
+                part.reach = st.reach;
+                ++stats_.partsUpdated;
+                ++it;
+                continue;
+            }
+            auto again = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
+            again->quad = &again->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
+            again->bytes = st.bytes;
+            again->reach = st.reach;
+            again->tolerance = st.tolerance;
+            again->wanted = part.wanted;
             again->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            again->wanted = wanted;
-            held_ += again->bytes;
+            held_ = held_ - part.bytes + again->bytes;
             stats_.largestPartMiB = std::max(stats_.largestPartMiB, toMiB(again->bytes));
-            ++stats_.partsRenewed;
-            it = parts_.emplace_hint(it, key, std::move(again));
+            it->second = std::move(again);
             ++it;
         } catch (const SceneBudgetError&) {
+            held_ -= part.bytes;
+            it = parts_.erase(it);
             refused_[key] = budgetLeft();
             ++stats_.partsRefused;
         } catch (const std::exception& e) {
+            held_ -= part.bytes;
+            it = parts_.erase(it);
             refused_[key] = std::numeric_limits<double>::infinity();
             ++stats_.partsRefused;
             stats_.lastError = e.what();
         }
+        out.rebuilt.push_back(key);
     }
     stats_.partsHeld = parts_.size();
     stats_.heldMiB = toMiB(held_);
     stats_.peakMiB = std::max(stats_.peakMiB, stats_.heldMiB);
-    return renewed;
+    return out;
 }
 
 std::vector<QuadKey> LazyForest::takeArrived() {

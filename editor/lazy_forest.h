@@ -27,13 +27,15 @@
 // refused (counted, its error kept).
 //
 // Edits not saved (editor/lazy_edits.h) are read over the file (setOverlay): a part read sees them,
-// a read begun before the last edit is dropped when it arrives (and read again), and renew()
-// reads again at once the parts an edit touched.
+// renew() reads again at once the parts an edit touched (updated in place through UPDATE when it
+// holds the same elements), and a part whose read began before an edit that touches it is read
+// again when it arrives.
 //
 // Not yet: parts stored clipped in the scene file (each part is clipped from the root curves it
 // reads), and a part's own graph step sees the part alone (as a pyramid shard's does).
 
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <map>
 #include <memory>
@@ -41,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "editor/lazy_edits.h"
 #include "editor/quad_forest.h"
 #include "editor/session_params.h"
 #include "io/document.h"
@@ -80,6 +83,8 @@ struct LazyStats {
     std::size_t partsEvicted = 0;   // parts dropped for the budget
     std::size_t partsRefused = 0;   // reads refused: past the budget left, or the file could not give them
     std::size_t partsRenewed = 0;   // read again after an edit (renew)
+    std::size_t partsUpdated = 0;   // of those, updated in place (the same elements)
+    std::size_t partsMoved = 0;     // of those, updated in memory (no read: moveInPlace)
     std::size_t partsHeld = 0;      // now
     std::size_t partsHeldPeak = 0;
     double heldMiB = 0.0, peakMiB = 0.0, largestPartMiB = 0.0;
@@ -110,16 +115,23 @@ public:
     // elevation samples of the part level's quads.
     static double topMinCurveWidth(const Box& extent, const LazyParams& lazy, const RefineParams& refine);
 
-    // Edits not saved, read over the file from now on (never null), and their version: a part whose
-    // read began with another version is dropped when it arrives.
+    // Edits not saved, read over the file from now on (never null), and their version; then
+    // renew() with what the edit changed.
     void setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version);
     // The top tree read again (the same knobs; both must outlive the forest).
     void setTop(Quadtree& top, const CurveDataCache& topData);
     // After an edit of `refs` (the file's ids) that lay and lies in `boxes`: reads again, with the
     // overlay, every part held that holds one of them or whose region (its quad and reach) meets a
-    // box dilated by `margin` (m); a part that no longer fits or cannot be read goes (its quad a
-    // leaf of the top tree). Returns the parts' keys read again or gone.
-    std::vector<QuadKey> renew(const std::vector<ElementRef>& refs, const std::vector<Box>& boxes, double margin);
+    // box dilated by `margin` (m). A part read again with the same elements (the same file ids) is
+    // updated in place: the elements whose values differ are its changeset, through its curve data
+    // and UPDATE (§6, as a whole scene's edit), its refined subtree kept; one with other elements is
+    // made anew; one that no longer fits or cannot be read goes (its quad a leaf of the top tree).
+    struct Renewal {
+        std::vector<QuadKey> parts;    // read again, made anew or gone
+        std::vector<QuadKey> rebuilt;  // of those, made anew or gone: every tile below is to be made again
+        std::set<QuadKey> changed;     // the quads of the parts updated in place whose tiles are to be made again
+    };
+    Renewal renew(const LazyStep& step, double margin);
     // Whether `doc` (a part read: the file's ids in Layer::sceneIds) holds one of `refs`.
     static bool holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs);
 
@@ -151,6 +163,27 @@ private:
         std::future<std::unique_ptr<Part>> result;
     };
     std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay) const;
+    // The vector data of the part of quad `bounds` (what read() makes a part of).
+    SceneDocument readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& stats) const;
+    // Updates `part` in place to `doc`, read again with the same elements after `step`; adds the
+    // keys of its quads whose tiles change to `changed`.
+    void update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed);
+    // Whether `step` touches `part` (renew()).
+    static bool touches(const Part& part, const LazyStep& step, double margin);
+    // Updates `part` in memory to `step` when what its read would load is still loaded (the step
+    // moves vertices and nodes, no river, no bridge road; what it changed that the part's region
+    // finds now it found before; a moved road's rivers are all within the region); false, changing
+    // nothing, otherwise.
+    bool moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>& changed);
+    // Applies `cs` (the part's ids; its scene already changed) through the curve data and UPDATE;
+    // adds the keys of its quads whose tiles change to `changed`.
+    void applyChangeset(Part& part, Changeset cs, std::set<QuadKey>& changed);
+    // An edit's renew() arguments, kept while a read begun before it is in flight.
+    struct Step {
+        std::uint64_t version = 0;
+        LazyStep step;
+        double margin = 0.0;
+    };
     void settle(Read& r);        // takes a finished read's part, or its refusal
     void evict(std::size_t keepBytes);  // drops parts not wanted now while held + keepBytes > budget
     double budgetLeft() const;   // MiB left beside the parts wanted now
@@ -172,6 +205,7 @@ private:
     std::map<QuadKey, std::unique_ptr<Part>> parts_;
     std::map<QuadKey, double> refused_;  // key -> the budget left (MiB) when it was refused
     std::vector<Read> reading_;          // at most one in background
+    std::deque<Step> steps_;             // the edits since the oldest read in flight began
     std::vector<QuadKey> arrived_;
     std::set<QuadKey> wanted_;  // the parts' quads the last refine wanted
     std::uint64_t clock_ = 0;

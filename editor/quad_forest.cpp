@@ -13,4 +13,21 @@ const Quad* findQuad(const QuadForest& forest, const QuadKey& key) {
     return q->tx == tx && q->ty == ty ? q : nullptr;
 }
 
+bool holdsDropped(const Quad& q, const Quadtree& tree, const Scene& scene, const std::vector<ElementRef>& dropped) {
+    for (const ElementRef& d : dropped) {
+        // The root curve, or the procedural curves it expands to now (their profiles were
+        // dropped with it; one it expanded to before the edit left the quad with the edit).
+        const LayerId l = d.layer;
+        if (q.layers.size() <= l) continue;
+        const auto& curves = q.layers[l].curves;
+        if (curves.count(d.id) > 0) return true;
+        for (AncestorId a : tree.expansionOf(l, d.id))
+            if (curves.count(a) > 0) return true;
+        // A river area's heights follow its river's profiles (the axial curve and the river
+        // on through the area), which need not be in the quad: any river area there is redone.
+        if (scene.layers[l].kind == LayerKind::Rivers && !q.layers[l].areas.empty()) return true;
+    }
+    return false;
+}
+
 }  // namespace lacet

@@ -72,6 +72,11 @@ void forEachQuad(const QuadForest& forest, F&& f) {
     visit(forest.resolve(forest.root()), visit);
 }
 
+// Whether quad q of `tree` (over `scene`) holds a curve whose z-profile was `dropped` (after an
+// edit: CurveDataCache::invalidate): the root curve, or a procedural curve it expands to now, or,
+// for a river, any river area (its heights follow its river's profiles, which need not be in q).
+bool holdsDropped(const Quad& q, const Quadtree& tree, const Scene& scene, const std::vector<ElementRef>& dropped);
+
 // The (resolved) quad of the forest with `key`; nullptr when the forest has none.
 const Quad* findQuad(const QuadForest& forest, const QuadKey& key);
 

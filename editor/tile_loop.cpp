@@ -89,20 +89,7 @@ void TileLoop::layerChanged(LayerId layer) {
 }
 
 bool TileLoop::holdsDropped(const Quad& q, const std::vector<ElementRef>& dropped) const {
-    for (const ElementRef& d : dropped) {
-        // The root curve, or the procedural curves it expands to now (their profiles were
-        // dropped with it; one it expanded to before the edit left the quad with the edit).
-        const LayerId l = d.layer;
-        if (q.layers.size() <= l) continue;
-        const auto& curves = q.layers[l].curves;
-        if (curves.count(d.id) > 0) return true;
-        for (AncestorId a : forest_->treeOf(q).expansionOf(l, d.id))
-            if (curves.count(a) > 0) return true;
-        // A river area's heights follow its river's profiles (the axial curve and the river
-        // on through the area), which need not be in the quad: any river area there is redone.
-        if (scene_.layers[l].kind == LayerKind::Rivers && !q.layers[l].areas.empty()) return true;
-    }
-    return false;
+    return lacet::holdsDropped(q, forest_->treeOf(q), scene_, dropped);
 }
 
 void TileLoop::recordTouched(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited) {

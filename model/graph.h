@@ -47,6 +47,7 @@ struct Node {
     // for none.
     float roundabout = 0.0f;
     bool alive = true;
+    friend bool operator==(const Node&, const Node&) = default;
 };
 
 struct Curve {
@@ -59,6 +60,7 @@ struct Curve {
     std::uint16_t flags = 0;  // CurveFlag bits
     std::vector<ElementId> areas;  // areas whose loops use this curve
     bool alive = true;
+    friend bool operator==(const Curve&, const Curve&) = default;
 };
 
 struct AreaEdge {
@@ -74,6 +76,7 @@ struct Area {
     std::uint16_t cls = 0;
     ElementId axial = kNoElement;  // optional axial curve (elevation profile), same layer
     bool alive = true;
+    friend bool operator==(const Area&, const Area&) = default;
 };
 
 struct Layer {
