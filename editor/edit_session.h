@@ -111,6 +111,8 @@ public:
     }
     const SessionParams& params() const { return params_; }
 
+    // The document; for a scene read lazily, its top tree's part (Layer::sceneIds give the file's
+    // ids, which commands name), read again after an edit that touches it.
     const SceneDocument& document() const { return doc_; }
     const Quadtree& quadtree() const { return *quadtree_; }
     const CurveDataCache& curveData() const { return *data_; }
