@@ -153,6 +153,13 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     return r;
 }
 
+bool EditSession::afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report) {
+    if (!step) return false;
+    const CommandReport r = afterLazyStep(*step, 0.0);
+    if (report) *report = r;
+    return true;
+}
+
 template <class Step>
 CommandReport EditSession::edits(Step&& step) {
     CommandReport total;
@@ -177,13 +184,7 @@ void EditSession::beginGroup() { lazyEdits_ ? lazyEdits_->beginGroup() : history
 void EditSession::endGroup() { lazyEdits_ ? lazyEdits_->endGroup() : history_.endGroup(); }
 
 bool EditSession::undo(CommandReport* report) {
-    if (lazyEdits_) {
-        const std::optional<LazyStep> step = lazyEdits_->undo();
-        if (!step) return false;
-        const CommandReport r = afterLazyStep(*step, 0.0);
-        if (report) *report = r;
-        return true;
-    }
+    if (lazyEdits_) return afterLazyHistory(lazyEdits_->undo(), report);
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.undo(doc_.scene, after); });
     if (done && report) *report = r;
@@ -191,13 +192,7 @@ bool EditSession::undo(CommandReport* report) {
 }
 
 bool EditSession::redo(CommandReport* report) {
-    if (lazyEdits_) {
-        const std::optional<LazyStep> step = lazyEdits_->redo();
-        if (!step) return false;
-        const CommandReport r = afterLazyStep(*step, 0.0);
-        if (report) *report = r;
-        return true;
-    }
+    if (lazyEdits_) return afterLazyHistory(lazyEdits_->redo(), report);
     bool done = false;
     const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.redo(doc_.scene, after); });
     if (done && report) *report = r;

@@ -164,6 +164,8 @@ private:
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     // After a step of a scene read lazily: reads again what it touched, marks the tiles to make.
     CommandReport afterLazyStep(const LazyStep& step, double applyMs);
+    // An undo or redo of a scene read lazily (`step`: none when there was nothing to undo or redo).
+    bool afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report);
     // Whether the top tree holds, or would hold, an element the step changed.
     bool topTouched(const LazyStep& step) const;
     // Reads the top tree's vector data again with the edits and makes its tree and curve data.

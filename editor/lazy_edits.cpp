@@ -36,13 +36,13 @@ std::vector<ElementRef> named(const Command& command) {
         command);
 }
 
-// The id of file id `file` among `ids` (a part's Layer::sceneIds, ascending).
-ElementId localId(const std::vector<ElementId>& ids, const ElementRef& ref) {
-    const auto it = std::lower_bound(ids.begin(), ids.end(), ref.id);
-    if (it == ids.end() || *it != ref.id)
+// The id in `scene` (a part read) of `ref`, an element the command names.
+ElementId localId(const Scene& scene, const ElementRef& ref) {
+    const ElementId id = localIdOf(scene.layers[ref.layer], ref.kind, ref.id);
+    if (id == kNoElement)
         throw EditError(std::string(kindName(ref.kind)) + " " + std::to_string(ref.id) + " of layer " + std::to_string(ref.layer) +
                         " is not in the scene");
-    return ElementId(it - ids.begin());
+    return id;
 }
 
 // `command` with the ids of `scene` (a part read) for the file's.
@@ -51,11 +51,10 @@ Command localized(Command command, const Scene& scene) {
         [&](auto& c) {
             using T = std::decay_t<decltype(c)>;
             if (c.layer >= scene.layers.size()) throw EditError("the scene has no layer " + std::to_string(c.layer));
-            const Layer::SceneIds& ids = scene.layers[c.layer].sceneIds;
             if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
-                c.node = localId(ids.nodes, {c.layer, ElementKind::Node, c.node});
+                c.node = localId(scene, {c.layer, ElementKind::Node, c.node});
             else if constexpr (!std::is_same_v<T, AddNodeCmd> && !std::is_same_v<T, AddCurveCmd>)
-                c.curve = localId(ids.curves, {c.layer, ElementKind::Curve, c.curve});
+                c.curve = localId(scene, {c.layer, ElementKind::Curve, c.curve});
         },
         command);
     return command;
@@ -129,18 +128,11 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
         ch.afterBox = boxOf(ch.after);
         // Its value before: the snapshot's (nodes and curves), else as now (an area's value does
         // not change, its box does); with the ids of the file.
-        Layer before = layer;  // a copy of the part read, for its ids; only the element is set back
         ch.value = ch.after;
         for (const auto& [id, n] : applied.before.nodes)
-            if (ref.kind == ElementKind::Node && id == ref.id) {
-                before.nodes[id] = n;
-                ch.value = overlayElement(before, ref.kind, ref.id, stats.tolerance);
-            }
+            if (ref.kind == ElementKind::Node && id == ref.id) ch.value = overlayValue(layer, n);
         for (const auto& [id, c] : applied.before.curves)
-            if (ref.kind == ElementKind::Curve && id == ref.id) {
-                before.curves[id] = c;
-                ch.value = overlayElement(before, ref.kind, ref.id, stats.tolerance);
-            }
+            if (ref.kind == ElementKind::Curve && id == ref.id) ch.value = overlayValue(layer, c, stats.tolerance);
         if (ref.kind == ElementKind::Area) {
             const auto it = areaBoxes.find(ref);
             ch.value.box = it != areaBoxes.end() ? it->second : ch.before ? ch.before->box : std::nullopt;
@@ -193,36 +185,29 @@ LazyStep LazyEdits::replay(const std::vector<Change>& changes, bool forward) {
     return step;
 }
 
-std::optional<LazyStep> LazyEdits::undo() {
-    if (done_.empty()) return std::nullopt;
-    const std::uint64_t group = done_.back().group;
+LazyStep LazyEdits::moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward) {
+    const std::uint64_t group = from.back().group;
     LazyStep total;
     do {
-        const LazyStep s = replay(done_.back().changes, false);
+        const LazyStep s = replay(from.back().changes, forward);
         total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
         total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
         total.before.insert(total.before.end(), s.before.begin(), s.before.end());
         total.after.insert(total.after.end(), s.after.begin(), s.after.end());
-        undone_.push_back(std::move(done_.back()));
-        done_.pop_back();
-    } while (group != 0 && !done_.empty() && done_.back().group == group);
+        to.push_back(std::move(from.back()));
+        from.pop_back();
+    } while (group != 0 && !from.empty() && from.back().group == group);
     return total;
+}
+
+std::optional<LazyStep> LazyEdits::undo() {
+    if (done_.empty()) return std::nullopt;
+    return moveSteps(done_, undone_, false);
 }
 
 std::optional<LazyStep> LazyEdits::redo() {
     if (undone_.empty()) return std::nullopt;
-    const std::uint64_t group = undone_.back().group;
-    LazyStep total;
-    do {
-        const LazyStep s = replay(undone_.back().changes, true);
-        total.refs.insert(total.refs.end(), s.refs.begin(), s.refs.end());
-        total.boxes.insert(total.boxes.end(), s.boxes.begin(), s.boxes.end());
-        total.before.insert(total.before.end(), s.before.begin(), s.before.end());
-        total.after.insert(total.after.end(), s.after.begin(), s.after.end());
-        done_.push_back(std::move(undone_.back()));
-        undone_.pop_back();
-    } while (group != 0 && !undone_.empty() && undone_.back().group == group);
-    return total;
+    return moveSteps(undone_, done_, true);
 }
 
 }  // namespace lacet

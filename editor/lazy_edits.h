@@ -75,6 +75,8 @@ private:
     std::uint64_t topSerial() const { return done_.empty() ? 0 : done_.back().serial; }
     // Sets each change's after (redo) or before (undo) state into a new overlay.
     LazyStep replay(const std::vector<Change>& changes, bool forward);
+    // Replays the last step of `from` (a group whole) and moves it to `to`: undo or redo.
+    LazyStep moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward);
 
     std::string path_;
     RefineParams refine_;

@@ -141,27 +141,15 @@ void copyChanged(std::vector<T>& into, const std::vector<T>& from, LayerId l, El
 
 }  // namespace
 
-namespace {
-
-// The id in `ids` (a part's Layer::sceneIds, ascending) of file id `file`; kNoElement: not held.
-ElementId heldId(const std::vector<ElementId>& ids, ElementId file) {
-    const auto it = std::lower_bound(ids.begin(), ids.end(), file);
-    return it != ids.end() && *it == file ? ElementId(it - ids.begin()) : kNoElement;
-}
-
-}  // namespace
 
 void LazyForest::update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed) {
     Changeset cs;
     Scene& scene = part.doc.scene;
     // What the edit named changed besides the values that differ: the areas whose loops a moved
     // curve is in, the nodes whose curves' widths changed (model/edits.h).
-    for (const ElementRef& r : step.refs) {
-        if (r.layer >= scene.layers.size()) continue;
-        const Layer::SceneIds& ids = scene.layers[r.layer].sceneIds;
-        const ElementId id = heldId(r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas, r.id);
-        if (id != kNoElement) cs.modify({r.layer, r.kind, id});
-    }
+    for (const ElementRef& r : step.refs)
+        if (r.layer < scene.layers.size())
+            if (const ElementId id = localIdOf(scene.layers[r.layer], r.kind, r.id); id != kNoElement) cs.modify({r.layer, r.kind, id});
     for (std::size_t l = 0; l < scene.layers.size(); ++l) {
         Layer& into = scene.layers[l];
         const Layer& from = doc.scene.layers[l];
@@ -352,13 +340,9 @@ void LazyForest::setTop(Quadtree& top, const CurveDataCache& topData) {
 }
 
 bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs) {
-    for (const ElementRef& r : refs) {
-        if (r.layer >= doc.scene.layers.size()) continue;
-        const Layer::SceneIds& ids = doc.scene.layers[r.layer].sceneIds;
-        const std::vector<ElementId>& of = r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas;
-        if (std::binary_search(of.begin(), of.end(), r.id)) return true;
-    }
-    return false;
+    return std::any_of(refs.begin(), refs.end(), [&](const ElementRef& r) {
+        return r.layer < doc.scene.layers.size() && localIdOf(doc.scene.layers[r.layer], r.kind, r.id) != kNoElement;
+    });
 }
 
 bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) {
@@ -394,8 +378,7 @@ bool LazyForest::moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>
         } else if (!(std::get<Area>(was.value) == std::get<Area>(is.value))) {
             return false;
         }
-        const Layer::SceneIds& ids = layer.sceneIds;
-        const ElementId id = heldId(r.kind == ElementKind::Node ? ids.nodes : r.kind == ElementKind::Curve ? ids.curves : ids.areas, r.id);
+        const ElementId id = localIdOf(layer, r.kind, r.id);
         // Found by the region's R-tree search now: held, and found before (else the curves at its
         // nodes, or its loops, would be read now).
         if (meets(is.box) && (id == kNoElement || !meets(was.box))) return false;

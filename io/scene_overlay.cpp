@@ -1,5 +1,7 @@
 #include "io/scene_overlay.h"
 
+#include <algorithm>
+
 #include "io/scene_features.h"
 
 namespace lacet {
@@ -11,37 +13,46 @@ ElementRef fileRef(const Layer& layer, LayerId l, ElementKind kind, ElementId id
     return {l, kind, file};
 }
 
+ElementId localIdOf(const Layer& layer, ElementKind kind, ElementId file) {
+    const std::size_t count = kind == ElementKind::Node ? layer.nodes.size() : kind == ElementKind::Curve ? layer.curves.size() : layer.areas.size();
+    if (!layer.isPart()) return file < count ? file : kNoElement;
+    const Layer::SceneIds& ids = layer.sceneIds;
+    const std::vector<ElementId>& of = kind == ElementKind::Node ? ids.nodes : kind == ElementKind::Curve ? ids.curves : ids.areas;
+    const auto it = std::lower_bound(of.begin(), of.end(), file);
+    return it != of.end() && *it == file ? ElementId(it - of.begin()) : kNoElement;
+}
+
+OverlayElement overlayValue(const Layer& layer, Node n) {
+    for (ElementId& c : n.curves) c = layer.sceneCurveId(c);
+    return {std::move(n), std::nullopt};
+}
+
+OverlayElement overlayValue(const Layer& layer, Curve c, double tolerance) {
+    std::optional<Box> box = featureBox(layer, c, tolerance);
+    if (c.start != kNoElement) c.start = layer.sceneNodeId(c.start);
+    if (c.end != kNoElement) c.end = layer.sceneNodeId(c.end);
+    for (ElementId& a : c.areas) a = layer.sceneAreaId(a);
+    return {std::move(c), box};
+}
+
+OverlayElement overlayValue(const Layer& layer, Area a, double tolerance) {
+    std::optional<Box> box = featureBox(layer, a, tolerance);
+    for (auto& loop : a.loops)
+        for (AreaEdge& edge : loop) edge.curve = layer.sceneCurveId(edge.curve);
+    if (a.axial != kNoElement) a.axial = layer.sceneCurveId(a.axial);
+    return {std::move(a), box};
+}
+
 OverlayElement overlayElement(const Layer& layer, ElementKind kind, ElementId id, double tolerance) {
-    OverlayElement e;
     switch (kind) {
-    case ElementKind::Node: {
-        Node n = layer.nodes.at(id);
-        for (ElementId& c : n.curves) c = layer.sceneCurveId(c);
-        e.value = std::move(n);
+    case ElementKind::Node:
+        return overlayValue(layer, layer.nodes.at(id));
+    case ElementKind::Curve:
+        return overlayValue(layer, layer.curves.at(id), tolerance);
+    case ElementKind::Area:
         break;
     }
-    case ElementKind::Curve: {
-        const Curve& local = layer.curves.at(id);
-        e.box = featureBox(layer, local, tolerance);
-        Curve c = local;
-        if (c.start != kNoElement) c.start = layer.sceneNodeId(c.start);
-        if (c.end != kNoElement) c.end = layer.sceneNodeId(c.end);
-        for (ElementId& a : c.areas) a = layer.sceneAreaId(a);
-        e.value = std::move(c);
-        break;
-    }
-    case ElementKind::Area: {
-        const Area& local = layer.areas.at(id);
-        e.box = featureBox(layer, local, tolerance);
-        Area a = local;
-        for (auto& loop : a.loops)
-            for (AreaEdge& edge : loop) edge.curve = layer.sceneCurveId(edge.curve);
-        if (a.axial != kNoElement) a.axial = layer.sceneCurveId(a.axial);
-        e.value = std::move(a);
-        break;
-    }
-    }
-    return e;
+    return overlayValue(layer, layer.areas.at(id), tolerance);
 }
 
 }  // namespace lacet

@@ -50,7 +50,14 @@ struct SceneOverlay {
 // `tolerance`. An element of a part must have been read with every element it names that the file
 // saved would hold (a node with every curve at it): what the part did not read is left out.
 OverlayElement overlayElement(const Layer& layer, ElementKind kind, ElementId id, double tolerance);
+// A value of `layer` (its references ids of `layer`) as an overlay keeps it, as above.
+OverlayElement overlayValue(const Layer& layer, Node n);
+OverlayElement overlayValue(const Layer& layer, Curve c, double tolerance);
+OverlayElement overlayValue(const Layer& layer, Area a, double tolerance);
 // Its ElementRef in the file.
 ElementRef fileRef(const Layer& layer, LayerId l, ElementKind kind, ElementId id);
+// The id in `layer` (a part read: Layer::sceneIds; a whole layer: the file's) of the element of
+// `kind` with file id `file`; kNoElement where the layer does not hold it.
+ElementId localIdOf(const Layer& layer, ElementKind kind, ElementId file);
 
 }  // namespace lacet

@@ -75,6 +75,17 @@ protected:
         }
         return out;
     }
+    // A pyramid of the scene file, levels 0..3 made from vector data at 3 (L = 3), PNG tiles, in
+    // the scratch directory as `name`.
+    static std::string buildTestPyramid(const std::string& name) {
+        const std::string pyramid = (*dir_ / name).string();
+        PyramidParams pp;
+        pp.maxLevel = 3;
+        pp.vectorLevels = 1;
+        pp.encoding.format = TileFormat::Png;
+        buildPyramid(*path_, pyramid, pp, /*force=*/true, nullptr);
+        return pyramid;
+    }
     static std::filesystem::path* dir_;
     static std::string* path_;
 };
@@ -332,12 +343,7 @@ TEST_F(LazyForestTest, APartReadInTheBackgroundMakesItsQuadsTileAgainWhenItArriv
 
 TEST_F(LazyForestTest, APyramidOfTheFileGivesTheTopsAppearanceAndTheTopReadsOnlyItsElevation) {
     // Levels 0..3, L = 3: below the part level 2 and at it the appearance is the pyramid's.
-    const std::string pyramid = (*dir_ / "scene.pyramid.gpkg").string();
-    PyramidParams pp;
-    pp.maxLevel = 3;
-    pp.vectorLevels = 1;
-    pp.encoding.format = TileFormat::Png;
-    buildPyramid(*path_, pyramid, pp, /*force=*/true, nullptr);
+    const std::string pyramid = buildTestPyramid("scene.pyramid.gpkg");
     const SceneDocument doc = loadScene(*path_);
     EditSession whole(SceneDocument(doc), sessionParams());
     whole.setPyramid(std::make_shared<PyramidReader>(pyramid, doc));
@@ -432,12 +438,7 @@ TEST_F(LazyForestTest, EditsOfAPartialSceneGiveTheWholeScenesTilesAndUndoRestore
 }
 
 TEST_F(LazyForestTest, EditsOfAPartialSceneOverAPyramidReadTheTopAgainOnlyWhereItHoldsWhatChanged) {
-    const std::string pyramid = (*dir_ / "edits.pyramid.gpkg").string();
-    PyramidParams pp;
-    pp.maxLevel = 3;
-    pp.vectorLevels = 1;
-    pp.encoding.format = TileFormat::Png;
-    buildPyramid(*path_, pyramid, pp, /*force=*/true, nullptr);
+    const std::string pyramid = buildTestPyramid("edits.pyramid.gpkg");
     const SceneDocument doc = loadScene(*path_);
     EditSession whole(SceneDocument(doc), sessionParams());
     whole.setPyramid(std::make_shared<PyramidReader>(pyramid, doc));
