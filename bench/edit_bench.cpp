@@ -28,7 +28,8 @@ namespace lacet::bench {
 namespace {
 
 struct Drag {
-    std::vector<double> ms, tiles, updateMs, produceMs, dirty, uniform;
+    std::vector<double> ms, tiles, applyMs, updateMs, produceMs, dirty, uniform;
+    std::size_t topReadAgain = 0;  // lazily: steps that read the top tree again
     nlohmann::json json() const {
         return {{"steps", ms.size()},
                 {"median_ms", median(ms)},
@@ -36,7 +37,9 @@ struct Drag {
                 {"max_ms", quantile(ms, 1.0)},
                 {"tiles_median", median(tiles)},
                 {"tiles_max", quantile(tiles, 1.0)},
+                {"apply_median_ms", median(applyMs)},
                 {"update_median_ms", median(updateMs)},
+                {"top_read_again_steps", topReadAgain},
                 {"produce_median_ms", median(produceMs)},
                 {"dirty_tiles_median", median(dirty)},
                 {"uniform_tiles_median", median(uniform)}};
@@ -59,7 +62,9 @@ Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible
             const FrameReport f = session.frame(viewer, 0.0, visible);
             d.ms.push_back(msSince(t0));
             d.tiles.push_back(double(f.produced));
+            d.applyMs.push_back(c.applyMs);
             d.updateMs.push_back(c.updateMs);
+            d.topReadAgain += c.topReadAgain;
             d.produceMs.push_back(f.produceMs);
             d.dirty.push_back(double(c.dirtyTiles));
             std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
@@ -236,6 +241,7 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
               {"parts_read", st.partsRead},
               {"parts_renewed", st.partsRenewed},
               {"parts_updated_in_place", st.partsUpdated},
+              {"parts_moved_in_memory", st.partsMoved},
               {"parts_held_peak", st.partsHeldPeak},
               {"held_mib_peak", st.peakMiB},
               {"pyramid", o.pyramid}}},

@@ -76,20 +76,20 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 LazyEdits::LazyEdits(std::string path, RefineParams refine)
-    : path_(std::move(path)), refine_(refine), overlay_(std::make_shared<const SceneOverlay>()) {}
+    : path_(std::move(path)), connection_(path_), refine_(refine), overlay_(std::make_shared<const SceneOverlay>()) {}
 
 LazyStep LazyEdits::execute(const Command& command, bool merge) {
     const auto t0 = std::chrono::steady_clock::now();
     Box region{Vec2(std::numeric_limits<double>::infinity()), Vec2(-std::numeric_limits<double>::infinity())};
     for (const ElementRef& ref : named(command)) {
-        const Box b = loadSceneElementBox(path_, ref, overlay_.get());
+        const Box b = loadSceneElementBox(connection_, ref, overlay_.get());
         region = {glm::min(region.min, b.min), glm::max(region.max, b.max)};
     }
     SceneRegionOptions options;
     options.dem = false;
     options.overlay = overlay_.get();
     SceneRegionStats stats;
-    SceneDocument doc = loadSceneRegion(path_, region, refine_, kEditLevel, &stats, options);
+    SceneDocument doc = loadSceneRegion(connection_, region, refine_, kEditLevel, &stats, options);
     if (stats.wholeScene) throw EditError(path_ + " has no feature index, which editing it read lazily needs: save it again");
     const double readMs = msSince(t0);
 

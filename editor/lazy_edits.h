@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "editor/command.h"
+#include "io/scene_file.h"
 #include "io/scene_overlay.h"
 #include "model/clip_and_refine.h"
 
@@ -79,6 +80,7 @@ private:
     LazyStep moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward);
 
     std::string path_;
+    SceneFileConnection connection_;  // the file kept open: an edit reads a few rows
     RefineParams refine_;
     std::shared_ptr<const SceneOverlay> overlay_;
     std::uint64_t version_ = 0;

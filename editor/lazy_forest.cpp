@@ -46,6 +46,7 @@ struct LazyForest::Part {
 LazyForest::LazyForest(std::string path, std::string storedChecksum, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
                        const SessionParams& params, LazyParams lazy)
     : path_(std::move(path)),
+      connection_(path_),
       storedChecksum_(std::move(storedChecksum)),
       top_(&top),
       topData_(&topData),
@@ -91,14 +92,16 @@ LazyForest::~LazyForest() {
         if (r.result.valid()) r.result.wait();
 }
 
-SceneDocument LazyForest::readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& st) const {
+SceneDocument LazyForest::readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& st,
+                                   SceneFileConnection* connection) const {
     SceneRegionOptions filter;
     filter.overlay = overlay;
     filter.dem = false;  // the session's DEM serves every part
     filter.budgetMiB = budgetMiB;
     // The quad alone, as a pyramid shard reads it: a box inside it (its neighbours touch its border).
     const Box inside = bounds.dilated(-1e-3 * bounds.size().x);
-    SceneDocument doc = loadSceneRegion(path_, inside, refine_, level_, &st, filter);
+    SceneDocument doc = connection ? loadSceneRegion(*connection, inside, refine_, level_, &st, filter)
+                                   : loadSceneRegion(path_, inside, refine_, level_, &st, filter);
     if (!storedChecksum_.empty() && st.checksum != storedChecksum_)
         throw SceneFileError(path_ + ": the file changed since it was opened (its stored checksum is " + st.checksum + ", was " +
                              storedChecksum_ + "): open it again");
@@ -106,9 +109,9 @@ SceneDocument LazyForest::readPart(const Box& bounds, double budgetMiB, const Sc
 }
 
 std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
-                                                   std::shared_ptr<const SceneOverlay> overlay) const {
+                                                   std::shared_ptr<const SceneOverlay> overlay, SceneFileConnection* connection) const {
     SceneRegionStats st;
-    SceneDocument doc = readPart(bounds, budgetMiB, overlay.get(), st);
+    SceneDocument doc = readPart(bounds, budgetMiB, overlay.get(), st, connection);
     auto part = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
     part->quad = &part->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
     part->bytes = st.bytes;
@@ -195,7 +198,7 @@ void LazyForest::settle(Read& r) {
             });
             if (stale) {
                 const Box bounds = part->quad->bounds;
-                part = read(r.key, bounds, r.budgetMiB, overlay_);
+                part = read(r.key, bounds, r.budgetMiB, overlay_, &connection_);
             }
         }
     } catch (const SceneBudgetError&) {
@@ -303,9 +306,10 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
         }
         const Box bounds = q->bounds;
         Read r{key, left, version_, {}};
-        auto job = [this, key, bounds, left, overlay = overlay_] {
+        // The worker's read opens the file itself; one in this thread keeps the connection.
+        auto job = [this, key, bounds, left, overlay = overlay_, connection = lazy_.background ? nullptr : &connection_] {
             const auto t0 = std::chrono::steady_clock::now();
-            std::unique_ptr<Part> part = read(key, bounds, left, overlay);
+            std::unique_ptr<Part> part = read(key, bounds, left, overlay, connection);
             part->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return part;
         };
@@ -352,7 +356,7 @@ bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) 
 }
 
 
-bool LazyForest::moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>& changed) {
+bool LazyForest::moveInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed) {
     Scene& scene = part.doc.scene;
     // What the part's read searched: its quad, dilated by its reach (io/scene_region.cpp).
     const Box searched = part.quad->bounds.dilated(part.reach);
@@ -384,10 +388,23 @@ bool LazyForest::moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>
         if (meets(is.box) && (id == kNoElement || !meets(was.box))) return false;
         if (id == kNoElement) continue;  // not found now, not held: what it brought stays as it was
         // A road's rivers (the graph step's bridges) are those whose boxes meet its hull: within
-        // the region searched, every one is held.
-        if (const Curve* c = std::get_if<Curve>(&is.value);
-            c && layer.kind == LayerKind::Roads && !searched.contains(hullBox(*c).dilated(part.tolerance)))
-            return false;
+        // the region searched, every one is held; beyond it, each one the file's R-trees find
+        // there (with the edits) must be held (a river held brought what it depends on).
+        if (const Curve* c = std::get_if<Curve>(&is.value); c && layer.kind == LayerKind::Roads) {
+            const Box hull = hullBox(*c).dilated(part.tolerance);
+            if (!searched.contains(hull)) {
+                auto found = rivers.find(k);
+                if (found == rivers.end()) {
+                    try {
+                        found = rivers.emplace(k, loadSceneFeaturesIn(connection_, hull, LayerKind::Rivers, overlay_.get())).first;
+                    } catch (const std::exception&) {
+                        return false;  // the read that follows says why
+                    }
+                }
+                for (const ElementRef& river : found->second)
+                    if (river.layer >= scene.layers.size() || localIdOf(scene.layers[river.layer], river.kind, river.id) == kNoElement) return false;
+            }
+        }
         held.emplace_back(k, id);
     }
     Changeset cs;
@@ -415,6 +432,7 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
     std::erase_if(steps_, [&](const Step& s) { return s.version <= oldest; });
     if (!reading_.empty()) steps_.push_back({version_, step, margin});
     Renewal out;
+    StepRivers rivers;  // read once for the step, whatever the parts that ask
     for (auto it = parts_.begin(); it != parts_.end();) {
         Part& part = *it->second;
         if (!touches(part, step, margin)) {
@@ -425,7 +443,7 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
         out.parts.push_back(key);
         ++stats_.partsRenewed;
         const std::size_t bytes = part.bytes;
-        if (moveInPlace(part, step, out.changed)) {
+        if (moveInPlace(part, step, rivers, out.changed)) {
             held_ = held_ - bytes + part.bytes;
             ++stats_.partsMoved;
             ++it;
@@ -435,7 +453,8 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
         try {
             SceneRegionStats st;
             // Room for it beside the others wanted now.
-            SceneDocument doc = readPart(part.quad->bounds, budgetLeft() + (part.wanted == clock_ ? toMiB(part.bytes) : 0.0), overlay_.get(), st);
+            SceneDocument doc = readPart(part.quad->bounds, budgetLeft() + (part.wanted == clock_ ? toMiB(part.bytes) : 0.0), overlay_.get(), st,
+                                         &connection_);
             if (sameElements(part.doc.scene, doc.scene)) {
                 update(part, std::move(doc), step, out.changed);
                 held_ = held_ - part.bytes + st.bytes;

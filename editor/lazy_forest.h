@@ -27,9 +27,10 @@
 // refused (counted, its error kept).
 //
 // Edits not saved (editor/lazy_edits.h) are read over the file (setOverlay): a part read sees them,
-// renew() reads again at once the parts an edit touched (updated in place through UPDATE when it
-// holds the same elements), and a part whose read began before an edit that touches it is read
-// again when it arrives.
+// renew() updates in memory, or reads again at once, the parts an edit touched (updated in place
+// through UPDATE when it holds the same elements), and a part whose read began before an edit that
+// touches it is read again when it arrives. The reads of the session's thread go through one
+// connection kept open (io/scene_file.h); the worker's open the file.
 //
 // Not yet: parts stored clipped in the scene file (each part is clipped from the root curves it
 // reads), and a part's own graph step sees the part alone (as a pyramid shard's does).
@@ -162,19 +163,27 @@ private:
         std::uint64_t version = 0;  // of the overlay it reads
         std::future<std::unique_ptr<Part>> result;
     };
-    std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay) const;
+    // `connection`: the file kept open by this thread (connection_), or nullptr (the worker's: the
+    // file opened for the read).
+    std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay,
+                               SceneFileConnection* connection) const;
     // The vector data of the part of quad `bounds` (what read() makes a part of).
-    SceneDocument readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& stats) const;
+    SceneDocument readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& stats,
+                           SceneFileConnection* connection) const;
     // Updates `part` in place to `doc`, read again with the same elements after `step`; adds the
     // keys of its quads whose tiles change to `changed`.
     void update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed);
     // Whether `step` touches `part` (renew()).
     static bool touches(const Part& part, const LazyStep& step, double margin);
+    // The rivers (curves and areas, the file's ids) whose feature boxes meet the hull of a road of
+    // a step (by its index in the step), read from the file with the edits once for the step.
+    using StepRivers = std::map<std::size_t, std::vector<ElementRef>>;
     // Updates `part` in memory to `step` when what its read would load is still loaded (the step
     // moves vertices and nodes, no river, no bridge road; what it changed that the part's region
-    // finds now it found before; a moved road's rivers are all within the region); false, changing
-    // nothing, otherwise.
-    bool moveInPlace(Part& part, const LazyStep& step, std::set<QuadKey>& changed);
+    // finds now it found before; a moved road's rivers, those its hull meets, are all held: within
+    // the region, or else found through the file's R-trees, in `rivers`); false, changing nothing,
+    // otherwise.
+    bool moveInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed);
     // Applies `cs` (the part's ids; its scene already changed) through the curve data and UPDATE;
     // adds the keys of its quads whose tiles change to `changed`.
     void applyChangeset(Part& part, Changeset cs, std::set<QuadKey>& changed);
@@ -190,6 +199,7 @@ private:
     const Part* owner(const Quad& q) const;  // the part whose tree holds q (nullptr: the top tree)
 
     std::string path_;
+    SceneFileConnection connection_;  // the file kept open for the reads of the session's thread
     std::string storedChecksum_;
     Quadtree* top_;
     const CurveDataCache* topData_;

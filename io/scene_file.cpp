@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "io/atomic_file.h"
@@ -133,16 +134,20 @@ bool isLacetScene(const std::string& path) {
     }
 }
 
-std::string scene_format::loadSceneParts(const std::string& path, SceneDocument& doc,
-                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
-                                          bool wholeFileCheck) {
+namespace {
+
+// loadSceneParts of the file at `path`, over `connection` (kept open) or a connection of its own.
+std::string loadParts(const std::string& path, SceneFileConnection* connection, SceneDocument& doc,
+                      const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem, bool wholeFileCheck) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw SceneFileError(path + ": cannot open: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw SceneFileError(path + ": is a directory, not a Lacet scene");
     if (st.st_size == 0) throw SceneFileError(path + ": empty file, not a Lacet scene");
     std::string checksum;
     try {
-        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        std::optional<SqliteDb> own;
+        SqliteDb& db = connection ? connection->open(std::uint64_t(st.st_dev), std::uint64_t(st.st_ino))
+                                  : own.emplace(path, SqliteDb::Mode::ReadOnly);
         const Meta meta = openSceneTables(db, std::int64_t(st.st_size), wholeFileCheck);
         doc.scene.extent = metaBox(meta, "extent");
         doc.georeference.valid = metaInteger(meta, "georeference_valid", 0, 1) != 0;
@@ -171,7 +176,7 @@ std::string scene_format::loadSceneParts(const std::string& path, SceneDocument&
             checkDemLodTiles(db, layout);
             doc.demLod = std::move(lod);
         }
-        db.close();
+        if (own) own->close();
         if (doc.demLod) {
             doc.dem = readDemLevel(*doc.demLod, levelAtMost(doc.demLod->layout(), kInMemoryDemSide));
         } else if (dem == kDemRasterTable) {
@@ -201,6 +206,33 @@ std::string scene_format::loadSceneParts(const std::string& path, SceneDocument&
     if (auto problems = validate(doc.scene); !problems.empty())
         throw SceneFileError(path + ": invalid scene: " + ValidationError(std::move(problems)).what());
     return checksum;
+}
+
+}  // namespace
+
+std::string scene_format::loadSceneParts(const std::string& path, SceneDocument& doc,
+                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
+                                          bool wholeFileCheck) {
+    return loadParts(path, nullptr, doc, readElements, readDem, wholeFileCheck);
+}
+
+std::string scene_format::loadSceneParts(SceneFileConnection& connection, SceneDocument& doc,
+                                          const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
+                                          bool wholeFileCheck) {
+    return loadParts(connection.path(), &connection, doc, readElements, readDem, wholeFileCheck);
+}
+
+SceneFileConnection::SceneFileConnection(std::string path) : path_(std::move(path)) {}
+SceneFileConnection::~SceneFileConnection() = default;
+
+SqliteDb& SceneFileConnection::open(std::uint64_t device, std::uint64_t inode) {
+    if (!db_ || device != device_ || inode != inode_) {
+        db_.reset();
+        db_ = std::make_unique<SqliteDb>(path_, SqliteDb::Mode::ReadOnly);
+        device_ = device;
+        inode_ = inode;
+    }
+    return *db_;
 }
 
 SceneDocument loadScene(const std::string& path) {

@@ -41,7 +41,9 @@
 // The file is for Lacet to write: a GIS tool may read it, but a value edited outside Lacet no longer
 // matches the checksum, and the file is refused as corrupt.
 
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -89,5 +91,31 @@ SceneDocument loadScene(const std::string& path);
 // Reads only the header and one table (not the checksum); never throws. The import replaces an
 // existing file only when this says so (or when forced): it never overwrites what it does not own.
 bool isLacetScene(const std::string& path);
+
+class SqliteDb;
+
+// A scene file kept open between reads of its parts (io/scene_region.h), by one thread: one SQLite
+// connection, so that a read of a few rows (an edit's, a river search's) pays neither the open nor
+// the parse of the file's schema (a GeoPackage's tables, R-trees and triggers: most of such a
+// read's time). Opened by its first read, with that read's checks and errors; opened again when the
+// file at the path is another one since (renamed over). Each read sees the file as it is then, as
+// a read by path does.
+class SceneFileConnection {
+public:
+    explicit SceneFileConnection(std::string path);
+    ~SceneFileConnection();
+    SceneFileConnection(const SceneFileConnection&) = delete;
+    SceneFileConnection& operator=(const SceneFileConnection&) = delete;
+    const std::string& path() const { return path_; }
+
+    // Internal (io/scene_format.h: loadSceneParts): the connection to the file whose device and
+    // inode are `device`, `inode`, opened now if it is not open to that file.
+    SqliteDb& open(std::uint64_t device, std::uint64_t inode);
+
+private:
+    std::string path_;
+    std::unique_ptr<SqliteDb> db_;
+    std::uint64_t device_ = 0, inode_ = 0;
+};
 
 }  // namespace lacet

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "io/document.h"
+#include "io/scene_file.h"
 #include "io/sqlite_db.h"
 
 namespace lacet::scene_format {
@@ -127,6 +128,10 @@ bool readPartAttributes(SqliteDb& db, SceneDocument& doc);
 // model; returns lacet_meta's checksum text. `wholeFileCheck`: openSceneTables'. Throws
 // SceneFileError naming the file.
 std::string loadSceneParts(const std::string& path, SceneDocument& doc,
+                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem = true,
+                           bool wholeFileCheck = true);
+// The same over `connection`'s file, kept open.
+std::string loadSceneParts(SceneFileConnection& connection, SceneDocument& doc,
                            const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem = true,
                            bool wholeFileCheck = true);
 

@@ -42,10 +42,75 @@ std::vector<std::size_t> fileIdCounts(SqliteDb& db, const char* table, std::size
 }
 
 struct FeatureTableRef {
-    std::string name;
+    std::string name;  // empty: a layer's features the file has no table for (the edits' alone)
     LayerId layer = 0;
     bool polygons = false;
 };
+
+// The file's feature tables (kFeatureIndexTable), with their largest tolerance and wf.
+struct FeatureIndex {
+    std::vector<FeatureTableRef> tables;
+    double tolerance = 0.0, curveWf = 0.0, areaWf = 0.0;
+};
+
+FeatureIndex readFeatureIndex(SqliteDb& db, const Scene& scene) {
+    FeatureIndex index;
+    auto s = db.prepare(std::string("SELECT table_name, layer, polygons, tolerance, max_curve_wf, max_area_wf FROM ") + kFeatureIndexTable +
+                        " ORDER BY table_name");
+    while (s.step()) {
+        const std::int64_t layer = s.integer(1);
+        if (layer < 0 || std::size_t(layer) >= scene.layers.size() || !db.hasTable(s.text(0)) || !db.hasTable(featureRtreeName(s.text(0))))
+            throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) + "' has no layer, no table or no R-tree");
+        const double tol = s.real(3), cw = s.real(4), aw = s.real(5);
+        if (!(tol >= 0.0) || !(cw >= 0.0) || !(aw >= 0.0) || !std::isfinite(tol + cw + aw))
+            throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) + "' has a bad tolerance or wf");
+        index.tables.push_back({s.text(0), LayerId(layer), s.integer(2) != 0});
+        index.tolerance = std::max(index.tolerance, tol);
+        index.curveWf = std::max(index.curveWf, cw);
+        index.areaWf = std::max(index.areaWf, aw);
+    }
+    return index;
+}
+
+// The tables of the layers' features the file has none for and the edits add (name empty): found
+// in the overlay alone. Throws FormatError for an edit of a layer the file has not.
+void addOverlayTables(std::vector<FeatureTableRef>& tables, const SceneOverlay& overlay, std::size_t layers) {
+    for (const auto& [ref, e] : overlay.elements) {
+        if (ref.layer >= layers) throw FormatError("the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
+        if (ref.kind == ElementKind::Node) continue;
+        const bool polygons = ref.kind == ElementKind::Area;
+        if (std::none_of(tables.begin(), tables.end(), [&](const FeatureTableRef& t) { return t.layer == ref.layer && t.polygons == polygons; }))
+            tables.push_back({std::string(), ref.layer, polygons});
+    }
+}
+
+// The features of table `t` whose boxes meet `box` (their ids, below `count`): the file's R-tree's,
+// except those `overlay` (nullptr: none) changed, found by their boxes now.
+std::vector<ElementId> featuresIn(SqliteDb& db, const FeatureTableRef& t, const Box& box, std::size_t count, const SceneOverlay* overlay) {
+    const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
+    std::vector<ElementId> ids;
+    if (!t.name.empty()) {
+        auto s = db.prepare("SELECT lacet_id FROM \"" + t.name + "\" WHERE fid IN (SELECT id FROM \"" + featureRtreeName(t.name) +
+                            "\" WHERE minx <= ? AND maxx >= ? AND miny <= ? AND maxy >= ?)");
+        s.bind(1, box.max.x);
+        s.bind(2, box.min.x);
+        s.bind(3, box.max.y);
+        s.bind(4, box.min.y);
+        while (s.step()) {
+            const std::int64_t id = s.integer(0);
+            if (id < 0 || std::size_t(id) >= count)
+                throw FormatError("feature table '" + t.name + "': lacet_id " + std::to_string(id) + " names no element");
+            ids.push_back(ElementId(id));
+        }
+    }
+    if (overlay) {
+        std::erase_if(ids, [&](ElementId id) { return overlay->find({t.layer, kind, id}) != nullptr; });
+        overlay->forEach(t.layer, kind, [&](ElementId id, const OverlayElement& e) {
+            if (e.box && e.box->intersects(box)) ids.push_back(id);
+        });
+    }
+    return ids;
+}
 
 // One curve to close (by its id in the document), and whether it lies within the region's reach
 // (its nodes' curves are loaded).
@@ -128,14 +193,10 @@ public:
         if (const SceneOverlay* o = filter_.overlay) {
             // Elements added by the edits have ids past the file's; a layer's features the file has
             // no table for are found in the overlay alone.
+            addOverlayTables(tables_, *o, n);
             for (const auto& [ref, e] : o->elements) {
-                if (ref.layer >= n) throw FormatError("the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
                 KindSlots& k = slots_[ref.layer].of(ref.kind);
                 k.fileCount = std::max(k.fileCount, std::size_t(ref.id) + 1);
-                if (ref.kind == ElementKind::Node) continue;
-                const bool polygons = ref.kind == ElementKind::Area;
-                if (std::none_of(tables_.begin(), tables_.end(), [&](const FeatureTableRef& t) { return t.layer == ref.layer && t.polygons == polygons; }))
-                    tables_.push_back({std::string(), ref.layer, polygons});
             }
         }
         charge(memoryBytes(doc.scene));  // the layers, without elements yet
@@ -255,36 +316,8 @@ public:
     std::size_t bytes = 0;  // held so far (charge())
 
 private:
-    // The features of table `t` whose boxes meet `box`: the file's R-tree's, except those the
-    // edits changed, found by their boxes now.
     std::vector<ElementId> query(const FeatureTableRef& t, const Box& box) {
-        const ElementKind kind = t.polygons ? ElementKind::Area : ElementKind::Curve;
-        std::vector<ElementId> ids = t.name.empty() ? std::vector<ElementId>{} : fileQuery(t, box);
-        if (const SceneOverlay* o = filter_.overlay) {
-            std::erase_if(ids, [&](ElementId id) { return o->find({t.layer, kind, id}) != nullptr; });
-            o->forEach(t.layer, kind, [&](ElementId id, const OverlayElement& e) {
-                if (e.box && e.box->intersects(box)) ids.push_back(id);
-            });
-        }
-        return ids;
-    }
-
-    std::vector<ElementId> fileQuery(const FeatureTableRef& t, const Box& box) {
-        auto s = db_.prepare("SELECT lacet_id FROM \"" + t.name + "\" WHERE fid IN (SELECT id FROM \"" +
-                             featureRtreeName(t.name) + "\" WHERE minx <= ? AND maxx >= ? AND miny <= ? AND maxy >= ?)");
-        s.bind(1, box.max.x);
-        s.bind(2, box.min.x);
-        s.bind(3, box.max.y);
-        s.bind(4, box.min.y);
-        std::vector<ElementId> ids;
-        const std::size_t count = fileSlots(t.layer, t.polygons ? ElementKind::Area : ElementKind::Curve);
-        while (s.step()) {
-            const std::int64_t id = s.integer(0);
-            if (id < 0 || std::size_t(id) >= count)
-                throw FormatError("feature table '" + t.name + "': lacet_id " + std::to_string(id) + " names no element");
-            ids.push_back(ElementId(id));
-        }
-        return ids;
+        return featuresIn(db_, t, box, fileSlots(t.layer, t.polygons ? ElementKind::Area : ElementKind::Curve), filter_.overlay);
     }
 
     // An element's row, or its value in the edits.
@@ -455,6 +488,13 @@ private:
 
 SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
                               SceneRegionStats* stats, const SceneRegionOptions& filter) {
+    SceneFileConnection connection(path);
+    return loadSceneRegion(connection, region, params, level, stats, filter);
+}
+
+SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region, const RefineParams& params, int level,
+                              SceneRegionStats* stats, const SceneRegionOptions& filter) {
+    const std::string& path = connection.path();
     if (level < 0 || level > 30) throw std::invalid_argument("loadSceneRegion: level " + std::to_string(level) + " is not in 0..30");
     if (!(region.min.x <= region.max.x && region.min.y <= region.max.y))
         throw std::invalid_argument("loadSceneRegion: the region is empty");
@@ -488,26 +528,9 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
             }
         } end{db};
         readLayerTable(db, d.scene);
-        std::vector<FeatureTableRef> tables;
-        double curveWf = 0.0, areaWf = 0.0, tolerance = 0.0;
-        {
-            auto s = db.prepare(std::string("SELECT table_name, layer, polygons, tolerance, max_curve_wf, max_area_wf FROM ") +
-                                kFeatureIndexTable + " ORDER BY table_name");
-            while (s.step()) {
-                const std::int64_t layer = s.integer(1);
-                if (layer < 0 || std::size_t(layer) >= d.scene.layers.size() || !db.hasTable(s.text(0)) ||
-                    !db.hasTable(featureRtreeName(s.text(0))))
-                    throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) +
-                                      "' has no layer, no table or no R-tree");
-                const double tol = s.real(3), cw = s.real(4), aw = s.real(5);
-                if (!(tol >= 0.0) || !(cw >= 0.0) || !(aw >= 0.0) || !std::isfinite(tol + cw + aw))
-                    throw FormatError(std::string(kFeatureIndexTable) + ": table '" + s.text(0) + "' has a bad tolerance or wf");
-                tables.push_back({s.text(0), LayerId(layer), s.integer(2) != 0});
-                tolerance = std::max(tolerance, tol);
-                curveWf = std::max(curveWf, cw);
-                areaWf = std::max(areaWf, aw);
-            }
-        }
+        FeatureIndex index = readFeatureIndex(db, d.scene);
+        double curveWf = index.curveWf, areaWf = index.areaWf;
+        const double tolerance = index.tolerance;
         // The edits' widths and rings: what the file would say of them saved.
         double editedRadius = 0.0;
         if (filter.overlay)
@@ -535,7 +558,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         }
         st.reach += 1e-6 * std::max({1.0, std::fabs(region.min.x), std::fabs(region.max.x), std::fabs(region.min.y),
                                      std::fabs(region.max.y)});
-        RegionLoader loader(path, db, d, std::move(tables), tolerance, filter);
+        RegionLoader loader(path, db, d, std::move(index.tables), tolerance, filter);
         // The quads of the level that meet the region (closed boxes: a quad touching its border
         // counts), on the root's grid, then the reach around them.
         const double cells = double(std::int64_t(1) << level);
@@ -570,7 +593,7 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
         st.areas = loader.areas;
         st.bytes = loader.bytes;  // what was counted while reading (the test checks it is what is held)
     };
-    const std::string checksum = loadSceneParts(path, doc, readRegion, filter.dem, filter.wholeFileCheck);
+    const std::string checksum = loadSceneParts(connection, doc, readRegion, filter.dem, filter.wholeFileCheck);
     st.checksum = checksum;
     // Read whole: checked whole, as loadScene checks it.
     if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
@@ -594,10 +617,15 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
 }
 
 Box loadSceneElementBox(const std::string& path, const ElementRef& ref, const SceneOverlay* overlay) {
+    SceneFileConnection connection(path);
+    return loadSceneElementBox(connection, ref, overlay);
+}
+
+Box loadSceneElementBox(SceneFileConnection& connection, const ElementRef& ref, const SceneOverlay* overlay) {
     SceneDocument doc;
     Box box;
     loadSceneParts(
-        path, doc,
+        connection, doc,
         [&](SqliteDb& db, SceneDocument& d) {
             readLayerTable(db, d.scene);
             const std::string what = std::string(ref.kind == ElementKind::Node ? "node " : ref.kind == ElementKind::Curve ? "curve " : "area ") +
@@ -628,6 +656,43 @@ Box loadSceneElementBox(const std::string& path, const ElementRef& ref, const Sc
         },
         /*readDem=*/false, /*wholeFileCheck=*/false);
     return box;
+}
+
+std::vector<ElementRef> loadSceneFeaturesIn(SceneFileConnection& connection, const Box& box, LayerKind kind,
+                                            const SceneOverlay* overlay) {
+    SceneDocument doc;
+    std::vector<ElementRef> found;
+    loadSceneParts(
+        connection, doc,
+        [&](SqliteDb& db, SceneDocument& d) {
+            if (!db.hasTable(kFeatureIndexTable)) throw FormatError("the file has no feature index: save it again");
+            db.exec("BEGIN");  // one read transaction (loadSceneRegion)
+            struct End {
+                SqliteDb& db;
+                ~End() {
+                    try {
+                        db.exec("COMMIT");
+                    } catch (...) {
+                    }
+                }
+            } end{db};
+            readLayerTable(db, d.scene);
+            const std::size_t n = d.scene.layers.size();
+            FeatureIndex index = readFeatureIndex(db, d.scene);
+            if (overlay) addOverlayTables(index.tables, *overlay, n);
+            const std::vector<std::size_t> curves = fileIdCounts(db, "lacet_curves", n), areas = fileIdCounts(db, "lacet_areas", n);
+            for (const FeatureTableRef& t : index.tables) {
+                if (d.scene.layers[t.layer].kind != kind) continue;
+                const ElementKind k = t.polygons ? ElementKind::Area : ElementKind::Curve;
+                std::size_t count = (t.polygons ? areas : curves)[t.layer];
+                if (overlay) overlay->forEach(t.layer, k, [&](ElementId id, const OverlayElement&) { count = std::max(count, std::size_t(id) + 1); });
+                for (ElementId id : featuresIn(db, t, box, count, overlay)) found.push_back({t.layer, k, id});
+            }
+        },
+        /*readDem=*/false, /*wholeFileCheck=*/false);
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    return found;
 }
 
 Box loadSceneExtent(const std::string& path) {

@@ -41,6 +41,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "io/document.h"
 #include "io/scene_file.h"
@@ -94,11 +95,22 @@ struct SceneRegionOptions {
 // level out of 0..30, an empty region or a bad filter.
 SceneDocument loadSceneRegion(const std::string& path, const Box& region, const RefineParams& params, int level,
                               SceneRegionStats* stats = nullptr, const SceneRegionOptions& filter = {});
+// The same over a connection kept open (io/scene_file.h: many reads of one file by one thread).
+SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region, const RefineParams& params, int level,
+                              SceneRegionStats* stats = nullptr, const SceneRegionOptions& filter = {});
 
 // Where element `ref` (its id in the file) of the scene file at `path` lies, read with `overlay`
 // (nullptr: none): a node's point, the box of a curve's vertices, of an area's loops' vertices.
 // Throws SceneFileError naming the file and the element when the file has no such element.
 Box loadSceneElementBox(const std::string& path, const ElementRef& ref, const SceneOverlay* overlay = nullptr);
+Box loadSceneElementBox(SceneFileConnection& connection, const ElementRef& ref, const SceneOverlay* overlay = nullptr);
+
+// The curves and areas (their ids in the file) of the layers of kind `kind` in the scene file of
+// `connection` whose feature boxes meet `box` (closed), read with `overlay` (nullptr: none): what
+// loadSceneRegion's searches through the R-trees find there. Throws SceneFileError naming the file
+// (one without the feature index among the reasons).
+std::vector<ElementRef> loadSceneFeaturesIn(SceneFileConnection& connection, const Box& box, LayerKind kind,
+                                            const SceneOverlay* overlay = nullptr);
 
 // The extent of the scene file at `path` (its root quad), read from its metadata alone. Throws
 // SceneFileError naming the file.

@@ -452,6 +452,55 @@ TEST_F(LazyForestTest, EditsOfAPartialSceneOverAPyramidReadTheTopAgainOnlyWhereI
     expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 8, .edits = 28, .appearanceFrom = 3, .topElevationOnly = true}), true);
 }
 
+// A road longer than the parts it crosses, its control points dragged: each part that holds it is
+// updated in memory (no read) when every river its hull meets, found through the file's R-trees,
+// is held; the tiles stay the whole scene's.
+TEST_F(LazyForestTest, ARoadLongerThanItsPartsIsMovedInMemoryWhereTheRiversItsHullMeetsAreHeld) {
+    constexpr int kLevel = 3;
+    EditSession whole(loadScene(*path_), sessionParams());
+    const Scene& s = whole.document().scene;
+    const Box e = s.extent;
+    const double side = e.size().x / double(1 << kLevel);
+    const Layer& roads = s.layers[kRoadsLayer];
+    std::size_t most = 0;
+    ElementId longest = kNoElement;
+    for (ElementId id = 0; id < roads.curves.size(); ++id) {
+        if (!roads.curves[id].alive || (roads.curves[id].flags & kBridge)) continue;
+        std::set<std::pair<int, int>> parts;
+        for (const Vertex& v : roads.curves[id].vertices) parts.insert({int((v.p.x - e.min.x) / side), int((v.p.y - e.min.y) / side)});
+        if (parts.size() > most) most = parts.size(), longest = id;
+    }
+    ASSERT_GE(most, 3u) << "no road crosses three parts";
+    const std::vector<Vertex> along = roads.curves[longest].vertices;
+    std::vector<std::size_t> controls;
+    for (std::size_t i = 1; i + 1 < along.size(); ++i)
+        if (!along[i].onCurve) controls.push_back(i);
+    ASSERT_GE(controls.size(), 2u);
+    LazyParams lp = lazyParams(1024.0);
+    lp.partLevel = kLevel;
+    EditSession lazy(*path_, lp, sessionParams());
+    const auto frames = [&] {
+        for (std::size_t k = 0; k < along.size(); k += std::max<std::size_t>(1, along.size() / 5)) {
+            const glm::dvec3 viewer{along[k].p.x, along[k].p.y, 120.0};
+            whole.frame(viewer, 0.0);
+            lazy.frame(viewer, 0.0);
+        }
+    };
+    frames();
+    const LazyStats before = lazy.lazyForest()->stats();
+    for (int step = 1; step <= 4; ++step)
+        for (const std::size_t i : {controls.front(), controls.back()}) {
+            const Command move = MoveVertexCmd{kRoadsLayer, longest, i, along[i].p + Vec2(3.0, -2.0) * double(step)};
+            whole.execute(move);
+            lazy.execute(move);
+            frames();
+        }
+    const LazyStats& after = lazy.lazyForest()->stats();
+    EXPECT_GT(after.partsMoved - before.partsMoved, 8u);  // at least one part at each of the 8 steps
+    EXPECT_EQ(after.partsRefused, before.partsRefused);
+    expectSameTiles(lazy, whole, kLevel);
+}
+
 TEST_F(LazyForestTest, AnEditOfAnElementTheFileHasNotIsRefusedAndChangesNothing) {
     EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
     const Box e = lazy.document().scene.extent;

@@ -415,6 +415,26 @@ TEST_F(SceneRegion, AttributesOfWhatWasReadComeThroughTheIndexInTheFilesOrder) {
 // deleted curves) on the whole scene, kept as an overlay of the changed elements; random regions
 // read with the overlay give the tiles and digests of the edited whole scene, bit for bit, and hold
 // its values.
+// A connection kept open (io/scene_file.h) reads the file at its path: a file saved over it
+// (renamed over, as saveScene does) is read afresh, not the old one the connection had open.
+TEST_F(SceneRegion, AKeptConnectionReadsTheFileSavedOverItSince) {
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({.seed = 3, .curves = 400});
+    doc.dem = makeSyntheticDem(doc.scene, {.seed = 3, .resolution = 200});
+    const std::string path = (*dir_ / "kept.gpkg").string();
+    saveScene(path, doc);
+    const ElementRef node{kRoadsLayer, ElementKind::Node, 0};
+    const Vec2 was = doc.scene.layers[kRoadsLayer].nodes[0].p;
+    SceneFileConnection connection(path);
+    EXPECT_EQ(loadSceneElementBox(connection, node).min, was);
+    EXPECT_EQ(loadSceneElementBox(connection, node).min, was);  // the same connection, read again
+    moveNode(doc.scene, kRoadsLayer, 0, was + Vec2(12.5, -3.0));
+    saveScene(path, doc);
+    EXPECT_EQ(loadSceneElementBox(connection, node).min, was + Vec2(12.5, -3.0));
+    std::filesystem::remove(path);
+    EXPECT_THROW(loadSceneElementBox(connection, node), SceneFileError);  // gone: refused by name, as by path
+}
+
 TEST_F(SceneRegion, EditsReadOverTheFileGiveTheEditedScenesTiles) {
     SceneDocument edited = *whole_;
     Scene& scene = edited.scene;
@@ -474,6 +494,36 @@ TEST_F(SceneRegion, EditsReadOverTheFileGiveTheEditedScenesTiles) {
     for (const std::vector<ElementRef>* refs : {&all.removed, &all.added})
         for (const ElementRef& r : *refs) overlay.elements[r] = overlayElement(scene.layers[r.layer], r.kind, r.id, tolerance);
     const Box extent = scene.extent;
+    SceneFileConnection connection(*path_);  // every other read through one kept connection
+    // The river search through the R-trees with the edits: the rivers whose feature boxes meet a
+    // box, as the edited scene saved would give them; around every river edited (where it is now)
+    // and around others, untouched.
+    std::size_t riversFound = 0, riversEdited = 0;
+    for (LayerId l = 0; l < scene.layers.size(); ++l) {
+        const Layer& layer = scene.layers[l];
+        if (layer.kind != LayerKind::Rivers) continue;
+        for (ElementId c = 0; c < layer.curves.size(); ++c) {
+            const bool changed = overlay.find({l, ElementKind::Curve, c}) != nullptr;
+            const auto at = featureBox(layer, layer.curves[c], tolerance);
+            if (!at || !(changed || c % 7 == 0)) continue;
+            riversEdited += changed;
+            const Box box = Box{at->center(), at->center()}.dilated(40.0);
+            std::vector<ElementRef> rivers;
+            for (LayerId m = 0; m < scene.layers.size(); ++m) {
+                const Layer& other = scene.layers[m];
+                if (other.kind != LayerKind::Rivers) continue;
+                for (ElementId d = 0; d < other.curves.size(); ++d)
+                    if (const auto b = featureBox(other, other.curves[d], tolerance); b && b->intersects(box)) rivers.push_back({m, ElementKind::Curve, d});
+                for (ElementId a = 0; a < other.areas.size(); ++a)
+                    if (const auto b = featureBox(other, other.areas[a], tolerance); b && b->intersects(box)) rivers.push_back({m, ElementKind::Area, a});
+            }
+            std::sort(rivers.begin(), rivers.end());
+            EXPECT_EQ(loadSceneFeaturesIn(connection, box, LayerKind::Rivers, &overlay), rivers) << "around river " << c;
+            riversFound += rivers.size();
+        }
+    }
+    EXPECT_GT(riversEdited, 3u);
+    EXPECT_GT(riversFound, 30u);
     for (int k = 0; k < 24; ++k) {
         const int level = 5 + k % 3;
         const double side = size.x * (0.002 + 0.05 * unit(rng));
@@ -482,7 +532,9 @@ TEST_F(SceneRegion, EditsReadOverTheFileGiveTheEditedScenesTiles) {
         SceneRegionStats stats;
         SceneRegionOptions options;
         options.overlay = &overlay;
-        const SceneDocument part = loadSceneRegion(*path_, region, {}, level, &stats, options);
+        const SceneDocument part = k % 2 ? loadSceneRegion(connection, region, {}, level, &stats, options)
+                                         : loadSceneRegion(*path_, region, {}, level, &stats, options);
+
         SCOPED_TRACE("region " + std::to_string(k) + " at level " + std::to_string(level));
         EXPECT_EQ(stats.tolerance, tolerance);
         const RegionTiles a = tilesOf(edited, region, level), b = tilesOf(part, region, level);
