@@ -110,47 +110,63 @@ void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, con
     drawBand(canvas, mouths, 0.5 * double(c.w), roadColour(c.cls) * 0.35f, 0.0f);
 }
 
+RoadMarkings::RoadMarkings(const Curve& c, const RoadEnds& e, double pixel)
+    : ends(e),
+      px(pixel),
+      hw(0.5 * double(c.w)),
+      halfLine(float(0.5 * g.lineWidth / px)),
+      sideAxis(float((hw - g.sideInset - 0.5 * g.lineWidth) / px)),
+      laneHalf(0.5 * (hw - g.sideInset)),
+      lineReach(double(halfLine) + 1.5),
+      endReach(std::max(g.stopLineGap + g.stopLineWidth, yield.gap + yield.width) + 2.0 * px),
+      startLines(e.startStop || e.startYield),
+      endLines(e.endStop || e.endYield) {}
+
+bool RoadMarkings::beyondLines(double d, double v, double u) const {
+    return std::abs(d / px - double(sideAxis)) >= lineReach && std::abs(v / px) >= lineReach &&
+           !(startLines && u <= ends.startRadius + endReach) && !(endLines && ends.length - u <= ends.endRadius + endReach);
+}
+
+float RoadMarkings::coverage(double d, double v, double u) const {
+    // Side lines and the dashed centre line, stopping at junctions.
+    float m = bandCoverage(float(d / px) - sideAxis, halfLine);  // d = |v|: both sides at once
+    double phase = u - g.dashPeriod * std::floor(u / g.dashPeriod);  // [0, period)
+    const double dashCentre = 0.5 * g.dashLength;
+    const double along = std::min(std::abs(phase - dashCentre), std::abs(phase - dashCentre - g.dashPeriod));
+    m = std::max(m, bandCoverage(float(v / px), halfLine) * bandCoverage(float(along / px), float(dashCentre / px)));
+    if (ends.startRadius > 0.0) m *= edgeCoverage(float((u - ends.startRadius) / px));
+    if (ends.endRadius > 0.0) m *= edgeCoverage(float((ends.length - ends.endRadius - u) / px));
+    // Stop lines across the lane that enters the junction (traffic on the right).
+    const auto stopLine = [&](double fromNode, double radius, double laneSide) {
+        const double centre = radius + g.stopLineGap + 0.5 * g.stopLineWidth;
+        return bandCoverage(float((fromNode - centre) / px), float(0.5 * g.stopLineWidth / px)) *
+               bandCoverage(float((laneSide * v - laneHalf) / px), float(laneHalf / px));
+    };
+    if (ends.startStop) m = std::max(m, stopLine(u, ends.startRadius, 1.0));
+    if (ends.endStop) m = std::max(m, stopLine(ends.length - u, ends.endRadius, -1.0));
+    // Yield lines: the same place across the entering lane, in dashes counted from the centre line.
+    const auto yieldLine = [&](double fromNode, double radius, double laneSide) {
+        const double centre = radius + yield.gap + 0.5 * yield.width;
+        const double across = laneSide * v;
+        const double phaseAcross = across - yield.dashPeriod * std::floor(across / yield.dashPeriod);
+        return bandCoverage(float((fromNode - centre) / px), float(0.5 * yield.width / px)) *
+               bandCoverage(float((across - laneHalf) / px), float(laneHalf / px)) *
+               bandCoverage(float((phaseAcross - 0.5 * yield.dashPeriod) / px), float(0.5 * yield.dashLength / px));
+    };
+    if (ends.startYield) m = std::max(m, yieldLine(u, ends.startRadius, 1.0));
+    if (ends.endYield) m = std::max(m, yieldLine(ends.length - u, ends.endRadius, -1.0));
+    return m;
+}
+
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
-    const MarkingGeometry g;
-    const YieldLineGeometry yield;
-    const double hw = 0.5 * double(c.w);
-    distanceField(canvas, segments, hw);
+    const RoadMarkings markings(c, ends, canvas.pixelSize());
+    distanceField(canvas, segments, markings.hw);
     Scratch& s = canvas.scratch();
-    const double px = canvas.pixelSize();
-    const float halfLine = float(0.5 * g.lineWidth / px);
-    const float sideAxis = float((hw - g.sideInset - 0.5 * g.lineWidth) / px);
-    const double laneHalf = 0.5 * (hw - g.sideInset);
     for (std::uint32_t k : s.touched) {
         const double d = s.dist[k], v = s.v[k], u = s.u[k];
-        if (d > hw || (s.flags[k] & kCap)) continue;  // no side line around the round end caps
-        // Side lines and the dashed centre line, stopping at junctions.
-        float m = bandCoverage(float(d / px) - sideAxis, halfLine);  // d = |v|: both sides at once
-        double phase = u - g.dashPeriod * std::floor(u / g.dashPeriod);  // [0, period)
-        const double dashCentre = 0.5 * g.dashLength;
-        const double along = std::min(std::abs(phase - dashCentre), std::abs(phase - dashCentre - g.dashPeriod));
-        m = std::max(m, bandCoverage(float(v / px), halfLine) * bandCoverage(float(along / px), float(dashCentre / px)));
-        if (ends.startRadius > 0.0) m *= edgeCoverage(float((u - ends.startRadius) / px));
-        if (ends.endRadius > 0.0) m *= edgeCoverage(float((ends.length - ends.endRadius - u) / px));
-        // Stop lines across the lane that enters the junction (traffic on the right).
-        const auto stopLine = [&](double fromNode, double radius, double laneSide) {
-            const double centre = radius + g.stopLineGap + 0.5 * g.stopLineWidth;
-            return bandCoverage(float((fromNode - centre) / px), float(0.5 * g.stopLineWidth / px)) *
-                   bandCoverage(float((laneSide * v - laneHalf) / px), float(laneHalf / px));
-        };
-        if (ends.startStop) m = std::max(m, stopLine(u, ends.startRadius, 1.0));
-        if (ends.endStop) m = std::max(m, stopLine(ends.length - u, ends.endRadius, -1.0));
-        // Yield lines: the same place across the entering lane, in dashes counted from the centre line.
-        const auto yieldLine = [&](double fromNode, double radius, double laneSide) {
-            const double centre = radius + yield.gap + 0.5 * yield.width;
-            const double across = laneSide * v;
-            const double phaseAcross = across - yield.dashPeriod * std::floor(across / yield.dashPeriod);
-            return bandCoverage(float((fromNode - centre) / px), float(0.5 * yield.width / px)) *
-                   bandCoverage(float((across - laneHalf) / px), float(laneHalf / px)) *
-                   bandCoverage(float((phaseAcross - 0.5 * yield.dashPeriod) / px), float(0.5 * yield.dashLength / px));
-        };
-        if (ends.startYield) m = std::max(m, yieldLine(u, ends.startRadius, 1.0));
-        if (ends.endYield) m = std::max(m, yieldLine(ends.length - u, ends.endRadius, -1.0));
-        canvas.over(k, markingColour(), 0.0f, m);
+        if (d > markings.hw || (s.flags[k] & kCap)) continue;  // no side line around the round end caps
+        if (markings.beyondLines(d, v, u)) continue;  // most of the lanes: no coverage, nothing drawn
+        canvas.over(k, markingColour(), 0.0f, markings.coverage(d, v, u));
     }
     canvas.clearTouched();
 }

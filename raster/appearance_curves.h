@@ -50,6 +50,27 @@ void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, con
 
 // Side lines, the dashed centre line, stop lines and yield lines, from the curvilinear coordinate u of the
 // segments (segmentsOf with curve data).
+// A road's markings (side lines, dashed centre line, stop and yield lines) at a point at distance
+// d >= 0 (m) from its polyline, signed v (> 0 on the left), u (m) along it, for pixels of `pixel`
+// metres: their coverage of the pixel (0..1). beyondLines(): the point is beyond every line's
+// reach, where the coverage is exactly 0 (drawMarkings skips such texels; the test holds the two
+// to each other).
+struct RoadMarkings {
+    RoadMarkings(const Curve& c, const RoadEnds& ends, double pixel);
+    float coverage(double d, double v, double u) const;
+    bool beyondLines(double d, double v, double u) const;
+
+    const MarkingGeometry g{};
+    const YieldLineGeometry yield{};
+    const RoadEnds ends;
+    const double px, hw;
+    const float halfLine, sideAxis;  // pixels
+    const double laneHalf;
+    const double lineReach;  // pixels from a line's axis beyond which its band covers nothing
+    const double endReach;   // m past an end's radius beyond which no stop or yield line reaches
+    const bool startLines, endLines;
+};
+
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);
 
 }  // namespace lacet::appearance

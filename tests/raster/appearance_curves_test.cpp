@@ -146,3 +146,51 @@ TEST(Markings, YieldLinesAreDashedAcrossTheEnteringLaneOutsideTheRing) {
 
 }  // namespace
 }  // namespace lacet::appearance
+
+namespace lacet::appearance {
+namespace {
+
+// drawMarkings skips the texels RoadMarkings::beyondLines names: there the coverage must be exactly
+// 0, for every width, pixel size and end (junction radius, stop and yield lines), or the skip
+// would change the image. Random points, dense near the lines' edges (fixed seed).
+TEST(Markings, TheTexelsSkippedBeyondTheLinesHaveNoCoverage) {
+    std::mt19937_64 rng(41);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t skipped = 0, covered = 0;
+    for (int road = 0; road < 400; ++road) {
+        Curve c;
+        c.w = float(0.5 + 24.0 * unit(rng) * unit(rng));  // narrower than the side inset too
+        RoadEnds ends;
+        ends.length = 5.0 + 400.0 * unit(rng);
+        ends.startRadius = unit(rng) < 0.5 ? 0.0 : 12.0 * unit(rng);
+        ends.endRadius = unit(rng) < 0.5 ? 0.0 : 12.0 * unit(rng);
+        ends.startStop = unit(rng) < 0.4;
+        ends.endStop = unit(rng) < 0.4;
+        ends.startYield = !ends.startStop && unit(rng) < 0.4;
+        ends.endYield = !ends.endStop && unit(rng) < 0.4;
+        const double px = std::exp2(-6.0 + 12.0 * unit(rng));  // 1.6 cm .. 64 m a pixel
+        const RoadMarkings m(c, ends, px);
+        for (int k = 0; k < 2000; ++k) {
+            const double hw = 0.5 * double(c.w);
+            // Half the points near a line's edge (side line, centre line), half anywhere on the road.
+            double d = hw * unit(rng);
+            if (k % 4 == 1) d = std::max(0.0, double(m.sideAxis) * px + (double(m.halfLine) + 1.5) * px * (2.0 * unit(rng) - 1.0) * 1.02);
+            if (k % 4 == 2) d = std::min(hw, (double(m.halfLine) + 1.5) * px * unit(rng) * 1.02);
+            const double v = unit(rng) < 0.5 ? d : -d;
+            const double u = k % 8 == 3 ? ends.startRadius + 3.0 * unit(rng) : k % 8 == 5 ? ends.length - ends.endRadius - 3.0 * unit(rng)
+                                                                                          : ends.length * unit(rng);
+            const float cov = m.coverage(d, v, u);
+            if (m.beyondLines(d, v, u)) {
+                ++skipped;
+                ASSERT_EQ(cov, 0.0f) << "w " << c.w << " px " << px << " d " << d << " v " << v << " u " << u;
+            } else {
+                covered += cov > 0.0f;
+            }
+        }
+    }
+    EXPECT_GT(skipped, 50000u);  // the skip is taken...
+    EXPECT_GT(covered, 50000u);  // ...and the lines are drawn
+}
+
+}  // namespace
+}  // namespace lacet::appearance
