@@ -12,7 +12,7 @@ namespace lacet::appearance {
 // Block by block (kBlock pixels), only the candidate segments (candidatesNear) are measured:
 // wide roads seen from close would otherwise compute every segment of their margin at every
 // texel.
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
@@ -52,6 +52,7 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
                     const bool cap = (bestT == 0.0 && nearest->startCap) || (bestT == 1.0 && nearest->endCap);
                     s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
                     canvas.touch(k);
+                    if (keep) keep->push_back({std::uint32_t(k), s.dist[k], s.v[k], std::uint32_t(nearest - segments.data()), bestT});
                 }
         }
 }
@@ -59,8 +60,9 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
 namespace {
 
 // The band within hw metres of the polyline, in one colour and water mask, by coverage.
-void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask) {
-    distanceField(canvas, segments, hw);
+void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask,
+              std::vector<FieldTexel>* keep = nullptr) {
+    distanceField(canvas, segments, hw, keep);
     Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
     for (std::uint32_t k : s.touched) canvas.over(k, rgb, mask, bandCoverage(s.dist[k] / px, float(hw) / px));
@@ -86,8 +88,8 @@ void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const 
     drawBand(canvas, segments, 0.5 * double(c.w), glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0)), 1.0f);
 }
 
-void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
-    drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f);
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, std::vector<FieldTexel>* keep) {
+    drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f, keep);
 }
 
 void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, double length,
@@ -158,6 +160,20 @@ float RoadMarkings::coverage(double d, double v, double u) const {
     return m;
 }
 
+void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends,
+                  std::span<const FieldTexel> field) {
+    const RoadMarkings markings(c, ends, canvas.pixelSize());
+    for (const FieldTexel& f : field) {
+        // As distanceField sets them: u along the nearest segment, the cap beyond a capped end.
+        const Segment& sg = segments[f.segment];
+        const bool cap = (f.t == 0.0 && sg.startCap) || (f.t == 1.0 && sg.endCap);
+        const double d = f.dist, v = f.v, u = float(sg.u0 + (sg.u1 - sg.u0) * f.t);
+        if (d > markings.hw || cap) continue;  // no side line around the round end caps
+        if (markings.beyondLines(d, v, u)) continue;  // most of the lanes: no coverage, nothing drawn
+        canvas.over(f.k, markingColour(), 0.0f, markings.coverage(d, v, u));
+    }
+}
+
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {
     const RoadMarkings markings(c, ends, canvas.pixelSize());
     distanceField(canvas, segments, markings.hw);
@@ -165,7 +181,7 @@ void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Cu
     for (std::uint32_t k : s.touched) {
         const double d = s.dist[k], v = s.v[k], u = s.u[k];
         if (d > markings.hw || (s.flags[k] & kCap)) continue;  // no side line around the round end caps
-        if (markings.beyondLines(d, v, u)) continue;  // most of the lanes: no coverage, nothing drawn
+        if (markings.beyondLines(d, v, u)) continue;
         canvas.over(k, markingColour(), 0.0f, markings.coverage(d, v, u));
     }
     canvas.clearTouched();

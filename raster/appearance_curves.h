@@ -2,6 +2,7 @@
 // Internal to the appearance producer: roads (surface, markings) and rivers (banks, water),
 // drawn from the distance to their polylines (§5.1).
 
+#include <span>
 #include <vector>
 
 #include "model/graph.h"
@@ -16,14 +17,16 @@ namespace lacet::appearance {
 // the polyline, and lists them as touched (the caller clears them). Among segments at the same
 // distance the first one wins. tests/raster/appearance_curves_test.cpp holds it to every
 // segment measured at every pixel.
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach);
+// With `keep`, each pixel set is also appended to it (FieldTexel), to draw from again.
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep = nullptr);
 
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
 // rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
 
-void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
+// With `keep`: its distance field kept (distanceField), for drawMarkings.
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, std::vector<FieldTexel>* keep = nullptr);
 
 // What a road's markings need to know about its ends, from the ancestor graph.
 struct RoadEnds {
@@ -71,6 +74,12 @@ struct RoadMarkings {
     const bool startLines, endLines;
 };
 
+// The road's markings from its distance field to `segments`, measured here (the reference), or
+// `field`, the one its surface kept (drawRoadSurface): the same pixels, bit for bit, when
+// `segments` have the same ends as those the surface was drawn with (segmentsOf of the same
+// pieces; their u and caps may differ, read here).
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);
+void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends,
+                  std::span<const FieldTexel> field);
 
 }  // namespace lacet::appearance

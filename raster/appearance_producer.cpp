@@ -179,16 +179,23 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         while (last + 1 < items.size() && !items[last + 1].area && items[last + 1].layer == it.layer) ++last;
         const auto& curves = quad.layers[it.layer].curves;
         if (counters) counters->curvesDrawn += last - i + 1;
+        // A road's surface keeps its distance field for its markings (the same segments' ends,
+        // the same reach): measured once.
+        Scratch& scratch = canvas.scratch();
+        scratch.kept.clear();
+        scratch.keptStart.assign(last - i + 2, 0);
+        const auto marked = [&](const Curve& c) { return layer.kind == LayerKind::Roads && roadHasMarkings(c.cls) && !(c.flags & kTunnel) && markingsShow; };
         for (std::size_t r = i; r <= last; ++r) {
             const Curve& c = quadtree.ancestorCurve(it.layer, items[r].id);
             if (c.flags & kTunnel) {  // under the ground but for its portals
                 drawTunnelPortals(canvas, segmentsOf(curves.at(items[r].id), &curveData, it.layer, items[r].id), c,
                                   curveData.length(it.layer, items[r].id), params.tunnelPortalLength);
-                continue;
+            } else {
+                const auto segments = segmentsOf(curves.at(items[r].id), nullptr, it.layer, items[r].id);
+                if (layer.kind == LayerKind::Rivers) drawRiverBanks(canvas, segments, c);
+                else drawRoadSurface(canvas, segments, c, marked(c) ? &scratch.kept : nullptr);
             }
-            const auto segments = segmentsOf(curves.at(items[r].id), nullptr, it.layer, items[r].id);
-            if (layer.kind == LayerKind::Rivers) drawRiverBanks(canvas, segments, c);
-            else drawRoadSurface(canvas, segments, c);
+            scratch.keptStart[r - i + 1] = scratch.kept.size();
         }
         // The layer's areas that follow its curves (a river layer's): over the banks, under the water.
         std::size_t lastArea = last;
@@ -222,7 +229,8 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
                 }
             std::vector<Segment> segments = segmentsOf(curves.at(id), &curveData, it.layer, id);
             if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) capRingEnds(segments, curves.at(id), c, *pc);
-            drawMarkings(canvas, segments, c, ends);
+            const std::span<const FieldTexel> all(scratch.kept);
+            drawMarkings(canvas, segments, c, ends, all.subspan(scratch.keptStart[r - i], scratch.keptStart[r - i + 1] - scratch.keptStart[r - i]));
             if (counters) ++counters->curvesWithMarkings;
         }
         i = lastArea;

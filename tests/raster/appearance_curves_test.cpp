@@ -6,6 +6,7 @@
 #include "raster/appearance_curves.h"
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -190,6 +191,70 @@ TEST(Markings, TheTexelsSkippedBeyondTheLinesHaveNoCoverage) {
     }
     EXPECT_GT(skipped, 50000u);  // the skip is taken...
     EXPECT_GT(covered, 50000u);  // ...and the lines are drawn
+}
+
+}  // namespace
+}  // namespace lacet::appearance
+
+namespace lacet::appearance {
+namespace {
+
+// The producer draws a road's markings from the distance field its surface kept (the segments of
+// the same pieces, u 0 and no ring caps) instead of measuring it again: the pixels are the
+// reference's (drawMarkings measuring its own field from the markings' segments), bit for bit,
+// whatever the u and the caps of the markings' segments. Random polylines (fixed seed).
+TEST(Markings, FromTheSurfacesKeptFieldAreTheReferencesBitForBit) {
+    std::mt19937_64 rng(29);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::size_t drawn = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        const double size = trial % 2 ? 60.0 : 400.0 * unit(rng) + 10.0;
+        const Vec2 origin = trial % 3 == 0 ? Vec2(3e6, -2e6) : Vec2(0.0);
+        const AppearanceTile t = test::bareTile(origin, size, 24 + int(rng() % 16), 2, 1 + int(rng() % 2));
+        std::vector<Segment> surface, markings;
+        const int runs = 1 + int(rng() % 3);
+        for (int r = 0; r < runs; ++r) {
+            Vec2 p = origin + size * Vec2(1.4 * unit(rng) - 0.2, 1.4 * unit(rng) - 0.2);
+            double along = 0.0;
+            const int n = 1 + int(rng() % 20);
+            const std::size_t first = markings.size();
+            for (int i = 0; i < n; ++i) {
+                const double length = size * 0.15 * unit(rng);
+                const double angle = 6.283185307179586 * unit(rng);
+                const Vec2 q = i % 7 == 3 ? p : p + length * Vec2(std::cos(angle), std::sin(angle));  // some degenerate
+                const double next = along + glm::length(q - p);
+                surface.push_back({p, q, 0.0, 0.0});
+                markings.push_back({p, q, along, next});
+                p = q;
+                along = next;
+            }
+            surface[first].startCap = markings[first].startCap = rng() % 2 == 0;
+            surface.back().endCap = markings.back().endCap = rng() % 2 == 0;
+            if (rng() % 3 == 0) markings[first].startCap = true;  // a ring's end (capRingEnds)
+            if (rng() % 3 == 0) markings.back().endCap = true;
+        }
+        Curve c;
+        c.w = float(1.0 + 0.2 * size * unit(rng));
+        RoadEnds ends;
+        ends.length = markings.back().u1;
+        ends.startRadius = unit(rng) < 0.5 ? 0.0 : 0.3 * ends.length * unit(rng);
+        ends.endRadius = unit(rng) < 0.5 ? 0.0 : 0.3 * ends.length * unit(rng);
+        ends.startStop = unit(rng) < 0.5;
+        ends.endYield = unit(rng) < 0.5;
+        Scratch kept, reference;
+        Canvas a(t, kept), b(t, reference);
+        std::fill(kept.colour.begin(), kept.colour.end(), Rgbm(0.0f));
+        std::fill(reference.colour.begin(), reference.colour.end(), Rgbm(0.0f));
+        std::vector<FieldTexel> field;
+        drawRoadSurface(a, surface, c, &field);
+        drawMarkings(a, markings, c, ends, field);
+        drawRoadSurface(b, surface, c);
+        drawMarkings(b, markings, c, ends);
+        ASSERT_EQ(kept.colour.size(), reference.colour.size());
+        EXPECT_EQ(std::memcmp(kept.colour.data(), reference.colour.data(), kept.colour.size() * sizeof(Rgbm)), 0) << "trial " << trial;
+        drawn += field.size();
+    }
+    EXPECT_GT(drawn, 10000u);
 }
 
 }  // namespace
