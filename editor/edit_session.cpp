@@ -59,6 +59,9 @@ void EditSession::buildTree() {
 
 void EditSession::readTopAgain() {
     LazyTop top = LazyForest::readTop(lazyPath_, *lazy_, params_.refine, /*dem=*/false, lazyEdits_->overlay().get());
+    if (top.stats.checksum != storedChecksum_)  // as a part's read refuses it
+        throw SceneFileError(lazyPath_ + ": the file changed since it was opened (its stored checksum is " + top.stats.checksum + ", was " +
+                             storedChecksum_ + "): open it again");
     doc_.scene = std::move(top.doc.scene);
     doc_.attributes = std::move(top.doc.attributes);
     auto step = std::make_unique<GraphStep>(doc_.scene, params_.graph);
@@ -155,9 +158,21 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
 
 bool EditSession::afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report) {
     if (!step) return false;
-    const CommandReport r = afterLazyStep(*step, 0.0);
+    const CommandReport r = afterLazyStepOrRollback(*step, 0.0);
     if (report) *report = r;
     return true;
+}
+
+CommandReport EditSession::afterLazyStepOrRollback(const LazyStep& step, double applyMs) {
+    try {
+        return afterLazyStep(step, applyMs);
+    } catch (...) {
+        // The top could not be read again with the step (the file changed or cannot be read): the
+        // step is taken back, and the forest reads over the edits as they were.
+        lazyEdits_->rollback();
+        forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
+        throw;
+    }
 }
 
 template <class Step>
@@ -175,7 +190,7 @@ CommandReport EditSession::execute(const Command& command, bool merge) {
     if (lazyEdits_) {
         const auto t0 = std::chrono::steady_clock::now();
         const LazyStep step = lazyEdits_->execute(command, merge);
-        return afterLazyStep(step, msBetween(t0, std::chrono::steady_clock::now()));
+        return afterLazyStepOrRollback(step, msBetween(t0, std::chrono::steady_clock::now()));
     }
     return edits([&](const CommandHistory::AfterEdit& after) { history_.execute(doc_.scene, command, merge, after); });
 }

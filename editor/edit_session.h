@@ -67,7 +67,9 @@ public:
 
     // Applies a command (EditError leaves everything as it was) and clears the redo stack. With
     // `merge`, and when the last command moved the same vertex or node, the two become one undo
-    // step (a drag: undo goes back to where the drag began).
+    // step (a drag: undo goes back to where the drag began). Lazily, a command, undo or redo
+    // whose reads of the file fail (SceneFileError naming it) leaves the edits and the history as
+    // they were.
     CommandReport execute(const Command& command, bool merge = false);
     // Commands executed between beginGroup() and endGroup() are undone and redone together.
     void beginGroup();
@@ -152,6 +154,8 @@ public:
     const PyramidUse& pyramidUse() const { return loop_->pyramidUse(); }
     // The parts of a scene read lazily (nullptr: the whole scene is loaded).
     const LazyForest* lazyForest() const { return forest_.get(); }
+    // Its edits, for a scene read lazily (nullptr otherwise).
+    const LazyEdits* lazyEdits() const { return lazyEdits_.get(); }
     // A scene read lazily: its file's stored checksum (io/scene_checksum.h; what a pyramid of it
     // records); empty for a document loaded whole (its own checksum is computed from it).
     const std::string& storedChecksum() const { return storedChecksum_; }
@@ -164,6 +168,9 @@ private:
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     // After a step of a scene read lazily: reads again what it touched, marks the tiles to make.
     CommandReport afterLazyStep(const LazyStep& step, double applyMs);
+    // afterLazyStep; when it throws (the top could not be read again: the file changed or cannot be
+    // read), the step is taken back (LazyEdits::rollback) and the exception goes on.
+    CommandReport afterLazyStepOrRollback(const LazyStep& step, double applyMs);
     // An undo or redo of a scene read lazily (`step`: none when there was nothing to undo or redo).
     bool afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report);
     // Whether the top tree holds, or would hold, an element the step changed.

@@ -141,8 +141,10 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
         changes.push_back(std::move(ch));
     }
 
+    Before before{overlay_, serial_, std::nullopt, false, std::move(undone_), 0, false};
     undone_.clear();
     if (merge && !done_.empty() && continuesDrag(done_.back().command, command) && done_.back().serial != savedSerial_) {
+        before.merged = done_.back();
         // One undo step: each element's state before the drag began, after this command.
         Step& last = done_.back();
         for (const Change& ch : changes) {
@@ -158,7 +160,9 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
         last.serial = ++serial_;
     } else {
         done_.push_back({command, changes, group_, ++serial_});
+        before.pushed = true;
     }
+    before_ = std::move(before);
     LazyStep step = replay(changes, true);
     step.readMs = readMs;
     return step;
@@ -187,6 +191,7 @@ LazyStep LazyEdits::replay(const std::vector<Change>& changes, bool forward) {
 
 LazyStep LazyEdits::moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward) {
     const std::uint64_t group = from.back().group;
+    Before before{overlay_, serial_, std::nullopt, false, {}, 0, !forward};
     LazyStep total;
     do {
         const LazyStep s = replay(from.back().changes, forward);
@@ -196,8 +201,32 @@ LazyStep LazyEdits::moveSteps(std::vector<Step>& from, std::vector<Step>& to, bo
         total.after.insert(total.after.end(), s.after.begin(), s.after.end());
         to.push_back(std::move(from.back()));
         from.pop_back();
+        ++before.moved;
     } while (group != 0 && !from.empty() && from.back().group == group);
+    before_ = std::move(before);
     return total;
+}
+
+bool LazyEdits::rollback() {
+    if (!before_) return false;
+    Before& b = *before_;
+    if (b.moved > 0) {
+        std::vector<Step>& from = b.undid ? undone_ : done_;  // where the move put them
+        std::vector<Step>& to = b.undid ? done_ : undone_;
+        for (std::size_t k = 0; k < b.moved; ++k) {
+            to.push_back(std::move(from.back()));
+            from.pop_back();
+        }
+    } else {
+        if (b.merged) done_.back() = std::move(*b.merged);
+        else if (b.pushed) done_.pop_back();
+        undone_ = std::move(b.redo);
+    }
+    overlay_ = std::move(b.overlay);
+    serial_ = b.serial;
+    ++version_;  // the overlay as it was, under a new version: reads of the one taken back are stale
+    before_.reset();
+    return true;
 }
 
 std::optional<LazyStep> LazyEdits::undo() {

@@ -54,6 +54,10 @@ public:
     std::size_t redoDepth() const { return undone_.size(); }
     bool modified() const { return topSerial() != savedSerial_; }
     void forgetRedo() { undone_.clear(); }
+    // Takes back the last execute, undo or redo whole (the history and the overlay as before it,
+    // with a new version()), when what follows it could not be done (the session's read of the
+    // file after it failed). False when there is none to take back (one rollback per step).
+    bool rollback();
 
     // The edits now (never null; a new object after each step: reads in flight keep theirs).
     const std::shared_ptr<const SceneOverlay>& overlay() const { return overlay_; }
@@ -78,6 +82,17 @@ private:
     LazyStep replay(const std::vector<Change>& changes, bool forward);
     // Replays the last step of `from` (a group whole) and moves it to `to`: undo or redo.
     LazyStep moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward);
+    // What rollback() restores: the state before the last execute, undo or redo.
+    struct Before {
+        std::shared_ptr<const SceneOverlay> overlay;
+        std::uint64_t serial = 0;
+        std::optional<Step> merged;  // execute merged into the last step: that step before
+        bool pushed = false;         // execute pushed a step
+        std::vector<Step> redo;      // execute: the redo steps it cleared
+        std::size_t moved = 0;       // undo or redo: the steps moved
+        bool undid = false;          // the move was an undo
+    };
+    std::optional<Before> before_;
 
     std::string path_;
     SceneFileConnection connection_;  // the file kept open: an edit reads a few rows

@@ -273,6 +273,82 @@ TEST_F(LazyForestTest, APartOfAFileChangedSinceItWasOpenedIsRefused) {
     EXPECT_NE(st.lastError.find("changed since it was opened"), std::string::npos) << st.lastError;
 }
 
+// A command, undo or redo whose read of the top fails (here: the file was saved over since it was
+// opened) is refused by name and taken back whole: the history and the edits are as before it,
+// and once the file is back the session goes on to the whole scene's tiles.
+TEST_F(LazyForestTest, AStepWhoseReadOfTheTopFailsIsTakenBackWhole) {
+    const std::string copy = (*dir_ / "rollback.gpkg").string();
+    const std::string saved = (*dir_ / "rollback.saved.gpkg").string();
+    std::filesystem::copy_file(*path_, copy, std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(*path_, saved, std::filesystem::copy_options::overwrite_existing);
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(copy, lazyParams(1024.0), sessionParams());  // no pyramid: every step reads the top again
+    const Scene& s = whole.document().scene;
+    const Layer& roads = s.layers[kRoadsLayer];
+    ElementId road = kNoElement;
+    for (ElementId id = 0; id < roads.curves.size() && road == kNoElement; ++id)
+        if (roads.curves[id].alive && roads.curves[id].vertices.size() > 2) road = id;
+    ASSERT_NE(road, kNoElement);
+    const Vec2 at = roads.curves[road].vertices[1].p;
+    const auto move = [&](double dx) { return MoveVertexCmd{kRoadsLayer, road, 1, at + Vec2(dx, 0.0)}; };
+    const glm::dvec3 viewer{at.x, at.y, 80.0};
+    for (EditSession* e : {&whole, &lazy}) {
+        e->execute(move(4.0), true);
+        e->execute(move(8.0), true);  // one step: a drag
+        e->frame(viewer, 0.0);
+    }
+    const auto overlay = lazy.lazyEdits()->overlay();
+    // The file saved over since, with a field node far from the road moved: the edit's own read
+    // finds what it found, the top's read finds another checksum.
+    SceneDocument other = loadScene(*path_);
+    Layer& fields = other.scene.layers[kFieldsLayer];
+    ElementId far = kNoElement;
+    for (ElementId id = 0; id < fields.nodes.size(); ++id)
+        if (fields.nodes[id].alive && (far == kNoElement || glm::length(fields.nodes[id].p - at) > glm::length(fields.nodes[far].p - at))) far = id;
+    ASSERT_NE(far, kNoElement);
+    moveNode(other.scene, kFieldsLayer, far, fields.nodes[far].p + Vec2(1.0, 1.0));
+    saveScene(copy, other);
+    for (const int attempt : {0, 1, 2}) {
+        SCOPED_TRACE(attempt);
+        try {
+            if (attempt == 0) lazy.execute(move(12.0), true);  // merged into the drag
+            if (attempt == 1) lazy.undo();
+            if (attempt == 2) lazy.execute(MoveVertexCmd{kRoadsLayer, road, 1, at + Vec2(0.0, 5.0)});  // a step of its own
+            ADD_FAILURE() << "not refused";
+        } catch (const SceneFileError& e) {
+            EXPECT_NE(std::string(e.what()).find("changed since it was opened"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(lazy.undoDepth(), 1u);
+        EXPECT_EQ(lazy.redoDepth(), 0u);
+        const auto& now = lazy.lazyEdits()->overlay()->elements;
+        ASSERT_EQ(now.size(), overlay->elements.size());
+        for (const auto& [ref, e] : overlay->elements) {
+            ASSERT_EQ(now.count(ref), 1u);
+            EXPECT_TRUE(now.at(ref).value == e.value);
+            EXPECT_EQ(now.at(ref).box.has_value(), e.box.has_value());
+            if (e.box && now.at(ref).box) {
+                EXPECT_EQ(now.at(ref).box->min, e.box->min);
+                EXPECT_EQ(now.at(ref).box->max, e.box->max);
+            }
+        }
+    }
+    // The file back: the drag goes on from where it was, and undo takes all of it back.
+    std::filesystem::copy_file(saved, copy + ".tmp", std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::rename(copy + ".tmp", copy);
+    for (EditSession* e : {&whole, &lazy}) {
+        e->execute(move(16.0), true);
+        e->frame(viewer, 0.0);
+    }
+    expectSameTiles(lazy, whole);
+    EXPECT_EQ(lazy.undoDepth(), 1u);
+    for (EditSession* e : {&whole, &lazy}) {
+        EXPECT_TRUE(e->undo());
+        e->frame(viewer, 0.0);
+    }
+    EXPECT_TRUE(lazy.lazyEdits()->overlay()->elements.empty());
+    expectSameTiles(lazy, whole);
+}
+
 TEST_F(LazyForestTest, TheBudgetDropsWhatNoViewerWantsFirstAndRefusesWhatDoesNotFit) {
     // The parts' sizes, read with room for all.
     double top = 0.0, largest = 0.0;
