@@ -120,6 +120,31 @@ std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box
     return part;
 }
 
+void LazyForest::warmCurveData(const Part& part) {
+    const Scene& scene = part.doc.scene;
+    const Box near = part.quad->bounds.dilated(part.reach);
+    for (LayerId l = 0; l < scene.layers.size(); ++l) {
+        const Layer& layer = scene.layers[l];
+        if (layer.kind == LayerKind::Roads || layer.kind == LayerKind::Rivers) {
+            for (ElementId c = 0; c < layer.curves.size(); ++c) {
+                const Curve& curve = layer.curves[c];
+                if (!curve.alive || curve.vertices.empty() || !hullBox(curve).intersects(near)) continue;
+                const std::span<const AncestorId> expansion = part.tree.expansionOf(l, c);
+                if (expansion.empty()) part.data.zProfile(l, AncestorId(c));
+                for (const AncestorId a : expansion) part.data.zProfile(l, a);
+            }
+        } else if (layer.kind == LayerKind::Lakes) {
+            for (ElementId a = 0; a < layer.areas.size(); ++a) {
+                if (!layer.areas[a].alive) continue;
+                bool meets = false;
+                for (const auto& loop : layer.areas[a].loops)
+                    for (const AreaEdge& e : loop) meets = meets || hullBox(layer.curves[e.curve]).intersects(near);
+                if (meets) part.data.lakeLevel(l, a);
+            }
+        }
+    }
+}
+
 namespace {
 
 // Whether two parts read hold the same elements (the same file ids, layer by layer).
@@ -310,6 +335,7 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
         auto job = [this, key, bounds, left, overlay = overlay_, connection = lazy_.background ? nullptr : &connection_] {
             const auto t0 = std::chrono::steady_clock::now();
             std::unique_ptr<Part> part = read(key, bounds, left, overlay, connection);
+            if (!connection) warmCurveData(*part);  // on the worker: off the frames
             part->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return part;
         };

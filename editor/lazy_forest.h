@@ -167,6 +167,10 @@ private:
     // file opened for the read).
     std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay,
                                SceneFileConnection* connection) const;
+    // The z-profiles and lake levels the tiles of `part`'s quad will ask for, made now: by the
+    // worker thread with the part, so that the DEM blocks they read are loaded before it arrives,
+    // not by a frame's production.
+    static void warmCurveData(const Part& part);
     // The vector data of the part of quad `bounds` (what read() makes a part of).
     SceneDocument readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& stats,
                            SceneFileConnection* connection) const;
