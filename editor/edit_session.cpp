@@ -104,7 +104,18 @@ CommandReport EditSession::afterLazyStep(const LazyStep& step, double applyMs) {
             if (const Area* a = std::get_if<Area>(&e->value)) margin = std::max(margin, double(a->wf));
         }
     r.topReadAgain = topTouched(step);
-    if (r.topReadAgain) readTopAgain();
+    if (r.topReadAgain) {
+        try {
+            readTopAgain();
+        } catch (...) {
+            // The top could not be read again with the step (the file changed or cannot be read);
+            // nothing else has changed yet: the step is taken back, the forest reads over the
+            // edits as they were.
+            lazyEdits_->rollback();
+            forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
+            throw;
+        }
+    }
     const LazyForest::Renewal renewed = forest_->renew(step, margin);
     r.updateMs = msBetween(t0, std::chrono::steady_clock::now());
     r.changedQuads = renewed.parts.size() + (r.topReadAgain ? 1 : 0);
@@ -158,21 +169,9 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
 
 bool EditSession::afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report) {
     if (!step) return false;
-    const CommandReport r = afterLazyStepOrRollback(*step, 0.0);
+    const CommandReport r = afterLazyStep(*step, 0.0);
     if (report) *report = r;
     return true;
-}
-
-CommandReport EditSession::afterLazyStepOrRollback(const LazyStep& step, double applyMs) {
-    try {
-        return afterLazyStep(step, applyMs);
-    } catch (...) {
-        // The top could not be read again with the step (the file changed or cannot be read): the
-        // step is taken back, and the forest reads over the edits as they were.
-        lazyEdits_->rollback();
-        forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
-        throw;
-    }
 }
 
 template <class Step>
@@ -190,7 +189,7 @@ CommandReport EditSession::execute(const Command& command, bool merge) {
     if (lazyEdits_) {
         const auto t0 = std::chrono::steady_clock::now();
         const LazyStep step = lazyEdits_->execute(command, merge);
-        return afterLazyStepOrRollback(step, msBetween(t0, std::chrono::steady_clock::now()));
+        return afterLazyStep(step, msBetween(t0, std::chrono::steady_clock::now()));
     }
     return edits([&](const CommandHistory::AfterEdit& after) { history_.execute(doc_.scene, command, merge, after); });
 }

@@ -167,10 +167,9 @@ private:
     // After each command, undo or redo: the curve data, UPDATE and the loop's dirty tiles.
     CommandReport afterEdit(const Changeset& cs, double applyMs);
     // After a step of a scene read lazily: reads again what it touched, marks the tiles to make.
+    // When the top cannot be read again (the file changed or cannot be read), the step is taken
+    // back (LazyEdits::rollback) and the exception goes on.
     CommandReport afterLazyStep(const LazyStep& step, double applyMs);
-    // afterLazyStep; when it throws (the top could not be read again: the file changed or cannot be
-    // read), the step is taken back (LazyEdits::rollback) and the exception goes on.
-    CommandReport afterLazyStepOrRollback(const LazyStep& step, double applyMs);
     // An undo or redo of a scene read lazily (`step`: none when there was nothing to undo or redo).
     bool afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report);
     // Whether the top tree holds, or would hold, an element the step changed.

@@ -335,7 +335,13 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
         auto job = [this, key, bounds, left, overlay = overlay_, connection = lazy_.background ? nullptr : &connection_] {
             const auto t0 = std::chrono::steady_clock::now();
             std::unique_ptr<Part> part = read(key, bounds, left, overlay, connection);
-            if (!connection) warmCurveData(*part);  // on the worker: off the frames
+            if (!connection) {  // on the worker: off the frames
+                try {
+                    warmCurveData(*part);
+                } catch (const std::exception&) {
+                    // A warm-up only: the frame that asks for what failed makes it, and says why.
+                }
+            }
             part->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             return part;
         };

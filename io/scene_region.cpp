@@ -41,6 +41,25 @@ std::vector<std::size_t> fileIdCounts(SqliteDb& db, const char* table, std::size
     return counts;
 }
 
+// One read transaction over a read's statements: the file's shared lock taken once, not at each
+// of many single-row statements (per statement, SQLite locks and checks for a hot journal: most of
+// a small region's time). A read changes nothing: the end is a plain COMMIT.
+class ReadTransaction {
+public:
+    explicit ReadTransaction(SqliteDb& db) : db_(db) { db_.exec("BEGIN"); }
+    ~ReadTransaction() {
+        try {
+            db_.exec("COMMIT");
+        } catch (...) {
+        }
+    }
+    ReadTransaction(const ReadTransaction&) = delete;
+    ReadTransaction& operator=(const ReadTransaction&) = delete;
+
+private:
+    SqliteDb& db_;
+};
+
 struct FeatureTableRef {
     std::string name;  // empty: a layer's features the file has no table for (the edits' alone)
     LayerId layer = 0;
@@ -514,19 +533,7 @@ SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region
             readElementTables(db, d);
             return;
         }
-        // One read transaction: the file's shared lock taken once, not at each of the many
-        // single-row statements below (per statement, SQLite locks and checks for a hot journal:
-        // most of a small region's time). A read changes nothing: the end is a plain COMMIT.
-        db.exec("BEGIN");
-        struct End {
-            SqliteDb& db;
-            ~End() {
-                try {
-                    db.exec("COMMIT");
-                } catch (...) {
-                }
-            }
-        } end{db};
+        const ReadTransaction transaction(db);
         readLayerTable(db, d.scene);
         FeatureIndex index = readFeatureIndex(db, d.scene);
         double curveWf = index.curveWf, areaWf = index.areaWf;
@@ -666,16 +673,7 @@ std::vector<ElementRef> loadSceneFeaturesIn(SceneFileConnection& connection, con
         connection, doc,
         [&](SqliteDb& db, SceneDocument& d) {
             if (!db.hasTable(kFeatureIndexTable)) throw FormatError("the file has no feature index: save it again");
-            db.exec("BEGIN");  // one read transaction (loadSceneRegion)
-            struct End {
-                SqliteDb& db;
-                ~End() {
-                    try {
-                        db.exec("COMMIT");
-                    } catch (...) {
-                    }
-                }
-            } end{db};
+            const ReadTransaction transaction(db);
             readLayerTable(db, d.scene);
             const std::size_t n = d.scene.layers.size();
             FeatureIndex index = readFeatureIndex(db, d.scene);

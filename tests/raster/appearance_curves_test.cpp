@@ -145,11 +145,6 @@ TEST(Markings, YieldLinesAreDashedAcrossTheEnteringLaneOutsideTheRing) {
     }
 }
 
-}  // namespace
-}  // namespace lacet::appearance
-
-namespace lacet::appearance {
-namespace {
 
 // drawMarkings skips the texels RoadMarkings::beyondLines names: there the coverage must be exactly
 // 0, for every width, pixel size and end (junction radius, stop and yield lines), or the skip
@@ -193,11 +188,6 @@ TEST(Markings, TheTexelsSkippedBeyondTheLinesHaveNoCoverage) {
     EXPECT_GT(covered, 50000u);  // ...and the lines are drawn
 }
 
-}  // namespace
-}  // namespace lacet::appearance
-
-namespace lacet::appearance {
-namespace {
 
 // The producer draws a road's markings from the distance field its surface kept (the segments of
 // the same pieces, u 0 and no ring caps) instead of measuring it again: the pixels are the
