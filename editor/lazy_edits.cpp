@@ -141,7 +141,7 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
         changes.push_back(std::move(ch));
     }
 
-    Before before{overlay_, serial_, std::nullopt, false, std::move(undone_), 0, false};
+    Before before{.overlay = overlay_, .serial = serial_, .redo = std::move(undone_)};
     undone_.clear();
     if (merge && !done_.empty() && continuesDrag(done_.back().command, command) && done_.back().serial != savedSerial_) {
         before.merged = done_.back();
@@ -191,7 +191,7 @@ LazyStep LazyEdits::replay(const std::vector<Change>& changes, bool forward) {
 
 LazyStep LazyEdits::moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward) {
     const std::uint64_t group = from.back().group;
-    Before before{overlay_, serial_, std::nullopt, false, {}, 0, !forward};
+    Before before{.overlay = overlay_, .serial = serial_, .undid = !forward};
     LazyStep total;
     do {
         const LazyStep s = replay(from.back().changes, forward);

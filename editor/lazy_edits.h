@@ -84,11 +84,11 @@ private:
     LazyStep moveSteps(std::vector<Step>& from, std::vector<Step>& to, bool forward);
     // What rollback() restores: the state before the last execute, undo or redo.
     struct Before {
-        std::shared_ptr<const SceneOverlay> overlay;
+        std::shared_ptr<const SceneOverlay> overlay{};
         std::uint64_t serial = 0;
-        std::optional<Step> merged;  // execute merged into the last step: that step before
-        bool pushed = false;         // execute pushed a step
-        std::vector<Step> redo;      // execute: the redo steps it cleared
+        std::optional<Step> merged{};  // execute merged into the last step: that step before
+        bool pushed = false;           // execute pushed a step
+        std::vector<Step> redo{};      // execute: the redo steps it cleared
         std::size_t moved = 0;       // undo or redo: the steps moved
         bool undid = false;          // the move was an undo
     };

@@ -108,16 +108,20 @@ SceneDocument LazyForest::readPart(const Box& bounds, double budgetMiB, const Sc
     return doc;
 }
 
-std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
-                                                   std::shared_ptr<const SceneOverlay> overlay, SceneFileConnection* connection) const {
-    SceneRegionStats st;
-    SceneDocument doc = readPart(bounds, budgetMiB, overlay.get(), st, connection);
+std::unique_ptr<LazyForest::Part> LazyForest::makePart(const QuadKey& key, SceneDocument doc, const SceneRegionStats& st) const {
     auto part = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
     part->quad = &part->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
     part->bytes = st.bytes;
     part->reach = st.reach;
     part->tolerance = st.tolerance;
     return part;
+}
+
+std::unique_ptr<LazyForest::Part> LazyForest::read(const QuadKey& key, const Box& bounds, double budgetMiB,
+                                                   std::shared_ptr<const SceneOverlay> overlay, SceneFileConnection* connection) const {
+    SceneRegionStats st;
+    SceneDocument doc = readPart(bounds, budgetMiB, overlay.get(), st, connection);
+    return makePart(key, std::move(doc), st);
 }
 
 void LazyForest::warmCurveData(const Part& part) {
@@ -168,7 +172,6 @@ void copyChanged(std::vector<T>& into, const std::vector<T>& from, LayerId l, El
 }
 
 }  // namespace
-
 
 void LazyForest::update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed) {
     Changeset cs;
@@ -375,10 +378,17 @@ void LazyForest::setTop(Quadtree& top, const CurveDataCache& topData) {
     evict(0);
 }
 
+namespace {
+
+// Whether `scene` (a part read) holds element `r` (its file id).
+bool holdsElement(const Scene& scene, const ElementRef& r) {
+    return r.layer < scene.layers.size() && localIdOf(scene.layers[r.layer], r.kind, r.id) != kNoElement;
+}
+
+}  // namespace
+
 bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs) {
-    return std::any_of(refs.begin(), refs.end(), [&](const ElementRef& r) {
-        return r.layer < doc.scene.layers.size() && localIdOf(doc.scene.layers[r.layer], r.kind, r.id) != kNoElement;
-    });
+    return std::any_of(refs.begin(), refs.end(), [&](const ElementRef& r) { return holdsElement(doc.scene, r); });
 }
 
 bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) {
@@ -386,7 +396,6 @@ bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) 
     return holdsAny(part.doc, step.refs) ||
            std::any_of(step.boxes.begin(), step.boxes.end(), [&](const Box& b) { return b.intersects(region); });
 }
-
 
 bool LazyForest::moveInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed) {
     Scene& scene = part.doc.scene;
@@ -433,8 +442,8 @@ bool LazyForest::moveInPlace(Part& part, const LazyStep& step, StepRivers& river
                         return false;  // the read that follows says why
                     }
                 }
-                for (const ElementRef& river : found->second)
-                    if (river.layer >= scene.layers.size() || localIdOf(scene.layers[river.layer], river.kind, river.id) == kNoElement) return false;
+                if (!std::all_of(found->second.begin(), found->second.end(), [&](const ElementRef& river) { return holdsElement(scene, river); }))
+                    return false;
             }
         }
         held.emplace_back(k, id);
@@ -496,11 +505,7 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
                 ++it;
                 continue;
             }
-            auto again = std::make_unique<Part>(std::move(doc), graph_, refine_, profiles_, heights_);
-            again->quad = &again->tree.reach(std::get<0>(key), std::get<1>(key), std::get<2>(key));
-            again->bytes = st.bytes;
-            again->reach = st.reach;
-            again->tolerance = st.tolerance;
+            std::unique_ptr<Part> again = makePart(key, std::move(doc), st);
             again->wanted = part.wanted;
             again->readMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
             held_ = held_ - part.bytes + again->bytes;

@@ -163,6 +163,8 @@ private:
         std::uint64_t version = 0;  // of the overlay it reads
         std::future<std::unique_ptr<Part>> result;
     };
+    // The part of quad `key` made of `doc`, read with `st`.
+    std::unique_ptr<Part> makePart(const QuadKey& key, SceneDocument doc, const SceneRegionStats& st) const;
     // `connection`: the file kept open by this thread (connection_), or nullptr (the worker's: the
     // file opened for the read).
     std::unique_ptr<Part> read(const QuadKey& key, const Box& bounds, double budgetMiB, std::shared_ptr<const SceneOverlay> overlay,

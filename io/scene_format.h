@@ -16,10 +16,15 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "io/document.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
+
+namespace lacet {
+struct SceneOverlay;
+}  // namespace lacet
 
 namespace lacet::scene_format {
 
@@ -120,6 +125,55 @@ void readAttributesOf(SqliteDb& db, SceneDocument& doc, const std::function<std:
 // scan of the table, in the table's order as readAttributesOf gives them. Returns false, reading
 // nothing, for a file written before the index (the caller scans it instead).
 bool readPartAttributes(SqliteDb& db, SceneDocument& doc);
+
+// ---- scene_feature_index.cpp: the feature tables as reads of parts of the file find them ----
+
+// One read transaction over a read's statements: the file's shared lock taken once, not at each
+// of many single-row statements (per statement, SQLite locks and checks for a hot journal: most of
+// a small region's time). A read changes nothing: the end is a plain COMMIT.
+class ReadTransaction {
+public:
+    explicit ReadTransaction(SqliteDb& db) : db_(db) { db_.exec("BEGIN"); }
+    ~ReadTransaction() {
+        try {
+            db_.exec("COMMIT");
+        } catch (...) {
+        }
+    }
+    ReadTransaction(const ReadTransaction&) = delete;
+    ReadTransaction& operator=(const ReadTransaction&) = delete;
+
+private:
+    SqliteDb& db_;
+};
+
+// A feature table of kFeatureIndexTable, or of the edits.
+struct FeatureTableRef {
+    std::string name;  // empty: a layer's features the file has no table for (the edits' alone)
+    LayerId layer = 0;
+    bool polygons = false;
+};
+
+// The file's feature tables (kFeatureIndexTable), with their largest tolerance and wf.
+struct FeatureIndex {
+    std::vector<FeatureTableRef> tables;
+    double tolerance = 0.0, curveWf = 0.0, areaWf = 0.0;
+};
+
+// Reads kFeatureIndexTable; FormatError for a table row naming no layer, table or R-tree.
+FeatureIndex readFeatureIndex(SqliteDb& db, const Scene& scene);
+
+// Each of `layers` layers' ids in the element table `table`: its largest id + 1, through the
+// (layer, id) index, not a scan of the table.
+std::vector<std::size_t> fileIdCounts(SqliteDb& db, const char* table, std::size_t layers);
+
+// The tables of the layers' features the file has none for and the edits add (name empty): found
+// in the overlay alone. Throws FormatError for an edit of a layer the file has not.
+void addOverlayTables(std::vector<FeatureTableRef>& tables, const SceneOverlay& overlay, std::size_t layers);
+
+// The features of table `t` whose boxes meet `box` (their ids, below `count`): the file's R-tree's,
+// except those `overlay` (nullptr: none) changed, found by their boxes now.
+std::vector<ElementId> featuresIn(SqliteDb& db, const FeatureTableRef& t, const Box& box, std::size_t count, const SceneOverlay* overlay);
 
 // ---- scene_file.cpp ----
 
