@@ -77,6 +77,7 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--curves", fo->curves, "Curves of the synthetic scene (600000: the paper's scale)");
     flyover->add_option("--seed", fo->seed, "Random seed");
     flyover->add_option("--frames", fo->frames, "Frames of the flight");
+    flyover->add_option("--fps", fo->fps, "Frames a second the flight is paced at, as a window's (0: unpaced)")->check(CLI::NonNegativeNumber);
     flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');
     flyover->add_option("--prefetch-frames", fo->prefetchFrames, "How far ahead (frames) the prefetching viewer is");
     flyover->add_option("--pyramid", fo->pyramid,
@@ -90,6 +91,9 @@ void addBenchCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     flyover->add_flag("--profile-error", fo->profileError,
                       "With a streamed DEM: the z-profiles near the path from --dem-profile-spacing's level against the finest (m)");
+    flyover->add_option("--background-ms", fo->backgroundMs,
+                        "Quads whose tiles are estimated to take longer (ms) are made on a background thread (0: in the frames)")
+        ->check(CLI::NonNegativeNumber);
     flyover->add_option("--adaptive", fo->adaptiveTargetMs, "Adapt K to this update time per frame (ms; 0: K fixed)")->check(CLI::NonNegativeNumber);
     flyover->add_option("--vector-budget", fo->vectorBudgetMiB,
                         "With --scene: read its vector data lazily within this many MiB (0: load it whole)")->check(CLI::NonNegativeNumber);

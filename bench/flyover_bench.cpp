@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 
 #include <glm/geometric.hpp>
 
@@ -269,6 +270,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         SessionParams params;
         params.view = view;
         params.refineBudgetMs = run.refineBudget;
+        params.backgroundMs = o.backgroundMs;
         params.cacheTiles = run.cacheTiles;
         params.demStream.budgetMiB = o.demBudgetMiB;
         params.demStream.profileSpacing = o.demProfileSpacingM;
@@ -285,10 +287,17 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         double kMin = view.K, kSum = 0.0;
         if (run.pyramid) session.setPyramid(pyramid);
         std::vector<double> ms, tiles, refine, produce;
-        std::size_t fromPyramid = 0, pyramidFailed = 0;
+        std::size_t fromPyramid = 0, pyramidFailed = 0, backgroundStarted = 0, backgroundTaken = 0, backgroundDropped = 0,
+                    backgroundSubdivisions = 0;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0, replacedFrames = 0, replacedMax = 0;
         double replacedSum = 0.0, viewSum = 0.0;
+        const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.fps > 0.0 ? 1.0 / o.fps : 0.0));
+        Clock::time_point frameStart{};
         for (int f = 0; f < o.frames; ++f) {
+            // Paced: a frame begins a period after the last one began, or at once when that one
+            // took longer (no catching up); the rest of the period is the window's (drawing, vsync).
+            if (o.fps > 0.0 && f > 0) std::this_thread::sleep_until(frameStart + period);
+            frameStart = Clock::now();
             const Camera cam = cameraAt(f, ground);
             const QuadVisibility visible =
                 run.cull ? frustumVisibility(cam, aspect, Camera::clipRange(viewerAt(f).z), zRange) : QuadVisibility{};
@@ -312,6 +321,10 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             produce.push_back(r.produceMs);
             cachePeak = std::max(cachePeak, r.cached);
             fromPyramid += r.fromPyramid;
+            backgroundStarted += r.backgroundStarted;
+            backgroundTaken += r.backgroundTaken;
+            backgroundDropped += r.backgroundDropped;
+            backgroundSubdivisions += r.backgroundSubdivisions;
             pyramidFailed += r.pyramidFailed;
             pendingFrames += r.pending > 0;
             prefetched += r.prefetched;
@@ -391,6 +404,9 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"pyramid", run.pyramid},
                         {"pyramid_tiles_read", fromPyramid},
                         {"pyramid_tiles_failed", pyramidFailed},
+                        {"background", {{"slower_than_ms", o.backgroundMs}, {"tiles_begun", backgroundStarted},
+                                        {"tiles_taken", backgroundTaken}, {"subdivisions_begun", backgroundSubdivisions},
+                                        {"dropped", backgroundDropped}}},
                         {"slowest_frames", worst},
                         {"first_frame_ms", ms.front()},
                         {"flight_mean_ms", flightSum / double(flight.size())},

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "editor/lazy_forest.h"
+#include "editor/session_params.h"
 #include "io/dem_stream.h"
 #include "model/view_params.h"
 
@@ -74,6 +75,10 @@ struct FlyoverBenchOptions {
     std::uint64_t seed = 1;
     int demResolution = 5000;
     int frames = 4381;  // 73 s at 60 frames per second, as in the paper
+    // Frames a second the flight is paced at (a frame begins no sooner than 1/fps after the one
+    // before, as a window's would: the background threads run between frames); 0: unpaced, each
+    // frame right after the last (what a frame's own work costs, when no work is left to a thread).
+    double fps = 60.0;
     double startAltitude = 5000.0, endAltitude = 5.0;
     std::vector<double> budgetsMs{0.0, 10.0};
     int prefetchFrames = 25;  // how far ahead the predicted viewer is, in frames (the paper: 25)
@@ -95,6 +100,8 @@ struct FlyoverBenchOptions {
     // Frame-rate-adaptive K (editor/adaptive_quality.h) aiming at this update time per frame (ms;
     // 0: K fixed).
     double adaptiveTargetMs = 0.0;
+    // SessionParams::backgroundMs: slow quads' tiles made on a background thread (0: in the frames).
+    double backgroundMs = kInteractiveBackgroundMs;
     // With `scene`: its vector data read lazily (editor/lazy_forest.h) within this many MiB (0: the
     // scene loaded whole), each part a quad of `partLevel` (-1: the first level of quads at most
     // `partQuadM` wide). With a pyramid file, the levels down to the part level read only what

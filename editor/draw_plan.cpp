@@ -57,7 +57,7 @@ public:
     const Quad& root() const override { return tree_.root(); }
     const Quadtree& treeOf(const Quad&) const override { return tree_; }
     const CurveDataCache& dataOf(const Quad&) const override { throw std::logic_error("makeDrawPlan(): no curve data"); }
-    bool refine(std::span<const glm::dvec3>, const ViewParams&, const std::optional<Deadline>&) override {
+    bool refine(std::span<const glm::dvec3>, const ViewParams&, const std::optional<Deadline>&, ChildMaker*) override {
         throw std::logic_error("makeDrawPlan(): the plan does not refine");
     }
 

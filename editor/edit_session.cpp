@@ -167,9 +167,10 @@ CommandReport EditSession::afterEdit(const Changeset& cs, double applyMs) {
     return r;
 }
 
-bool EditSession::afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report) {
+bool EditSession::afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report, std::size_t stopped) {
     if (!step) return false;
-    const CommandReport r = afterLazyStep(*step, 0.0);
+    CommandReport r = afterLazyStep(*step, 0.0);
+    r.backgroundStopped = stopped;
     if (report) *report = r;
     return true;
 }
@@ -186,29 +187,38 @@ CommandReport EditSession::edits(Step&& step) {
 }
 
 CommandReport EditSession::execute(const Command& command, bool merge) {
+    const std::size_t stopped = loop_->quiesce();  // the background work reads the scene and the trees the command changes
+    CommandReport r;
     if (lazyEdits_) {
         const auto t0 = std::chrono::steady_clock::now();
         const LazyStep step = lazyEdits_->execute(command, merge);
-        return afterLazyStep(step, msBetween(t0, std::chrono::steady_clock::now()));
+        r = afterLazyStep(step, msBetween(t0, std::chrono::steady_clock::now()));
+    } else {
+        r = edits([&](const CommandHistory::AfterEdit& after) { history_.execute(doc_.scene, command, merge, after); });
     }
-    return edits([&](const CommandHistory::AfterEdit& after) { history_.execute(doc_.scene, command, merge, after); });
+    r.backgroundStopped = stopped;
+    return r;
 }
 
 void EditSession::beginGroup() { lazyEdits_ ? lazyEdits_->beginGroup() : history_.beginGroup(); }
 void EditSession::endGroup() { lazyEdits_ ? lazyEdits_->endGroup() : history_.endGroup(); }
 
 bool EditSession::undo(CommandReport* report) {
-    if (lazyEdits_) return afterLazyHistory(lazyEdits_->undo(), report);
+    const std::size_t stopped = loop_->quiesce();
+    if (lazyEdits_) return afterLazyHistory(lazyEdits_->undo(), report, stopped);
     bool done = false;
-    const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.undo(doc_.scene, after); });
+    CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.undo(doc_.scene, after); });
+    r.backgroundStopped = stopped;
     if (done && report) *report = r;
     return done;
 }
 
 bool EditSession::redo(CommandReport* report) {
-    if (lazyEdits_) return afterLazyHistory(lazyEdits_->redo(), report);
+    const std::size_t stopped = loop_->quiesce();
+    if (lazyEdits_) return afterLazyHistory(lazyEdits_->redo(), report, stopped);
     bool done = false;
-    const CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.redo(doc_.scene, after); });
+    CommandReport r = edits([&](const CommandHistory::AfterEdit& after) { done = history_.redo(doc_.scene, after); });
+    r.backgroundStopped = stopped;
     if (done && report) *report = r;
     return done;
 }
@@ -221,6 +231,7 @@ void EditSession::setK(double K) {
 }
 
 void EditSession::setRefineParams(const RefineParams& refine) {
+    loop_->quiesce();
     // A scene read lazily: what the top tree needs depends on the refinement (the reach, the
     // narrowest curve read), so it is read again (the DEM stays).
     if (lazy_)
@@ -232,6 +243,7 @@ void EditSession::setRefineParams(const RefineParams& refine) {
 void EditSession::setLayerVisible(LayerId layer, bool visible) {
     if (layer >= doc_.scene.layers.size()) throw std::out_of_range("EditSession::setLayerVisible: no layer " + std::to_string(layer));
     if (layerVisible(layer) == visible) return;
+    loop_->quiesce();  // before the knobs change
     for (std::vector<bool>* hidden : {&params_.appearance.hiddenLayers, &params_.elevation.hiddenLayers, &params_.objects.hiddenLayers}) {
         hidden->resize(doc_.scene.layers.size(), false);
         (*hidden)[layer] = !visible;

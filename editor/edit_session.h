@@ -50,6 +50,7 @@ struct CommandReport {
     double applyMs = 0.0, updateMs = 0.0;  // the edit and the quadtree UPDATE (lazily: reading the parts again)
     std::size_t changedQuads = 0;          // quads whose graph changed (lazily: the parts read again, and the top's root)
     std::size_t dirtyTiles = 0;            // cached tiles marked dirty (graph or curve data)
+    std::size_t backgroundStopped = 0;     // background work stopped before the edit (TileLoop::quiesce)
     bool topReadAgain = false;             // lazily: the top tree was read again
 };
 
@@ -128,6 +129,11 @@ public:
     // keep the tree's shape and mark tiles dirty without dropping any. Valid until the next
     // frame() or setRefineParams(). Not for concurrent first reads.
     const DrawPlan& plan() const { return loop_->plan(); }
+    // Background work (SessionParams::backgroundMs): whether a slow quad's tiles or children are
+    // being made or wait for the next frame, and waiting until they are made (a script, a test:
+    // then frame() again until nothing is pending).
+    bool backgroundBusy() const { return loop_->backgroundBusy(); }
+    void waitForBackground() { loop_->waitForBackground(); }
     // The height shown at p: z_m (bilinear) of the tile the plan draws over p; the DEM where it
     // has none (before the first frame, or where no tile is made yet).
     double displayedHeight(Vec2 p) const { return loop_->displayedHeight(p); }
@@ -171,7 +177,7 @@ private:
     // back (LazyEdits::rollback) and the exception goes on.
     CommandReport afterLazyStep(const LazyStep& step, double applyMs);
     // An undo or redo of a scene read lazily (`step`: none when there was nothing to undo or redo).
-    bool afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report);
+    bool afterLazyHistory(const std::optional<LazyStep>& step, CommandReport* report, std::size_t stopped);
     // Whether the top tree holds, or would hold, an element the step changed.
     bool topTouched(const LazyStep& step) const;
     // Reads the top tree's vector data again with the edits and makes its tree and curve data.

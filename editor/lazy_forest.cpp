@@ -282,11 +282,12 @@ double LazyForest::budgetLeft() const {
     return partsBudgetMiB_ - toMiB(wanted);
 }
 
-bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
+bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                        ChildMaker* maker) {
     ++clock_;
     ViewParams topView = view;
     topView.maxLevel = std::min(view.maxLevel, level_);
-    bool done = top_->refineForViewers(viewers, topView, deadline);
+    bool done = top_->refineForViewers(viewers, topView, deadline, maker);
     // The quads of level P a viewer wants subdivided, nearest to the first viewer first.
     std::vector<const Quad*> wanted;
     if (view.maxLevel > level_)
@@ -359,7 +360,7 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
     }
     for (const Quad* q : wanted)
         if (const auto it = parts_.find(keyOf(*q)); it != parts_.end())
-            done = it->second->tree.refineSubtree(*it->second->quad, viewers, view, deadline) && done;
+            done = it->second->tree.refineSubtree(*it->second->quad, viewers, view, deadline, maker) && done;
     evict(0);
     return done;
 }

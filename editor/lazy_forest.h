@@ -145,9 +145,14 @@ public:
     // the parts read since, reads (or asks the worker for) the missing wanted ones nearest first,
     // and evicts past the budget. False when a subdivision was deferred or a wanted part is not
     // there yet.
-    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) override;
+    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                ChildMaker* maker = nullptr) override;
     std::vector<QuadKey> takeArrived() override;
     bool holdsAppearance(const Quad& q) const override { return !lazy_.topElevationOnly || owner(q) != nullptr; }
+    // Also a part's own quad: its part is wanted (a part no viewer wants may go for the budget).
+    bool keeps(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view) const override {
+        return QuadForest::keeps(q, viewers, view) && (q.level != level_ || !owner(q) || Quadtree::wantedByAny(q, viewers, view));
+    }
 
     const LazyStats& stats() const { return stats_; }
     int partLevel() const { return level_; }

@@ -2,6 +2,12 @@
 
 namespace lacet {
 
+bool QuadForest::keeps(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view) const {
+    for (const Quad* a = q.parent; a; a = a->parent)
+        if (!Quadtree::wantedByAny(*a, viewers, view)) return false;
+    return true;
+}
+
 const Quad* findQuad(const QuadForest& forest, const QuadKey& key) {
     const auto [level, tx, ty] = key;
     const Quad* q = &forest.resolve(forest.root());

@@ -35,8 +35,13 @@ public:
     // The tree (its ancestors and procedural curves) and curve data a resolved quad is made from.
     virtual const Quadtree& treeOf(const Quad& q) const = 0;
     virtual const CurveDataCache& dataOf(const Quad& q) const = 0;
-    // Refines for `viewers` (Quadtree::refineForViewers); false when a subdivision was deferred.
-    virtual bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) = 0;
+    // Refines for `viewers` (Quadtree::refineForViewers, the children from `maker` when given);
+    // false when a subdivision was deferred.
+    virtual bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                        ChildMaker* maker = nullptr) = 0;
+    // Whether refine(viewers, view) keeps resolved quad q (a thread may go on reading it): every
+    // quad above it in its tree is wanted by a viewer, so none is merged.
+    virtual bool keeps(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view) const;
     // Whether the forest holds what the appearance of resolved quad q is made from (false: the
     // levels above a lazy scene's parts read without it, whose appearance only a pyramid gives).
     virtual bool holdsAppearance(const Quad&) const { return true; }
@@ -52,8 +57,9 @@ public:
     const Quad& root() const override { return tree_.root(); }
     const Quadtree& treeOf(const Quad&) const override { return tree_; }
     const CurveDataCache& dataOf(const Quad&) const override { return data_; }
-    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) override {
-        return tree_.refineForViewers(viewers, view, deadline);
+    bool refine(std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                ChildMaker* maker = nullptr) override {
+        return tree_.refineForViewers(viewers, view, deadline, maker);
     }
 
 private:

@@ -19,6 +19,11 @@
 
 namespace lacet {
 
+// SessionParams::backgroundMs of the interactive editor and of the benchmarks that measure it
+// (ms): below half the paper's 10 ms production budget, so a frame that makes one slow-ish tile
+// still leaves room for the nearer small ones.
+inline constexpr double kInteractiveBackgroundMs = 4.0;
+
 struct SessionParams {
     RefineParams refine;
     ViewParams view;  // the K rule (§8) and the deepest level
@@ -31,6 +36,13 @@ struct SessionParams {
     // Time a frame may spend subdividing (ms; 0: unlimited): past it, subdivisions wait for the
     // next frames, nearest first, and the leaves stay coarser meanwhile.
     double refineBudgetMs = 0.0;
+    // With a frame budget: a quad whose tiles are estimated (editor/production_estimate.h) to take
+    // longer than this (ms) is made on a background thread, one quad at a time, over as many frames
+    // as it takes, its nearest ancestor's tile shown meanwhile (editor/tile_loop.h): a coarse quad
+    // of thousands of elements no longer stalls a frame. 0: every tile made within the frames (the
+    // order of what is made does not depend on threads: tests). The editor and the benchmarks use
+    // kInteractiveBackgroundMs.
+    double backgroundMs = 0.0;
     // The clock the frame's budgets (production and refinement) are read on: the machine's, or a
     // stepped one (model/work_clock.h) so that what a budget lets through does not depend on the
     // machine's speed (tests, scripts). The commands' reported times are always the machine's.

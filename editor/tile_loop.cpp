@@ -27,23 +27,23 @@ auto nearestFirst(glm::dvec3 v) {
 }
 
 // What a tile's production time grows with: the curves and areas its quad holds.
-std::size_t elementsOf(const Quad& q) {
-    std::size_t n = 0;
-    for (const QuadLayer& l : q.layers) n += l.curves.size() + l.areas.size();
-    return n;
-}
-
 }  // namespace
 
 TileLoop::TileLoop(const SessionParams& params, const Scene& scene, const Dem& dem, DemStream* stream)
     : params_(params), scene_(scene), dem_(dem), stream_(stream) {}
 
+TileLoop::~TileLoop() { quiesce(); }
+
+
+
 void TileLoop::setTree(Quadtree& tree, const CurveDataCache& data) {
+    quiesce();  // before the old forest goes
     whole_ = std::make_unique<WholeTree>(tree, data);
     setForest(*whole_);
 }
 
 void TileLoop::setForest(QuadForest& forest) {
+    quiesce();
     if (&forest != whole_.get()) whole_.reset();
     forest_ = &forest;
     cache_.clear();
@@ -52,6 +52,7 @@ void TileLoop::setForest(QuadForest& forest) {
 }
 
 std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited) {
+    quiesce();  // the session stopped them before the edit; what was begun since read the old graph
     ++edits_;
     const std::size_t dirty = markDirty(changed, dropped);
     if (touchLevels_ > 0) recordTouched(changed, dropped, edited);
@@ -59,6 +60,7 @@ std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector
 }
 
 std::size_t TileLoop::editedLazily(const std::set<QuadKey>& changed, const std::vector<QuadKey>& touched) {
+    quiesce();
     ++edits_;
     const std::size_t dirty = markDirty(changed, {});
     if (touchLevels_ > 0)
@@ -82,6 +84,7 @@ std::size_t TileLoop::markDirty(const std::set<QuadKey>& changed, const std::vec
 }
 
 void TileLoop::layerChanged(LayerId layer) {
+    quiesce();  // made with the layers shown before
     for (auto& [key, tile] : cache_) {
         const Quad* q = findQuad(*forest_, key);
         if (!q || (q->layers.size() > layer && !q->layers[layer].empty())) tile.dirty = true;
@@ -139,7 +142,57 @@ void TileLoop::setPyramid(std::shared_ptr<PyramidReader> pyramid, std::optional<
     pyramid_ = std::move(pyramid);
 }
 
-std::size_t TileLoop::produce(const std::vector<const Quad*>& quads, glm::dvec3 viewer, double budgetMs, Clock::time_point t0,
+TileLoop::Source TileLoop::runJob(bool appearance, const Quad& q, const Quadtree& tree, const CurveDataCache& data, bool read,
+                                  const Dem& dem, const std::function<const Dem&()>& objectDem, const JobParams& p, CachedTile& t,
+                                  const CancelFlag* cancel) {
+    const std::size_t elements = elementCount(q);
+    Source source = kLive;
+    auto j0 = p.clock();
+    if (read) {
+        std::optional<AppearanceTile> tile = p.pyramid->appearance(q, p.border);
+        estimates_[2].add(0, msSince(p.clock, j0));
+        if (tile) {
+            t.appearance = std::move(*tile);
+            return kRead;
+        }
+        source = kFailed;  // made live below
+        j0 = p.clock();
+    }
+    if (appearance) {
+        t.appearance = produceAppearance(q, tree, data, dem, p.appearance, nullptr, cancel);
+    } else {
+        // The quad's objects stand on its displayed ground: made right after its z_m.
+        t.elevation = produceElevation(q, tree, data, dem, p.elevation, nullptr, cancel);
+        throwIfCancelled(cancel);
+        t.objects = produceObjects(q, tree, data, objectDem(), &t.elevation, p.objects, &objectCounters_);
+    }
+    // The root's graph is empty (the scene is its graph): its time says nothing of the others'.
+    if (q.parent) estimates_[appearance ? 0 : 1].add(elements, msSince(p.clock, j0));
+    return source;
+}
+
+void TileLoop::countPyramidUse(char source) {
+    pyramidUse_.read += source == kRead;
+    pyramidUse_.failed += source == kFailed;
+    pyramidUse_.touched += source == kTouched;
+    pyramidUse_.live += source != kRead;
+}
+
+void TileLoop::store(const QuadKey& key, CachedTile&& made, char source, const DemWindow* window, int objectLevel, FrameReport& r) {
+    r.fromPyramid += source == kRead;
+    r.pyramidFailed += source == kFailed;
+    CachedTile& t = cache_[key];
+    t = std::move(made);
+    if (window && window->dem) {
+        t.demLevel = std::min(window->level, objectLevel);
+        t.demWanted = window->wanted;
+        r.demFallbacks += !window->complete();
+    }
+    t.lastUsed = clock_;
+    t.version = ++version_;
+}
+
+std::size_t TileLoop::produce(const std::vector<const Quad*>& all, glm::dvec3 viewer, double budgetMs, Clock::time_point t0,
                                  FrameReport& r) {
     // A work queue in nearest-first order, one job per producer and quad (so the two threads
     // stay busy until the last tile, whatever each tile costs). Each worker takes the next job;
@@ -149,18 +202,30 @@ std::size_t TileLoop::produce(const std::vector<const Quad*>& quads, glm::dvec3 
     // quad of a call is always made, so every frame makes progress. A quad is made when both its
     // jobs are. An appearance job of a quad the pyramid serves reads it there (its own estimate:
     // a read costs the same whatever the quad holds), or makes it live when the read fails.
-    enum Source : char { kLive = 0, kRead = 1, kFailed = 2, kTouched = 3 };
+    // With a budget and background tiles, a slow quad is left to the background thread (the
+    // nearest, when it is free) and the others wait.
+    std::vector<const Quad*> quads;
+    std::vector<char> fromPyramid;
+    quads.reserve(all.size());
+    for (const Quad* q : all) {
+        const bool read = readsPyramid(*q);
+        if (budgetMs > 0.0 && params_.backgroundMs > 0.0) {
+            if (background_ && background_->key == keyOf(*q)) continue;
+            if (slow(*q, read)) {
+                if (!background_) startBackground(*q, read, viewer, r);
+                continue;
+            }
+        }
+        quads.push_back(q);
+        fromPyramid.push_back(read);
+    }
     const std::size_t jobs = 2 * quads.size();
     std::vector<CachedTile> made(quads.size());
     std::vector<char> done(jobs, 0);  // each written by one worker, read after they join
     std::vector<char> source(quads.size(), kLive);
-    std::vector<char> fromPyramid(quads.size(), 0);
-    for (std::size_t i = 0; i < quads.size(); ++i) {
-        fromPyramid[i] = readsPyramid(*quads[i]);
+    for (std::size_t i = 0; i < quads.size(); ++i)
         if (!fromPyramid[i] && pyramid_ && pyramid_->serves(quads[i]->level)) source[i] = kTouched;
-    }
-    PyramidReader* pyramid = pyramid_.get();
-    const int border = params_.refine.appearanceBorder;
+    const JobParams p{params_.appearance, params_.elevation, params_.objects, params_.clock, params_.refine.appearanceBorder, pyramid_.get()};
     // With a streamed DEM, each quad's window (a copy of a few thousand samples), cut by the first
     // of its two jobs to run, so that both read the same one.
     std::vector<DemWindow> windows(stream_ ? quads.size() : 0);
@@ -183,63 +248,28 @@ std::size_t TileLoop::produce(const std::vector<const Quad*>& quads, glm::dvec3 
             const std::size_t i = j / 2;
             const Quad& q = *quads[i];
             const bool read = appearance && fromPyramid[i];
-            ProductionEstimate& estimate = estimates_[read ? 2 : appearance ? 0 : 1];
-            const std::size_t elements = elementsOf(q);
-            const std::size_t x = read ? 0 : elements;
-            if (budgetMs > 0.0 && j >= 2 && msSince(params_.clock, t0) + estimate.predict(x) > budgetMs) {
+            const std::size_t x = read ? 0 : elementCount(q);
+            if (budgetMs > 0.0 && j >= 2 && msSince(params_.clock, t0) + estimates_[read ? 2 : appearance ? 0 : 1].predict(x) > budgetMs) {
                 stop = true;
                 return;
             }
-            auto j0 = params_.clock();
-            if (read) {
-                std::optional<AppearanceTile> t = pyramid->appearance(q, border);
-                estimate.add(x, msSince(params_.clock, j0));
-                if (t) {
-                    made[i].appearance = std::move(*t);
-                    source[i] = kRead;
-                    done[j] = 1;
-                    continue;
-                }
-                source[i] = kFailed;  // made live below
-                j0 = params_.clock();
-            }
-            if (appearance) made[i].appearance = produceAppearance(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), params_.appearance);
-            else {
-                // The quad's objects stand on its displayed ground: made right after its z_m.
-                CachedTile& t = made[i];
-                t.elevation = produceElevation(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), params_.elevation);
-                if (windows.empty()) {
-                    t.objects = produceObjects(q, forest_->treeOf(q), forest_->dataOf(q), demOf(i), &t.elevation, params_.objects, &objectCounters_);
-                } else {
-                    const DemWindow w = objectWindow(q, viewer, windows[i]);
-                    t.objects = produceObjects(q, forest_->treeOf(q), forest_->dataOf(q), *w.dem, &t.elevation, params_.objects, &objectCounters_);
-                    objectLevel[i] = w.level;
-                }
-            }
-            estimates_[appearance ? 0 : 1].add(elements, msSince(params_.clock, j0));
+            std::shared_ptr<const Dem> objects;  // a wider window over the bridges the quad makes
+            const Source s = runJob(appearance, q, forest_->treeOf(q), forest_->dataOf(q), read, demOf(i), [&]() -> const Dem& {
+                if (windows.empty()) return demOf(i);
+                const DemWindow w = objectWindow(q, viewer, windows[i]);
+                objectLevel[i] = w.level;
+                objects = w.dem;
+                return *objects;
+            }, p, made[i], nullptr);
+            if (appearance && s != kLive) source[i] = s;
             done[j] = 1;
         }
     });
     std::size_t count = 0;
     for (std::size_t i = 0; i < quads.size(); ++i) {
-        if (done[2 * i]) {  // the appearance, even when its quad is dropped (the pyramid's work is done)
-            pyramidUse_.read += source[i] == kRead;
-            pyramidUse_.failed += source[i] == kFailed;
-            pyramidUse_.touched += source[i] == kTouched;
-            pyramidUse_.live += source[i] != kRead;
-        }
+        if (done[2 * i]) countPyramidUse(source[i]);  // even when its quad is dropped (the pyramid's work is done)
         if (!done[2 * i] || !done[2 * i + 1]) continue;
-        r.fromPyramid += source[i] == kRead;
-        r.pyramidFailed += source[i] == kFailed;
-        CachedTile& t = cache_[keyOf(*quads[i])];
-        t = std::move(made[i]);
-        if (!windows.empty() && windows[i].dem) {
-            t.demLevel = std::min(windows[i].level, objectLevel[i]);
-            t.demWanted = windows[i].wanted;
-            r.demFallbacks += !windows[i].complete();
-        }
-        t.lastUsed = clock_;
-        t.version = ++version_;
+        store(keyOf(*quads[i]), std::move(made[i]), source[i], windows.empty() ? nullptr : &windows[i], windows.empty() ? INT_MAX : objectLevel[i], r);
         ++count;
     }
     return count;
@@ -251,7 +281,8 @@ std::size_t TileLoop::produce(const std::vector<const Quad*>& quads, glm::dvec3 
 FrameReport TileLoop::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibility& visible,
                                std::optional<glm::dvec3> predicted) {
     FrameReport r;
-    refine(viewer, predicted, r);
+    takeBackground(r);
+    refine(viewer, predicted, budgetMs > 0.0 && params_.backgroundMs > 0.0, r);
     if (budgetMs > 0.0) budgetMs = std::max(1e-9, budgetMs - r.refineMs);
     ++clock_;
     FrameLeaves leaves = collectLeaves(viewer, predicted, visible, r);
@@ -279,15 +310,22 @@ FrameReport TileLoop::frame(glm::dvec3 viewer, double budgetMs, const QuadVisibi
     return r;
 }
 
-void TileLoop::refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, FrameReport& r) {
+void TileLoop::refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, bool background, FrameReport& r) {
     const auto t0 = params_.clock();
     std::optional<Deadline> deadline;
     if (params_.refineBudgetMs > 0.0) deadline = Deadline::after(t0, params_.refineBudgetMs, params_.clock);
     // With a predicted viewer, the leaves of both views: its quads exist (and can be made) now.
     const glm::dvec3 both[2] = {viewer, predicted.value_or(viewer)};
-    r.refineDeferred = !forest_->refine(std::span<const glm::dvec3>(both, predicted ? 2 : 1), params_.view, deadline);
+    const std::span<const glm::dvec3> viewers(both, predicted ? 2 : 1);
+    guardBackground(viewers, r);
+    const std::size_t begun = subdivisions_.begun();
+    r.refineDeferred = !forest_->refine(viewers, params_.view, deadline, background ? &subdivisions_ : nullptr);
+    r.backgroundSubdivisions = subdivisions_.begun() - begun;
+    r.backgroundDropped += subdivisions_.settle();
     // A tile made before its quad's vector data arrived (a part read, editor/lazy_forest.h) is made again.
-    for (const QuadKey& key : forest_->takeArrived()) {
+    const std::vector<QuadKey> arrived = forest_->takeArrived();
+    staleBackground(arrived);
+    for (const QuadKey& key : arrived) {
         const auto it = cache_.find(key);
         if (it != cache_.end() && !it->second.dirty) it->second.dirty = true, ++r.partsArrived;
     }
@@ -361,7 +399,7 @@ std::size_t TileLoop::prefetch(std::vector<const Quad*> ahead, glm::dvec3 predic
     std::stable_sort(ahead.begin(), ahead.end(), nearestFirst(predicted));
     ahead.resize(std::min(ahead.size(), room));
     if (ahead.empty()) return 0;
-    const std::size_t first = elementsOf(*ahead.front());
+    const std::size_t first = elementCount(*ahead.front());
     const double appearance = readsPyramid(*ahead.front()) ? estimates_[2].predict(0) : estimates_[0].predict(first);
     if (budgetMs > 0.0 && msSince(params_.clock, t0) + appearance + estimates_[1].predict(first) >= budgetMs) return 0;
     return produce(ahead, predicted, budgetMs <= 0.0 ? 0.0 : std::max(1e-9, budgetMs - msSince(params_.clock, t0)), params_.clock(), r);

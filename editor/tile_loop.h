@@ -28,21 +28,34 @@
 // (tile_loop_dem.cpp); a shown tile made from a coarser level than it wanted is remade when
 // the finer blocks arrive.
 //
+// Background tiles (tile_loop_background.cpp; SessionParams::backgroundMs, issue 24: no slow
+// frame): with a frame budget, a quad whose tiles are estimated to take longer than the knob (a
+// coarse quad of thousands of elements) is not made in the frame but on a background thread,
+// one quad at a time, over as many frames as it takes; its nearest ancestor's tile is shown
+// meanwhile and the frame that finds it done takes it into the cache. The thread reads the quad,
+// its tree and curve data while frames go on: what could change them stops it first (quiesce():
+// an edit, a new tree, a layer shown or hidden; before a refinement that would merge the quad
+// away, QuadForest::keeps), the producers checking its cancel flag between elements, so an edit
+// waits for no tile; a quad whose vector data arrived since it began (a lazy part) is made again.
+//
 // Order of calls: setTree() (again after each new tree: it drops every tile), then frame() each
 // frame and edited() after each edit's UPDATE.
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "editor/background_subdivision.h"
 #include "editor/cache_fit.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
@@ -54,6 +67,7 @@
 #include "pyramid/pyramid_reader.h"
 #include "raster/dem.h"
 #include "raster/object_meshes.h"
+#include "model/cancel.h"
 
 namespace lacet {
 
@@ -74,6 +88,12 @@ struct FrameReport {
     std::size_t demFallbacks = 0;    // tiles made this frame from a coarser DEM block than they want (streamed DEM)
     std::size_t demRemade = 0;       // shown tiles marked dirty because the finer DEM blocks they wanted arrived
     std::size_t partsArrived = 0;    // tiles marked dirty because their quad's part arrived (editor/lazy_forest.h)
+    // Background tiles (SessionParams::backgroundMs): a quad's tiles begun on the background
+    // thread this frame, taken into the cache, and dropped (stopped, or done but stale).
+    std::size_t backgroundStarted = 0, backgroundTaken = 0, backgroundDropped = 0;
+    // Subdivisions begun on the background thread this frame (editor/background_subdivision.h;
+    // dropped ones are counted in backgroundDropped).
+    std::size_t backgroundSubdivisions = 0;
 };
 
 // What the pyramid saved the session so far (appearance tiles).
@@ -92,6 +112,7 @@ public:
     // between frames), `scene`, `dem` (the DEM in memory; with a streamed one, its coarse level)
     // and `stream` (the streamed DEM; nullptr: none) must outlive the loop.
     TileLoop(const SessionParams& params, const Scene& scene, const Dem& dem, DemStream* stream);
+    ~TileLoop();  // stops the background tiles (quiesce)
     TileLoop(const TileLoop&) = delete;
     TileLoop& operator=(const TileLoop&) = delete;
 
@@ -118,6 +139,17 @@ public:
     std::uint64_t editCount() const { return edits_; }
     // Marks dirty the tiles of the quads holding `layer`'s elements (a layer hidden or shown).
     void layerChanged(LayerId layer);
+    // Stops the background tiles and subdivision, dropping them (the threads check their cancel
+    // flags between the elements they handle), and waits for the threads: call before anything
+    // changes the scene, the forest's trees or their curve data (an edit, an undo, a new tree).
+    // Returns how many were dropped (0 to 2).
+    std::size_t quiesce();
+    // Whether a quad's tiles or children are being made in the background, or wait for a frame
+    // to take them.
+    bool backgroundBusy() const { return background_.has_value() || subdivisions_.leaf() != nullptr; }
+    // Waits until the background work begun is done (the next frame takes it): for a caller that
+    // wants the view complete (a script, a test), not for a frame.
+    void waitForBackground();
 
     const CachedTile* tile(const QuadKey& key) const;
     const std::map<QuadKey, CachedTile>& tiles() const { return cache_; }
@@ -139,7 +171,8 @@ private:
         std::vector<const Quad*> ahead;      // visible leaves only the predicted viewer has, without a clean tile
         std::vector<const Quad*> madeAhead;  // the same, with one
     };
-    void refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, FrameReport& r);
+    // `background`: subdivisions of many elements made on the background thread (a frame budget).
+    void refine(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, bool background, FrameReport& r);
     FrameLeaves collectLeaves(glm::dvec3 viewer, std::optional<glm::dvec3> predicted, const QuadVisibility& visible,
                               FrameReport& r) const;
     // Marks the tiles of the shown quads and of their ancestors used; returns the shown quads
@@ -148,6 +181,27 @@ private:
     void keepMadeAhead(std::vector<const Quad*> madeAhead, std::size_t kept, glm::dvec3 predicted);
     std::size_t prefetch(std::vector<const Quad*> ahead, glm::dvec3 predicted, double budgetMs, Clock::time_point t0, FrameReport& r);
     void evict();
+    // Where a quad's appearance came from: made live, read from the pyramid, made live because the
+    // read failed, made live because an edit touched it below the pyramid's L.
+    enum Source : char { kLive = 0, kRead = 1, kFailed = 2, kTouched = 3 };
+    // The knobs one tile job reads (the session's, or the background thread's copies).
+    struct JobParams {
+        const AppearanceParams& appearance;
+        const ElevationParams& elevation;
+        const ObjectParams& objects;
+        const WorkClock& clock;
+        int border;  // of the appearance tiles read from the pyramid
+        PyramidReader* pyramid;
+    };
+    // One of quad q's two jobs into `t`, timed into the estimates: its appearance (read from the
+    // pyramid when `read`, made live when that fails; returns the source) or its elevation and
+    // objects (the objects on `objectDem()`'s window; returns kLive).
+    Source runJob(bool appearance, const Quad& q, const Quadtree& tree, const CurveDataCache& data, bool read, const Dem& dem,
+                  const std::function<const Dem&()>& objectDem, const JobParams& p, CachedTile& t, const CancelFlag* cancel);
+    // Puts the made tiles of the quad `key` into the cache (`window`: its streamed DEM window, if any).
+    void store(const QuadKey& key, CachedTile&& made, char source, const DemWindow* window, int objectLevel, FrameReport& r);
+    // Counts a quad's appearance made or read (PyramidUse).
+    void countPyramidUse(char source);
     // Makes the tiles of `quads` in order within the budget; returns how many were made.
     std::size_t produce(const std::vector<const Quad*>& quads, glm::dvec3 viewer, double budgetMs, Clock::time_point t0,
                         FrameReport& r);
@@ -166,6 +220,19 @@ private:
     void followDemStream(const CacheFit& fit, glm::dvec3 viewer, FrameReport& r);
     DemWindow demWindow(const Quad& q, glm::dvec3 viewer);
     DemWindow objectWindow(const Quad& q, glm::dvec3 viewer, const DemWindow& quadWindow);
+    // Background tiles (tile_loop_background.cpp). Whether `q`'s tiles are estimated to take
+    // longer than SessionParams::backgroundMs (`fromPyramid`: its appearance is a read).
+    bool slow(const Quad& q, bool fromPyramid) const;
+    // Begins q's tiles on the background thread (none may be in flight).
+    void startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewer, FrameReport& r);
+    // Takes the background tiles into the cache when they are done (dropped when stale).
+    void takeBackground(FrameReport& r);
+    // Stops the background tiles and waits, dropping them; returns how many (0 or 1).
+    std::size_t dropBackgroundTiles();
+    // Before refining for `viewers`: stops the background tiles when the refinement would drop
+    // their quad; marks them stale when their quad's vector data arrived (`arrived`).
+    void guardBackground(std::span<const glm::dvec3> viewers, FrameReport& r);
+    void staleBackground(const std::vector<QuadKey>& arrived);
 
     const SessionParams& params_;
     const Scene& scene_;
@@ -189,6 +256,22 @@ private:
     // when last touched.
     std::map<QuadKey, std::uint64_t> touched_, touchedBelow_;
     PyramidUse pyramidUse_;
+    // A quad's tiles being made on the background thread.
+    struct Background {
+        QuadKey key;
+        const Quad* quad = nullptr;
+        std::unique_ptr<CancelFlag> cancel;
+        struct Made {
+            CachedTile tile;
+            char source = 0;  // as produce()'s: live, read from the pyramid, failed there, touched
+        };
+        std::future<Made> result;
+        DemWindow window;             // with a streamed DEM: the quad's window
+        int objectLevel = -1;         // and the level its objects' was cut from
+        bool stale = false;           // its quad's vector data arrived since it began: dropped when done
+    };
+    std::optional<Background> background_;
+    BackgroundSubdivision subdivisions_{params_};
 };
 
 }  // namespace lacet

@@ -169,9 +169,18 @@ void Quadtree::clipAreaInto(LayerId layer, ElementId id, std::span<const Clipped
 }
 
 void Quadtree::subdivide(Quad& q) {
+    if (q.isLeaf()) attach(q, makeChildren(q));
+}
+
+void Quadtree::attach(Quad& q, QuadChildren children) {
     if (!q.isLeaf()) return;
+    for (auto& c : children) c->parent = &q;
+    q.children = std::move(children);
+}
+
+QuadChildren Quadtree::makeChildren(const Quad& q, const CancelFlag* cancel) const {
     const std::size_t nLayers = scene_.layers.size();
-    std::array<std::unique_ptr<Quad>, 4> kids;
+    QuadChildren kids;
     for (int k = 0; k < 4; ++k) {
         kids[k] = std::make_unique<Quad>();
         Quad& c = *kids[k];
@@ -179,7 +188,6 @@ void Quadtree::subdivide(Quad& q) {
         c.tx = q.tx * 2 + std::uint32_t(k & 1);
         c.ty = q.ty * 2 + std::uint32_t(k >> 1);
         c.bounds = childBounds(q, k);
-        c.parent = &q;
         c.layers.resize(nLayers);
     }
     // Kid by kid, so that the four can be filled on different threads (each writes only its
@@ -190,12 +198,15 @@ void Quadtree::subdivide(Quad& q) {
     auto fill = [&](Quad& kid) {
         std::vector<ClippedCurve> curves;
         std::vector<ClippedArea> areas;
+        std::size_t handled = 0;
         auto addCurves = [&](LayerId l, AncestorId a, std::span<const ClippedCurve> parent) {
+            if ((handled++ & 63) == 0) throwIfCancelled(cancel);
             curves.clear();
             clipCurveInto(l, a, parent, kid, curves);
             if (!curves.empty()) kid.layers[l].curves.emplace(a, std::move(curves));
         };
         auto addAreas = [&](LayerId l, ElementId a, std::span<const ClippedArea> parent) {
+            if ((handled++ & 63) == 0) throwIfCancelled(cancel);
             areas.clear();
             clipAreaInto(l, a, parent, kid, areas);
             if (!areas.empty()) kid.layers[l].areas.emplace(a, std::move(areas));
@@ -227,13 +238,12 @@ void Quadtree::subdivide(Quad& q) {
             }
         }
     };
-    std::size_t elements = 0;  // the root's graph is the scene's
-    for (const QuadLayer& ql : q.layers) elements += ql.curves.size() + ql.areas.size();
+    const std::size_t elements = elementCount(q);  // the root's graph is the scene's
     constexpr std::size_t kParallelElements = 256;
     if (!q.parent || elements >= kParallelElements) tbb::parallel_for(0, 4, [&](int k) { fill(*kids[std::size_t(k)]); });
     else
         for (auto& kid : kids) fill(*kid);
-    q.children = std::move(kids);
+    return kids;
 }
 
 void Quadtree::merge(Quad& q) {
@@ -270,7 +280,8 @@ bool Quadtree::wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, c
     return std::any_of(viewers.begin(), viewers.end(), [&](const glm::dvec3& v) { return wantsSubdivision(q, v, view); });
 }
 
-bool Quadtree::refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline) {
+bool Quadtree::refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                      ChildMaker* maker) {
     if (viewers.empty()) throw std::invalid_argument("Quadtree::refineForViewers(): no viewer");
     // First the tree as it stands: merge what no viewer wants, and find the wanted leaves.
     std::priority_queue<PendingSubdivision> pending;
@@ -293,25 +304,36 @@ bool Quadtree::refine(Quad& top, std::span<const glm::dvec3> viewers, const View
     }
     // Then the subdivisions, most wanted first; with a deadline, the first whatever the deadline
     // and each other one while it has not passed.
-    for (std::size_t done = 0; !pending.empty(); ++done) {
+    bool deferred = false;
+    for (std::size_t done = 0; !pending.empty();) {
         if (done > 0 && deadline && deadline->passed()) return false;
         Quad& q = *pending.top().quad;
         pending.pop();
-        subdivide(q);
+        if (!maker) {
+            subdivide(q);
+        } else if (std::optional<QuadChildren> kids = maker->children(*this, q)) {
+            attach(q, std::move(*kids));
+        } else {
+            deferred = true;
+            continue;
+        }
+        ++done;
         for (auto& c : q.children)
             if (wantedByAny(*c, viewers, view)) want(*c);
     }
-    return true;
+    return !deferred;
 }
 
-void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) { refine(root_, {&viewer, 1}, view, std::nullopt); }
+void Quadtree::refineForViewer(glm::dvec3 viewer, const ViewParams& view) { refine(root_, {&viewer, 1}, view, std::nullopt, nullptr); }
 
-bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline) {
-    return refine(root_, viewers, view, deadline);
+bool Quadtree::refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline,
+                                ChildMaker* maker) {
+    return refine(root_, viewers, view, deadline, maker);
 }
 
-bool Quadtree::refineSubtree(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline) {
-    return refine(top, viewers, view, deadline);
+bool Quadtree::refineSubtree(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, std::optional<Deadline> deadline,
+                             ChildMaker* maker) {
+    return refine(top, viewers, view, deadline, maker);
 }
 
 Quad& Quadtree::reach(int level, std::uint32_t tx, std::uint32_t ty) {

@@ -26,6 +26,7 @@
 #include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
+#include "model/cancel.h"
 #include "model/changeset.h"
 #include "model/clip_and_refine.h"
 #include "model/graph.h"
@@ -53,6 +54,13 @@ struct Quad {
     std::vector<QuadLayer> layers;  // one per scene layer; empty for the root
     bool isLeaf() const { return !children[0]; }
 };
+
+// The curves and areas of q's graph (what the time of its tiles and subdivision grows with).
+inline std::size_t elementCount(const Quad& q) {
+    std::size_t n = 0;
+    for (const QuadLayer& l : q.layers) n += l.curves.size() + l.areas.size();
+    return n;
+}
 
 // Id of the k-th procedural curve made from root curve `root`: kProceduralBit, then the root's id
 // (32 bits), then k (the low kProceduralIndexBits). A pure function of (root, k), so an UPDATE and
@@ -86,6 +94,18 @@ struct UpdateStats {
     std::vector<ElementRef> reexpanded;
 };
 
+using QuadChildren = std::array<std::unique_ptr<Quad>, 4>;
+class Quadtree;
+
+// Where a refinement gets the children of a leaf it subdivides (editor/background_subdivision.h:
+// those of a leaf of many elements made on another thread over several frames): the children
+// made by tree.makeChildren(q), or none yet (q stays a leaf for now: the subdivision is deferred).
+class ChildMaker {
+public:
+    virtual ~ChildMaker() = default;
+    virtual std::optional<QuadChildren> children(const Quadtree& tree, const Quad& q) = 0;
+};
+
 class Quadtree {
 public:
     // Validates the scene first (throws ValidationError).
@@ -101,6 +121,12 @@ public:
 
     // Makes the 4 children of a leaf from its graph (Alg. 4.1).
     void subdivide(Quad& q);
+    // The same in two steps: the children of q made from its graph, not attached (it reads only
+    // q's graph, the scene and the procedural curves: another thread may run it while q and the
+    // scene stay unchanged; `cancel` is checked between elements, model/cancel.h), then attached
+    // to q (nothing when q is no longer a leaf).
+    QuadChildren makeChildren(const Quad& q, const CancelFlag* cancel = nullptr) const;
+    void attach(Quad& q, QuadChildren children);
     // Deletes the descendants of q.
     void merge(Quad& q);
     // Subdivides every quad closer to the viewer than view.K times its size, down to
@@ -115,19 +141,23 @@ public:
     // has not passed (an already passed deadline makes exactly one), so that every call makes
     // progress whatever the budget, and what is deferred is what matters least. Returns false
     // when a subdivision was deferred, to be done by a later call; the tree the calls reach is the
-    // tree refineForViewer makes. Throws std::invalid_argument when `viewers` is empty.
+    // tree refineForViewer makes. Throws std::invalid_argument when `viewers` is empty. With a
+    // `maker`, the children of each leaf subdivided come from it (a leaf it has none for yet is
+    // deferred, and does not count as the call's first subdivision).
     bool refineForViewers(std::span<const glm::dvec3> viewers, const ViewParams& view,
-                          std::optional<Deadline> deadline = std::nullopt);
+                          std::optional<Deadline> deadline = std::nullopt, ChildMaker* maker = nullptr);
     // The same within the subtree of `top` (a quad of this tree): only its descendants are merged
     // or subdivided (§7: a part of the scene read for one quad, whose tree is refined below it).
     bool refineSubtree(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view,
-                       std::optional<Deadline> deadline = std::nullopt);
+                       std::optional<Deadline> deadline = std::nullopt, ChildMaker* maker = nullptr);
     // The quad (level, tx, ty), subdividing the leaves on the path from the root to it; throws
     // std::out_of_range when the level's grid has no such quad.
     Quad& reach(int level, std::uint32_t tx, std::uint32_t ty);
     // The rule of refineForViewer: q is below view.maxLevel and closer to `viewer` than view.K
     // times its size.
     static bool wantsSubdivision(const Quad& q, glm::dvec3 viewer, const ViewParams& view);
+    // Whether any of `viewers` wants q subdivided: refineForViewers merges a quad that none wants.
+    static bool wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view);
     // The distance from `viewer` (x, y, height above the ground) to q: to the nearest point of its
     // bounds, at the viewer's height above them (metres).
     static double viewDistance(const Quad& q, glm::dvec3 viewer);
@@ -191,8 +221,8 @@ private:
     void clipAreaInto(LayerId layer, ElementId id, std::span<const ClippedArea> parent, const Quad& child,
                       std::vector<ClippedArea>& out) const;
     void updateQuad(Quad& q, const Ancestors& removed, const Ancestors& added, UpdateStats& stats);
-    static bool wantedByAny(const Quad& q, std::span<const glm::dvec3> viewers, const ViewParams& view);
-    bool refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline);
+    bool refine(Quad& top, std::span<const glm::dvec3> viewers, const ViewParams& view, const std::optional<Deadline>& deadline,
+                ChildMaker* maker);
     void copyQuad(Quad& q, const Quad& like);
 
     const Scene& scene_;

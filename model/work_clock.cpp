@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <time.h>
+
 namespace lacet {
 
 using Clock = std::chrono::steady_clock;
@@ -17,6 +19,14 @@ constexpr double kMaxStepMs = 3.6e6;  // an hour: far beyond any budget, far bel
 }  // namespace
 
 WorkClock realClock() { return &Clock::now; }
+
+WorkClock threadCpuClock() {
+    return [] {
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        return Clock::time_point(std::chrono::duration_cast<Clock::duration>(std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec)));
+    };
+}
 
 WorkClock steppedClock(std::chrono::nanoseconds step) {
     if (step.count() <= 0) throw std::invalid_argument("steppedClock(): the step must be > 0 ns, not " + std::to_string(step.count()));

@@ -25,6 +25,9 @@ WorkClock steppedClock(std::chrono::nanoseconds step);
 // The same with the step in milliseconds (a script's or a command line's unit), at most an hour;
 // a step under a nanosecond is one nanosecond.
 WorkClock steppedClockMs(double stepMs);
+// The CPU time of the thread that reads it (on its own time line: compare readings of one thread
+// only): what work on a thread that others preempt costs (editor/background_work.h).
+WorkClock threadCpuClock();
 
 // Milliseconds between two readings.
 inline double msBetween(std::chrono::steady_clock::time_point t0, std::chrono::steady_clock::time_point t1) {

@@ -122,7 +122,9 @@ void capRingEnds(std::vector<Segment>& segments, const std::vector<ClippedCurve>
 }  // namespace
 
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
-                                 const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters) {
+                                 const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters,
+                                 const CancelFlag* cancel) {
+    throwIfCancelled(cancel);
     const TileGrid& grid = quadtree.params().grid();  // validated by the Quadtree
     const int n = grid.resolution;
     if (params.samples < 1 || params.samples > 8 || params.groundCells < 1 || !(params.groundCellMin >= 0.0))
@@ -168,6 +170,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         }
     };
     for (std::size_t i = 0; i < items.size(); ++i) {
+        throwIfCancelled(cancel);
         const DrawItem& it = items[i];
         const Layer& layer = scene.layers[it.layer];
         if (it.area) {
@@ -186,6 +189,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         scratch.keptStart.assign(last - i + 2, 0);
         const auto marked = [&](const Curve& c) { return layer.kind == LayerKind::Roads && roadHasMarkings(c.cls) && !(c.flags & kTunnel) && markingsShow; };
         for (std::size_t r = i; r <= last; ++r) {
+            if ((r & 63) == 0) throwIfCancelled(cancel);
             const Curve& c = quadtree.ancestorCurve(it.layer, items[r].id);
             if (c.flags & kTunnel) {  // under the ground but for its portals
                 drawTunnelPortals(canvas, segmentsOf(curves.at(items[r].id), &curveData, it.layer, items[r].id), c,
@@ -202,6 +206,7 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         while (lastArea + 1 < items.size() && items[lastArea + 1].area && items[lastArea + 1].layer == it.layer) ++lastArea;
         for (std::size_t r = last + 1; r <= lastArea; ++r) drawAreaItem(items[r]);
         for (std::size_t r = i; r <= last; ++r) {
+            if ((r & 63) == 0) throwIfCancelled(cancel);
             const AncestorId id = items[r].id;
             const Curve& c = quadtree.ancestorCurve(it.layer, id);
             if (layer.kind == LayerKind::Rivers) {

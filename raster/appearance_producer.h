@@ -30,6 +30,7 @@
 //   tile stores only its SurfaceShade.
 //
 // Thread safety: as produceElevation(); per-thread scratch buffers are reused between calls.
+// `cancel` (may be null) is checked between the elements drawn (model/cancel.h).
 
 #include <atomic>
 #include <vector>
@@ -38,6 +39,7 @@
 #include "model/quadtree.h"
 #include "raster/appearance_tile.h"
 #include "raster/dem.h"
+#include "model/cancel.h"
 
 namespace lacet {
 
@@ -67,7 +69,8 @@ struct AppearanceCounters {
 };
 
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
-                                 const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters = nullptr);
+                                 const Dem& dem, const AppearanceParams& params, AppearanceCounters* counters = nullptr,
+                                 const CancelFlag* cancel = nullptr);
 
 // The texels of a tile (stride * stride * 4 bytes): a copy of rgbm, or for a uniform tile the
 // texels the producer would have drawn.

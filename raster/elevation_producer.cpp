@@ -320,7 +320,9 @@ AxialRiver axialRiver(const Layer& layer, const Area& area) {
 
 
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
-                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters) {
+                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters,
+                               const CancelFlag* cancel) {
+    throwIfCancelled(cancel);
     const TileGrid& grid = quadtree.params().grid();  // validated by the Quadtree
     const int n = grid.elevationResolution;
     ElevationTile t;
@@ -343,7 +345,9 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
         if (l < params.hiddenLayers.size() && params.hiddenLayers[l]) continue;
         const LayerKind kind = scene.layers[l].kind;
         if (kind == LayerKind::Roads || kind == LayerKind::Rivers) {
+            std::size_t k = 0;
             for (const auto& [a, pieces] : quad.layers[l].curves) {
+                if ((k++ & 63) == 0) throwIfCancelled(cancel);
                 const Curve& c = quadtree.ancestorCurve(l, a);
                 if (c.flags & (kBridge | kTunnel)) {  // the terrain under a deck or over a tunnel stays as it is
                     if (counters) ++counters->curvesOnStructures;
@@ -361,6 +365,7 @@ ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const
             // Lakes, and river areas without an axial curve: flat at the lowest height of their
             // border. River areas with one: its descending profile at the nearest point.
             for (const auto& [a, pieces] : quad.layers[l].areas) {
+                throwIfCancelled(cancel);
                 const Area& area = scene.layers[l].areas[a];
                 const double wf = double(area.wf);
                 if (kind == LayerKind::Rivers && area.axial != kNoElement) {

@@ -21,7 +21,8 @@
 // no footprint: the terrain under a deck and over a tunnel stays as it is.
 //
 // Thread safety: produce() may run for many quads at once; it only reads the quadtree and the
-// DEM, and asks the CurveDataCache (which is thread-safe) for u and z-profiles.
+// DEM, and asks the CurveDataCache (which is thread-safe) for u and z-profiles. `cancel` (may be
+// null) is checked between the elements drawn (model/cancel.h).
 
 #include <atomic>
 #include <vector>
@@ -30,6 +31,7 @@
 #include "model/quadtree.h"
 #include "raster/dem.h"
 #include "raster/elevation_tile.h"
+#include "model/cancel.h"
 
 namespace lacet {
 
@@ -61,6 +63,7 @@ struct AxialRiver {
 AxialRiver axialRiver(const Layer& layer, const Area& area);
 
 ElevationTile produceElevation(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
-                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters = nullptr);
+                               const Dem& dem, const ElevationParams& params, ElevationCounters* counters = nullptr,
+                               const CancelFlag* cancel = nullptr);
 
 }  // namespace lacet

@@ -315,5 +315,72 @@ TEST(Quadtree, UnderAPassedDeadlineQuadsNoLongerWantedAreStillMerged) {
     EXPECT_THROW(qt.refineForViewers({}, view), std::invalid_argument);
 }
 
+// A ChildMaker that has no children for a leaf the first `delay` times it is asked (they are
+// "being made"), then gives makeChildren's; it records what it was asked.
+class DelayingMaker final : public ChildMaker {
+public:
+    explicit DelayingMaker(int delay) : delay_(delay) {}
+    std::optional<QuadChildren> children(const Quadtree& tree, const Quad& q) override {
+        ++asked;
+        if (++seen_[{q.level, q.tx, q.ty}] <= delay_) return std::nullopt;
+        ++given;
+        return tree.makeChildren(q);
+    }
+    std::size_t asked = 0, given = 0;
+
+private:
+    int delay_;
+    std::map<std::tuple<int, std::uint32_t, std::uint32_t>, int> seen_;
+};
+
+// Issue 24 (no slow frame): subdivisions whose children are made elsewhere (on a background
+// thread in the editor) are deferred until they are given, without counting as the call's first
+// subdivision; the calls reach the tree refineForViewer makes, piece for piece.
+TEST(Quadtree, ARefinementWhoseChildrenComeLaterReachesTheSameTree) {
+    const Scene scene = makeSyntheticScene({7, 800});
+    const Vec2 c = scene.extent.center();
+    const glm::dvec3 viewers[1] = {{c.x + 37.0, c.y - 11.0, 15.0}};
+    const ViewParams view{.maxLevel = 12};
+    Quadtree complete(scene), later(scene);
+    complete.refineForViewer(viewers[0], view);
+    DelayingMaker maker(2);
+    const WorkClock clock = steppedClock(std::chrono::microseconds(1));
+    std::size_t calls = 0, deferred = 0;
+    for (bool done = false; !done && calls < 10000; ++calls) {
+        done = later.refineForViewers(viewers, view, Deadline{clock, clock()}, &maker);
+        deferred += !done;
+    }
+    EXPECT_GT(deferred, 0u);
+    EXPECT_EQ(maker.given, (complete.quadCount() - 1) / 4);
+    EXPECT_GE(maker.asked, 3 * maker.given);  // each leaf asked until its children came
+    const QuadtreeDiff diff = compareQuadtrees(complete, later);
+    EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details.front());
+    EXPECT_EQ(complete.quadCount(), later.quadCount());
+}
+
+// makeChildren leaves the leaf as it is, and attach() gives the graph subdivide() makes; a
+// cancelled makeChildren throws WorkCancelled and a later one makes the same children.
+TEST(Quadtree, ChildrenMadeApartAndAttachedAreSubdividesAndACancelledMakingThrows) {
+    const Scene scene = makeSyntheticScene({9, 600});
+    Quadtree a(scene), b(scene);
+    a.subdivide(a.root());
+    b.subdivide(b.root());
+    Quad& leaf = *b.root().children[0];
+    CancelFlag cancel{true};
+    EXPECT_THROW((void)b.makeChildren(leaf, &cancel), WorkCancelled);
+    EXPECT_TRUE(leaf.isLeaf());
+    QuadChildren kids = b.makeChildren(leaf);
+    EXPECT_TRUE(leaf.isLeaf());
+    b.attach(leaf, std::move(kids));
+    a.subdivide(*a.root().children[0]);
+    const QuadtreeDiff diff = compareQuadtrees(a, b);
+    EXPECT_EQ(diff.mismatches, 0u) << (diff.details.empty() ? "" : diff.details.front());
+    EXPECT_EQ(a.quadCount(), b.quadCount());
+    for (const auto& kid : leaf.children) EXPECT_EQ(kid->parent, &leaf);
+    // Attaching to a quad that is no longer a leaf changes nothing.
+    b.attach(leaf, b.makeChildren(leaf));
+    EXPECT_EQ(a.quadCount(), b.quadCount());
+}
+
 }  // namespace
 }  // namespace lacet

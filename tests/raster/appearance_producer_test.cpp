@@ -90,6 +90,32 @@ TEST(AppearanceShading, BlocksAreTheColoursOfTheirPoints) {
         }
 }
 
+// A call cancelled from another thread (model/cancel.h: the editor's background tiles) throws
+// WorkCancelled, for the appearance and the elevation alike, and leaves the per-thread buffers
+// ready: the next call on the same thread makes the same tile as before.
+TEST(AppearanceProducer, ACancelledCallThrowsAndTheNextCallMakesTheSameTile) {
+    World w(4, 2000);
+    Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
+    const Vec2 c = w.scene.extent.center();
+    qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 6});
+    CurveDataCache data(qt, w.heights);
+    std::size_t tried = 0;
+    qt.forEachQuad([&](const Quad& q) {
+        if (q.level != 3 || elementCount(q) < 64) return;
+        const AppearanceTile before = produceAppearance(q, qt, data, w.dem, {});
+        const ElevationTile elevationBefore = produceElevation(q, qt, data, w.dem, {});
+        CancelFlag cancel{true};
+        EXPECT_THROW((void)produceAppearance(q, qt, data, w.dem, {}, nullptr, &cancel), WorkCancelled);
+        EXPECT_THROW((void)produceElevation(q, qt, data, w.dem, {}, nullptr, &cancel), WorkCancelled);
+        EXPECT_TRUE(produceAppearance(q, qt, data, w.dem, {}) == before);
+        EXPECT_TRUE(produceElevation(q, qt, data, w.dem, {}) == elevationBefore);
+        cancel = false;
+        EXPECT_TRUE(produceAppearance(q, qt, data, w.dem, {}, nullptr, &cancel) == before);
+        ++tried;
+    });
+    EXPECT_GT(tried, 3u);
+}
+
 TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
     World w(2, 3000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 128}});

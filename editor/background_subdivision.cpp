@@ -1,0 +1,77 @@
+#include "editor/background_subdivision.h"
+
+#include "editor/background_work.h"
+
+#include <chrono>
+#include <exception>
+
+#include <tbb/task_arena.h>
+
+namespace lacet {
+namespace {
+
+double msSince(const WorkClock& clock, WorkClock::result_type t0) { return msBetween(t0, clock()); }
+
+}  // namespace
+
+std::optional<QuadChildren> BackgroundSubdivision::children(const Quadtree& tree, const Quad& q) {
+    if (job_ && job_->quad == &q && job_->tree == &tree) {
+        job_->asked = true;
+        if (job_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return std::nullopt;
+        Job job = std::move(*job_);
+        job_.reset();
+        return job.result.get();  // an error surfaces here, as a subdivision's at once would
+    }
+    const std::size_t elements = elementCount(q);  // the root's (the scene's) counts none: made at once
+    const WorkClock& clock = params_.clock;
+    if (!(params_.backgroundMs > 0.0) || estimate_.predict(elements) <= params_.backgroundMs) {
+        const auto t0 = clock();
+        QuadChildren kids = tree.makeChildren(q);
+        if (q.parent) estimate_.add(elements, msSince(clock, t0));  // the root's (the scene's) says nothing of the others'
+        return kids;
+    }
+    if (job_ && (job_->asked || job_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
+        return std::nullopt;  // one at a time: q waits
+    quiesce();  // children made for a leaf not asked for again
+    Job job;
+    job.tree = &tree;
+    job.quad = &q;
+    job.asked = true;
+    job.cancel = std::make_unique<CancelFlag>(false);
+    job.result = launchBackground([this, &tree, &q, cancel = job.cancel.get(), elements] {
+        const WorkClock cpu = threadCpuClock();
+        const auto t0 = cpu();
+        // An arena of its own: the frame's parallel loops never pick up this subdivision's tasks
+        // (nor it theirs) while they wait for their own.
+        tbb::task_arena arena(1);
+        QuadChildren kids = arena.execute([&] { return tree.makeChildren(q, cancel); });
+        estimate_.add(elements, msSince(cpu, t0));
+        return kids;
+    });
+    job_ = std::move(job);
+    ++begun_;
+    return std::nullopt;
+}
+
+std::size_t BackgroundSubdivision::settle() {
+    if (!job_) return 0;
+    if (job_->asked) {
+        job_->asked = false;
+        return 0;
+    }
+    return quiesce();
+}
+
+std::size_t BackgroundSubdivision::quiesce() {
+    if (!job_) return 0;
+    job_->cancel->store(true);
+    try {
+        job_->result.get();
+    } catch (const std::exception&) {
+        // Cancelled (WorkCancelled), or failed: dropped either way.
+    }
+    job_.reset();
+    return 1;
+}
+
+}  // namespace lacet

@@ -1,0 +1,109 @@
+// The live loop's background tiles (editor/tile_loop.h; SessionParams::backgroundMs, issue 24:
+// no slow frame): a slow quad's tiles made on a thread of their own while frames go on.
+#include <algorithm>
+#include <chrono>
+
+#include "editor/tile_loop.h"
+
+#include "editor/background_work.h"
+
+namespace lacet {
+
+bool TileLoop::slow(const Quad& q, bool fromPyramid) const {
+    const std::size_t x = elementCount(q);
+    const double appearance = fromPyramid ? estimates_[2].predict(0) : estimates_[0].predict(x);
+    return std::max(appearance, estimates_[1].predict(x)) > params_.backgroundMs;
+}
+
+void TileLoop::startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewer, FrameReport& r) {
+    Background b;
+    b.key = keyOf(q);
+    b.quad = &q;
+    b.cancel = std::make_unique<CancelFlag>(false);
+    // The DEM windows are cut now (the stream's requests follow the frames).
+    std::shared_ptr<const Dem> ground, objectGround;
+    if (stream_) {
+        b.window = demWindow(q, viewer);
+        const DemWindow w = objectWindow(q, viewer, b.window);
+        b.objectLevel = w.level;
+        ground = b.window.dem;
+        objectGround = w.dem;
+    }
+    // What the thread reads besides the quad: copies of the session's knobs (they may change
+    // between frames), and the quad's tree and curve data found now (the forest's maps change).
+    struct Inputs {
+        AppearanceParams appearance;
+        ElevationParams elevation;
+        ObjectParams objects;
+        WorkClock clock;  // the thread's CPU time: its waits at idle priority are not its tiles' cost
+        int border = 0;
+        std::shared_ptr<PyramidReader> pyramid;
+        const Quadtree* tree = nullptr;
+        const CurveDataCache* data = nullptr;
+        std::shared_ptr<const Dem> ground, objectGround;  // null: the DEM in memory
+    };
+    auto in = std::make_shared<Inputs>(Inputs{params_.appearance, params_.elevation, params_.objects, threadCpuClock(),
+                                              params_.refine.appearanceBorder, pyramid_, &forest_->treeOf(q), &forest_->dataOf(q),
+                                              std::move(ground), std::move(objectGround)});
+    const Source preset = !fromPyramid && pyramid_ && pyramid_->serves(q.level) ? kTouched : kLive;
+    const CancelFlag* cancel = b.cancel.get();
+    b.result = launchBackground([this, in, quad = &q, fromPyramid, preset, cancel] {
+        const JobParams p{in->appearance, in->elevation, in->objects, in->clock, in->border, in->pyramid.get()};
+        const Dem& dem = in->ground ? *in->ground : dem_;
+        const Dem& objects = in->objectGround ? *in->objectGround : dem;
+        const auto objectDem = [&]() -> const Dem& { return objects; };
+        Background::Made m;
+        const Source s = runJob(true, *quad, *in->tree, *in->data, fromPyramid, dem, objectDem, p, m.tile, cancel);
+        m.source = s != kLive ? s : preset;
+        runJob(false, *quad, *in->tree, *in->data, false, dem, objectDem, p, m.tile, cancel);
+        return m;
+    });
+    background_ = std::move(b);
+    ++r.backgroundStarted;
+}
+
+void TileLoop::takeBackground(FrameReport& r) {
+    if (!background_ || background_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    Background b = std::move(*background_);
+    background_.reset();
+    Background::Made m = b.result.get();  // a producer's error surfaces here, as in a frame's own production
+    countPyramidUse(m.source);
+    if (b.stale) {
+        ++r.backgroundDropped;
+        return;
+    }
+    store(b.key, std::move(m.tile), m.source, stream_ ? &b.window : nullptr, b.objectLevel, r);
+    ++r.backgroundTaken;
+}
+
+void TileLoop::waitForBackground() {
+    if (background_) background_->result.wait();
+    subdivisions_.wait();
+}
+
+std::size_t TileLoop::quiesce() { return subdivisions_.quiesce() + dropBackgroundTiles(); }
+
+std::size_t TileLoop::dropBackgroundTiles() {
+    if (!background_) return 0;
+    background_->cancel->store(true);
+    try {
+        background_->result.get();
+    } catch (const std::exception&) {
+        // Cancelled (WorkCancelled), or failed: dropped either way; a frame that wants the
+        // quad makes it again.
+    }
+    background_.reset();
+    return 1;
+}
+
+void TileLoop::guardBackground(std::span<const glm::dvec3> viewers, FrameReport& r) {
+    if (background_ && !forest_->keeps(*background_->quad, viewers, params_.view)) r.backgroundDropped += dropBackgroundTiles();
+    if (const Quad* leaf = subdivisions_.leaf(); leaf && !forest_->keeps(*leaf, viewers, params_.view))
+        r.backgroundDropped += subdivisions_.quiesce();
+}
+
+void TileLoop::staleBackground(const std::vector<QuadKey>& arrived) {
+    if (background_ && std::find(arrived.begin(), arrived.end(), background_->key) != arrived.end()) background_->stale = true;
+}
+
+}  // namespace lacet
