@@ -45,6 +45,7 @@ const glm::vec4 kOnCurve(1.0f, 0.85f, 0.1f, 1.0f), kControl(0.2f, 0.9f, 1.0f, 1.
 
 EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : options_(options) {
     sessionParams_.cacheTiles = options.cacheTiles;
+    sessionParams_.backgroundMs = options.backgroundMs >= 0.0 ? options.backgroundMs : options.script.empty() ? kInteractiveBackgroundMs : 0.0;
     if (!glfwInit()) throw std::runtime_error("lacet edit: cannot initialise GLFW (no display?)");
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 1);

@@ -65,6 +65,10 @@ struct EditorOptions {
     // Frame-rate-adaptive K (editor/adaptive_quality.h): the frame time aimed at (ms; 0: K fixed).
     // Off in scripted sessions, which must draw the same frames on every machine.
     double adaptiveMs = 1000.0 / 30.0;
+    // Slow quads' tiles and subdivisions made on a background thread (SessionParams::backgroundMs;
+    // 0: in the frames). < 0: kInteractiveBackgroundMs, but 0 in scripted sessions, for the same
+    // reason (a script that asks for it gets it).
+    double backgroundMs = -1.0;
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (io/dem_stream.h)
     // > 0: a scene file's vector data read lazily within this many MiB (editor/lazy_forest.h; its
     // parts quads of `partLevel`, -1: from LazyParams::partQuadM), the scene viewed, not edited.
