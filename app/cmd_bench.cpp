@@ -77,6 +77,9 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--curves", fo->curves, "Curves of the synthetic scene (600000: the paper's scale)");
     flyover->add_option("--seed", fo->seed, "Random seed");
     flyover->add_option("--frames", fo->frames, "Frames of the flight");
+    flyover->add_option("--runs", fo->runs, "Only these runs: plain, prefetch, refine-budget, cache-784, no-culling, pyramid")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"plain", "prefetch", "refine-budget", "cache-784", "no-culling", "pyramid"}));
     flyover->add_option("--fps", fo->fps, "Frames a second the flight is paced at, as a window's (0: unpaced)")->check(CLI::NonNegativeNumber);
     flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');
     flyover->add_option("--prefetch-frames", fo->prefetchFrames, "How far ahead (frames) the prefetching viewer is");

@@ -85,7 +85,7 @@ void addEditCommand(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--background-ms", o->editor.backgroundMs,
                     "Make quads whose tiles or subdivision would take longer than this (ms) on a background thread, so that no "
-                    "frame waits for them (0: in the frames; default 4, and 0 in scripted sessions)");
+                    "frame waits for them (0: in the frames; default 1, and 0 in scripted sessions)");
     cmd->add_option("--dem-budget", o->editor.demBudgetMiB, "Memory for the blocks of a streamed DEM (MiB)")->check(CLI::PositiveNumber);
     cmd->add_option("--cache-tiles", o->editor.cacheTiles,
                     "Tile pairs the cache keeps; past it the farthest quads are shown in place of their children")

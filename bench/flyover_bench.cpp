@@ -204,6 +204,14 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         double refineBudget;
         std::size_t cacheTiles = SessionParams{}.cacheTiles;
         bool pyramid = false;
+        // What the run is (--runs picks them): the plain flight, with prefetching, with a refine
+        // budget, with the paper's cache of 784 tiles, without culling, with a pyramid.
+        std::string name() const {
+            if (!cull) return "no-culling";
+            if (refineBudget > 0.0) return "refine-budget";
+            if (cacheTiles != SessionParams{}.cacheTiles) return "cache-784";
+            return prefetch ? "prefetch" : pyramid ? "pyramid" : "plain";
+        }
     };
     // The pyramid: given, or built for the scene into a temporary file removed at the end.
     std::shared_ptr<PyramidReader> pyramid;
@@ -263,6 +271,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         for (double budget : o.budgetsMs) plan.push_back({budget, false, true, 0.0, 784});
         plan.push_back({0.0, false, false, 0.0});  // for comparison: every leaf of the view, no culling
     }
+    if (!o.runs.empty())
+        std::erase_if(plan, [&](const Run& r) { return std::find(o.runs.begin(), o.runs.end(), r.name()) == o.runs.end(); });
     const ViewParams view;
     for (const Run& run : plan) {
         const double budget = run.budget;
@@ -393,7 +403,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         if (adaptive)
             adaptiveJson = {{"target_ms", o.adaptiveTargetMs}, {"K_min", kMin}, {"K_mean", kSum / double(ms.size())},
                             {"lowered", adaptive->lowered()}, {"raised", adaptive->raised()}};
-        runs.push_back({{"budget_ms", budget},
+        runs.push_back({{"run", run.name()},
+                        {"budget_ms", budget},
                         {"dem_stream", dem},
                         {"lazy", lazyJson},
                         {"session_open_ms", openMs},

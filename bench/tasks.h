@@ -79,6 +79,9 @@ struct FlyoverBenchOptions {
     // before, as a window's would: the background threads run between frames); 0: unpaced, each
     // frame right after the last (what a frame's own work costs, when no work is left to a thread).
     double fps = 60.0;
+    // The runs flown (FlyoverBench's names: plain, prefetch, refine-budget, cache-784, no-culling,
+    // pyramid); empty: all that apply.
+    std::vector<std::string> runs;
     double startAltitude = 5000.0, endAltitude = 5.0;
     std::vector<double> budgetsMs{0.0, 10.0};
     int prefetchFrames = 25;  // how far ahead the predicted viewer is, in frames (the paper: 25)

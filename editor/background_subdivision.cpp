@@ -24,21 +24,26 @@ std::optional<QuadChildren> BackgroundSubdivision::children(const Quadtree& tree
     }
     const std::size_t elements = elementCount(q);  // the root's (the scene's) counts none: made at once
     const WorkClock& clock = params_.clock;
-    if (!(params_.backgroundMs > 0.0) || estimate_.predict(elements) <= params_.backgroundMs) {
+    // At once: without the knob, the root (the scene's graph: nothing to show meanwhile), or a leaf
+    // within what was measured (a larger one is not trusted to the line's extrapolation) and
+    // estimated to be quick.
+    if (!(params_.backgroundMs > 0.0) || !q.parent ||
+        (estimate_.covers(elements) && estimate_.predict(elements) <= params_.backgroundMs)) {
         const auto t0 = clock();
         QuadChildren kids = tree.makeChildren(q);
         if (q.parent) estimate_.add(elements, msSince(clock, t0));  // the root's (the scene's) says nothing of the others'
         return kids;
     }
-    if (job_ && (job_->asked || job_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready))
-        return std::nullopt;  // one at a time: q waits
-    quiesce();  // children made for a leaf not asked for again
+    // One at a time: q waits (children made for a leaf that a whole refinement no longer asks for
+    // are dropped by settle(), not here: the leaf may come later in this one).
+    if (job_) return std::nullopt;
     Job job;
     job.tree = &tree;
     job.quad = &q;
     job.asked = true;
     job.cancel = std::make_unique<CancelFlag>(false);
-    job.result = launchBackground([this, &tree, &q, cancel = job.cancel.get(), elements] {
+    if (!workers_) workers_ = std::make_unique<BackgroundWorkers>(1);
+    job.result = workers_->submit([this, &tree, &q, cancel = job.cancel.get(), elements] {
         const WorkClock cpu = threadCpuClock();
         const auto t0 = cpu();
         // An arena of its own: the frame's parallel loops never pick up this subdivision's tasks
@@ -66,7 +71,12 @@ std::size_t BackgroundSubdivision::quiesce() {
     if (!job_) return 0;
     job_->cancel->store(true);
     try {
-        job_->result.get();
+        // Made before the flag was seen: freed on the worker (the children of a coarse leaf hold
+        // a quarter of its elements each; freeing them took a frame tens of milliseconds).
+        auto made = std::make_shared<QuadChildren>(job_->result.get());
+        workers_->submit([made] {
+            for (auto& kid : *made) kid.reset();
+        });
     } catch (const std::exception&) {
         // Cancelled (WorkCancelled), or failed: dropped either way.
     }

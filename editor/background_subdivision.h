@@ -5,7 +5,8 @@
 // count, editor/production_estimate.h) to take longer than the knob gets its children made by
 // Quadtree::makeChildren on a thread of its own, one leaf at a time, and stays a leaf (its
 // subdivision deferred) until a refinement finds them made and attaches them; the others are
-// subdivided at once, timed into the estimate. Children made for a leaf that the next refinement
+// subdivided at once, timed into the estimate (a leaf larger than any measured is not trusted to
+// it: its children are made there). Children made for a leaf that the next refinement
 // no longer subdivides are dropped.
 //
 // The thread reads the leaf's graph, the scene and the procedural curves: the loop stops it
@@ -18,6 +19,7 @@
 #include <memory>
 #include <optional>
 
+#include "editor/background_work.h"
 #include "editor/production_estimate.h"
 #include "editor/session_params.h"
 #include "model/quadtree.h"
@@ -58,6 +60,7 @@ private:
     std::optional<Job> job_;
     ProductionEstimate estimate_;  // a subdivision's time by the leaf's elements
     std::size_t begun_ = 0;
+    std::unique_ptr<BackgroundWorkers> workers_;  // one thread, made at the first job
 };
 
 }  // namespace lacet

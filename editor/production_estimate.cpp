@@ -23,6 +23,13 @@ void ProductionEstimate::add(std::size_t elements, double ms) {
     sy_ = kDecay * sy_ + ms;
     sxx_ = kDecay * sxx_ + x * x;
     sxy_ = kDecay * sxy_ + x * ms;
+    any_ = true;
+    largest_ = std::max(largest_, elements);
+}
+
+bool ProductionEstimate::covers(std::size_t elements) const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return any_ && elements <= largest_;
 }
 
 }  // namespace lacet

@@ -21,11 +21,17 @@ public:
     double predict(std::size_t elements) const;
     // A tile of `elements` took `ms`.
     void add(std::size_t elements, double ms);
+    // Whether a tile of `elements` is within what was measured (at most the largest sample's): a
+    // prediction beyond it extrapolates the line, and a coarse quad of ten times more elements
+    // than any seen yet may cost far more than it says.
+    bool covers(std::size_t elements) const;
 
 private:
     static constexpr double kDecay = 0.995;  // weight of the previous samples at each new one
     mutable std::mutex mutex_;
     double w_ = 0.0, sx_ = 0.0, sy_ = 0.0, sxx_ = 0.0, sxy_ = 0.0;  // weighted sums
+    bool any_ = false;
+    std::size_t largest_ = 0;  // the most elements of a sample
 };
 
 }  // namespace lacet

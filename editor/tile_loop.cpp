@@ -210,9 +210,10 @@ std::size_t TileLoop::produce(const std::vector<const Quad*>& all, glm::dvec3 vi
     for (const Quad* q : all) {
         const bool read = readsPyramid(*q);
         if (budgetMs > 0.0 && params_.backgroundMs > 0.0) {
-            if (background_ && background_->key == keyOf(*q)) continue;
+            const QuadKey key = keyOf(*q);
+            if (std::any_of(background_.begin(), background_.end(), [&](const Background& b) { return b.key == key; })) continue;
             if (slow(*q, read)) {
-                if (!background_) startBackground(*q, read, viewer, r);
+                if (background_.size() < backgroundLanes()) startBackground(*q, read, viewer, r);
                 continue;
             }
         }

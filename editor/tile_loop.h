@@ -31,7 +31,7 @@
 // Background tiles (tile_loop_background.cpp; SessionParams::backgroundMs, issue 24: no slow
 // frame): with a frame budget, a quad whose tiles are estimated to take longer than the knob (a
 // coarse quad of thousands of elements) is not made in the frame but on a background thread,
-// one quad at a time, over as many frames as it takes; its nearest ancestor's tile is shown
+// one quad a thread (SessionParams::backgroundThreads), over as many frames as it takes; its nearest ancestor's tile is shown
 // meanwhile and the frame that finds it done takes it into the cache. The thread reads the quad,
 // its tree and curve data while frames go on: what could change them stops it first (quiesce():
 // an edit, a new tree, a layer shown or hidden; before a refinement that would merge the quad
@@ -56,6 +56,7 @@
 #include <glm/vec3.hpp>
 
 #include "editor/background_subdivision.h"
+#include "editor/background_work.h"
 #include "editor/cache_fit.h"
 #include "editor/draw_plan.h"
 #include "editor/production_estimate.h"
@@ -142,11 +143,11 @@ public:
     // Stops the background tiles and subdivision, dropping them (the threads check their cancel
     // flags between the elements they handle), and waits for the threads: call before anything
     // changes the scene, the forest's trees or their curve data (an edit, an undo, a new tree).
-    // Returns how many were dropped (0 to 2).
+    // Returns how many were dropped (the tiles stopped and the subdivision).
     std::size_t quiesce();
     // Whether a quad's tiles or children are being made in the background, or wait for a frame
     // to take them.
-    bool backgroundBusy() const { return background_.has_value() || subdivisions_.leaf() != nullptr; }
+    bool backgroundBusy() const { return !background_.empty() || subdivisions_.leaf() != nullptr; }
     // Waits until the background work begun is done (the next frame takes it): for a caller that
     // wants the view complete (a script, a test), not for a frame.
     void waitForBackground();
@@ -223,11 +224,11 @@ private:
     // Background tiles (tile_loop_background.cpp). Whether `q`'s tiles are estimated to take
     // longer than SessionParams::backgroundMs (`fromPyramid`: its appearance is a read).
     bool slow(const Quad& q, bool fromPyramid) const;
-    // Begins q's tiles on the background thread (none may be in flight).
+    // Begins q's tiles on a background thread (a lane must be free).
     void startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewer, FrameReport& r);
     // Takes the background tiles into the cache when they are done (dropped when stale).
     void takeBackground(FrameReport& r);
-    // Stops the background tiles and waits, dropping them; returns how many (0 or 1).
+    // Stops the background tiles and waits, dropping them; returns how many.
     std::size_t dropBackgroundTiles();
     // Before refining for `viewers`: stops the background tiles when the refinement would drop
     // their quad; marks them stale when their quad's vector data arrived (`arrived`).
@@ -270,7 +271,9 @@ private:
         int objectLevel = -1;         // and the level its objects' was cut from
         bool stale = false;           // its quad's vector data arrived since it began: dropped when done
     };
-    std::optional<Background> background_;
+    std::vector<Background> background_;  // at most backgroundLanes()
+    std::unique_ptr<BackgroundWorkers> workers_;  // their threads, made at the first
+    std::size_t backgroundLanes() const;  // quads whose tiles are made in the background at once
     BackgroundSubdivision subdivisions_{params_};
 };
 

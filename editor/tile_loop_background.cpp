@@ -2,6 +2,7 @@
 // no slow frame): a slow quad's tiles made on a thread of their own while frames go on.
 #include <algorithm>
 #include <chrono>
+#include <thread>
 
 #include "editor/tile_loop.h"
 
@@ -10,9 +11,13 @@
 namespace lacet {
 
 bool TileLoop::slow(const Quad& q, bool fromPyramid) const {
+    if (!q.parent) return false;  // the root: no tile stands in for it
     const std::size_t x = elementCount(q);
-    const double appearance = fromPyramid ? estimates_[2].predict(0) : estimates_[0].predict(x);
-    return std::max(appearance, estimates_[1].predict(x)) > params_.backgroundMs;
+    const ProductionEstimate& a = fromPyramid ? estimates_[2] : estimates_[0];
+    const std::size_t ax = fromPyramid ? 0 : x;
+    // A quad larger than any measured yet is not trusted to the line's extrapolation.
+    if (!a.covers(ax) || !estimates_[1].covers(x)) return true;
+    return std::max(a.predict(ax), estimates_[1].predict(x)) > params_.backgroundMs;
 }
 
 void TileLoop::startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewer, FrameReport& r) {
@@ -47,7 +52,8 @@ void TileLoop::startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewe
                                               std::move(ground), std::move(objectGround)});
     const Source preset = !fromPyramid && pyramid_ && pyramid_->serves(q.level) ? kTouched : kLive;
     const CancelFlag* cancel = b.cancel.get();
-    b.result = launchBackground([this, in, quad = &q, fromPyramid, preset, cancel] {
+    if (!workers_) workers_ = std::make_unique<BackgroundWorkers>(backgroundLanes());
+    b.result = workers_->submit([this, in, quad = &q, fromPyramid, preset, cancel] {
         const JobParams p{in->appearance, in->elevation, in->objects, in->clock, in->border, in->pyramid.get()};
         const Dem& dem = in->ground ? *in->ground : dem_;
         const Dem& objects = in->objectGround ? *in->objectGround : dem;
@@ -58,52 +64,78 @@ void TileLoop::startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewe
         runJob(false, *quad, *in->tree, *in->data, false, dem, objectDem, p, m.tile, cancel);
         return m;
     });
-    background_ = std::move(b);
+    background_.push_back(std::move(b));
     ++r.backgroundStarted;
 }
 
 void TileLoop::takeBackground(FrameReport& r) {
-    if (!background_ || background_->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
-    Background b = std::move(*background_);
-    background_.reset();
-    Background::Made m = b.result.get();  // a producer's error surfaces here, as in a frame's own production
-    countPyramidUse(m.source);
-    if (b.stale) {
-        ++r.backgroundDropped;
-        return;
+    for (auto it = background_.begin(); it != background_.end();) {
+        if (it->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+            ++it;
+            continue;
+        }
+        Background b = std::move(*it);
+        it = background_.erase(it);
+        Background::Made m = b.result.get();  // a producer's error surfaces here, as in a frame's own production
+        countPyramidUse(m.source);
+        if (b.stale) {
+            ++r.backgroundDropped;
+            continue;
+        }
+        store(b.key, std::move(m.tile), m.source, stream_ ? &b.window : nullptr, b.objectLevel, r);
+        ++r.backgroundTaken;
     }
-    store(b.key, std::move(m.tile), m.source, stream_ ? &b.window : nullptr, b.objectLevel, r);
-    ++r.backgroundTaken;
 }
 
 void TileLoop::waitForBackground() {
-    if (background_) background_->result.wait();
+    for (Background& b : background_) b.result.wait();
     subdivisions_.wait();
 }
 
 std::size_t TileLoop::quiesce() { return subdivisions_.quiesce() + dropBackgroundTiles(); }
 
-std::size_t TileLoop::dropBackgroundTiles() {
-    if (!background_) return 0;
-    background_->cancel->store(true);
+namespace {
+
+// Stops a background job and waits for it; what it made is dropped.
+template <class Job>
+void stop(Job& job) {
+    job.cancel->store(true);
     try {
-        background_->result.get();
+        job.result.get();
     } catch (const std::exception&) {
-        // Cancelled (WorkCancelled), or failed: dropped either way; a frame that wants the
-        // quad makes it again.
+        // Cancelled (WorkCancelled), or failed: dropped either way; a frame that wants the quad
+        // makes it again.
     }
-    background_.reset();
-    return 1;
+}
+
+}  // namespace
+
+std::size_t TileLoop::dropBackgroundTiles() {
+    for (Background& b : background_) b.cancel->store(true);  // all at once, then wait
+    for (Background& b : background_) stop(b);
+    const std::size_t n = background_.size();
+    background_.clear();
+    return n;
 }
 
 void TileLoop::guardBackground(std::span<const glm::dvec3> viewers, FrameReport& r) {
-    if (background_ && !forest_->keeps(*background_->quad, viewers, params_.view)) r.backgroundDropped += dropBackgroundTiles();
+    std::erase_if(background_, [&](Background& b) {
+        if (forest_->keeps(*b.quad, viewers, params_.view)) return false;
+        stop(b);
+        ++r.backgroundDropped;
+        return true;
+    });
     if (const Quad* leaf = subdivisions_.leaf(); leaf && !forest_->keeps(*leaf, viewers, params_.view))
         r.backgroundDropped += subdivisions_.quiesce();
 }
 
 void TileLoop::staleBackground(const std::vector<QuadKey>& arrived) {
-    if (background_ && std::find(arrived.begin(), arrived.end(), background_->key) != arrived.end()) background_->stale = true;
+    for (Background& b : background_)
+        if (std::find(arrived.begin(), arrived.end(), b.key) != arrived.end()) b.stale = true;
+}
+
+std::size_t TileLoop::backgroundLanes() const {
+    return params_.backgroundThreads > 0 ? params_.backgroundThreads : std::max(1u, std::thread::hardware_concurrency());
 }
 
 }  // namespace lacet

@@ -26,6 +26,7 @@
 #include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_reader.h"
 #include "model/edits.h"
+#include "model/work_clock.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 
@@ -94,10 +95,11 @@ std::string* LazyForestTest::path_ = nullptr;
 
 // Every tile of `whole` is `lazy`'s too, the same. `lazy` may hold more of the part level: the
 // tiles of its quads drawn from the top tree while their parts were read, and those an arriving
-// part made dirty that no frame showed since (an ancestor's, made again when shown).
-void expectSameTiles(const EditSession& lazy, const EditSession& whole, int partLevel = kPartLevel) {
+// part made dirty that no frame showed since (an ancestor's, made again when shown); with
+// `anyMore`, of any level (budgeted frames show leaves whose subdivision waits).
+void expectSameTiles(const EditSession& lazy, const EditSession& whole, int partLevel = kPartLevel, bool anyMore = false) {
     for (const auto& [key, t] : lazy.tiles()) {
-        if (!whole.tile(key)) {
+        if (!whole.tile(key) && !anyMore) {
             EXPECT_EQ(std::get<0>(key), partLevel) << "a tile only the lazy session made";
         }
     }
@@ -415,6 +417,36 @@ TEST_F(LazyForestTest, APartReadInTheBackgroundMakesItsQuadsTileAgainWhenItArriv
     EXPECT_FALSE(r.refineDeferred);
     EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
     expectSameTiles(lazy, whole);
+}
+
+// Issue 24: with background work, parts read on the worker and slow quads' tiles and
+// subdivisions made on idle threads (every quad with an estimate, here), the views the frames
+// complete have the whole scene's tiles; the work on a part's quads is stopped before a view that
+// no longer wants the part lets it go.
+TEST_F(LazyForestTest, TilesAndSubdivisionsMadeInTheBackgroundAreTheWholeScenes) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    SessionParams params = sessionParams();
+    params.backgroundMs = 1e-9;
+    params.clock = steppedClockMs(0.05);
+    EditSession lazy(*path_, lazyParams(1024.0, /*background=*/true), params);
+    std::size_t begun = 0, subdivisions = 0;
+    for (const glm::dvec3& v : viewers(whole.document().scene.extent, 4, 9)) {
+        whole.frame(v, 0.0);
+        FrameReport r;
+        for (int i = 0; i < 200000; ++i) {
+            r = lazy.frame(v, 10.0);
+            begun += r.backgroundStarted;
+            subdivisions += r.backgroundSubdivisions;
+            if (r.pending == 0 && !r.refineDeferred && !lazy.backgroundBusy()) break;
+            lazy.waitForBackground();
+            std::this_thread::yield();  // and the part reader
+        }
+        EXPECT_EQ(r.pending, 0u);
+        EXPECT_EQ(lazy.plan().items.size(), whole.plan().items.size());
+    }
+    EXPECT_GT(begun, 20u);
+    EXPECT_GT(subdivisions, 5u);
+    expectSameTiles(lazy, whole, kPartLevel, /*anyMore=*/true);
 }
 
 TEST_F(LazyForestTest, APyramidOfTheFileGivesTheTopsAppearanceAndTheTopReadsOnlyItsElevation) {
