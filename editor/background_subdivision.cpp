@@ -1,11 +1,11 @@
 #include "editor/background_subdivision.h"
 
-#include "editor/background_work.h"
-
 #include <chrono>
 #include <exception>
 
 #include <tbb/task_arena.h>
+
+#include "editor/background_work.h"
 
 namespace lacet {
 namespace {

@@ -26,15 +26,12 @@ auto nearestFirst(glm::dvec3 v) {
     return [v](const Quad* a, const Quad* b) { return Quadtree::viewDistance(*a, v) < Quadtree::viewDistance(*b, v); };
 }
 
-// What a tile's production time grows with: the curves and areas its quad holds.
 }  // namespace
 
 TileLoop::TileLoop(const SessionParams& params, const Scene& scene, const Dem& dem, DemStream* stream)
     : params_(params), scene_(scene), dem_(dem), stream_(stream) {}
 
 TileLoop::~TileLoop() { quiesce(); }
-
-
 
 void TileLoop::setTree(Quadtree& tree, const CurveDataCache& data) {
     quiesce();  // before the old forest goes
@@ -52,7 +49,7 @@ void TileLoop::setForest(QuadForest& forest) {
 }
 
 std::size_t TileLoop::edited(const std::set<QuadKey>& changed, const std::vector<ElementRef>& dropped, bool edited) {
-    quiesce();  // the session stopped them before the edit; what was begun since read the old graph
+    quiesce();  // the session stopped them before the edit (EditSession::execute); a caller that did not
     ++edits_;
     const std::size_t dirty = markDirty(changed, dropped);
     if (touchLevels_ > 0) recordTouched(changed, dropped, edited);

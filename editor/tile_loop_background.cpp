@@ -1,12 +1,11 @@
 // The live loop's background tiles (editor/tile_loop.h; SessionParams::backgroundMs, issue 24:
-// no slow frame): a slow quad's tiles made on a thread of their own while frames go on.
+// no slow frame): slow quads' tiles made on idle threads while frames go on.
 #include <algorithm>
 #include <chrono>
 #include <thread>
 
-#include "editor/tile_loop.h"
-
 #include "editor/background_work.h"
+#include "editor/tile_loop.h"
 
 namespace lacet {
 

@@ -12,18 +12,13 @@
 #include "model/edits.h"
 #include "model/work_clock.h"
 #include "synth/random_edits.h"
-#include "synth/synthetic_dem.h"
-#include "synth/synthetic_scene.h"
+#include "tests/editor/session_checks.h"
 
 namespace lacet {
 namespace {
 
-SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
-    SceneDocument doc;
-    doc.scene = makeSyntheticScene({seed, curves});
-    doc.dem = makeSyntheticDem(doc.scene, {seed, 1000});
-    return doc;
-}
+using test::expectTilesEqualFromScratch;
+using test::syntheticDocument;
 
 // Small tiles, a 10 ms budget on a stepped clock, and every quad with an estimate left to the
 // background (the first tiles and subdivisions, with none, are made in the frames).
@@ -58,26 +53,6 @@ void completeView(EditSession& session, glm::dvec3 viewer, Totals& totals) {
         session.waitForBackground();
     }
     FAIL() << "the view did not complete";
-}
-
-// Every leaf of the session's tree has a clean tile equal to one made from scratch.
-void expectTilesEqualFromScratch(const EditSession& session, const SessionParams& params, const std::string& when) {
-    GraphStep step(session.document().scene, params.graph);
-    Quadtree fresh(session.document().scene, params.refine, &step);
-    fresh.copyStructureOf(session.quadtree());
-    DemHeightField heights(*session.document().dem);
-    CurveDataCache data(fresh, heights, params.profiles);
-    std::size_t compared = 0;
-    fresh.forEachQuad([&](const Quad& q) {
-        if (!q.isLeaf()) return;
-        const CachedTile* t = session.tile(keyOf(q));
-        ASSERT_NE(t, nullptr) << when;
-        EXPECT_FALSE(t->dirty) << when;
-        EXPECT_TRUE(t->appearance == produceAppearance(q, fresh, data, *session.document().dem, params.appearance)) << when;
-        EXPECT_TRUE(t->elevation == produceElevation(q, fresh, data, *session.document().dem, params.elevation)) << when;
-        ++compared;
-    });
-    EXPECT_GT(compared, 50u) << when;
 }
 
 // A road or river vertex (or node) moved by up to 30 m.

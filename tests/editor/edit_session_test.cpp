@@ -16,9 +16,13 @@
 #include "synth/random_edits.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
+#include "tests/editor/session_checks.h"
 
 namespace lacet {
 namespace {
+
+using test::expectTilesEqualFromScratch;
+using test::syntheticDocument;
 
 bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
@@ -116,33 +120,6 @@ SessionParams smallTiles(int maxLevel, std::size_t cacheTiles = SessionParams{}.
     params.view.maxLevel = maxLevel;
     params.cacheTiles = cacheTiles;
     return params;
-}
-
-SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
-    SceneDocument doc;
-    doc.scene = makeSyntheticScene({seed, curves});
-    doc.dem = makeSyntheticDem(doc.scene, {seed, 1000});
-    return doc;
-}
-
-// Every leaf of the session's view has a clean tile equal to one made from scratch.
-void expectTilesEqualFromScratch(const EditSession& session, const SessionParams& params, const char* when) {
-    GraphStep step(session.document().scene, params.graph);
-    Quadtree fresh(session.document().scene, params.refine, &step);
-    fresh.copyStructureOf(session.quadtree());
-    DemHeightField heights(*session.document().dem);
-    CurveDataCache data(fresh, heights, params.profiles);
-    std::size_t compared = 0;
-    fresh.forEachQuad([&](const Quad& q) {
-        if (!q.isLeaf()) return;
-        const CachedTile* t = session.tile(keyOf(q));
-        ASSERT_NE(t, nullptr) << when;
-        EXPECT_FALSE(t->dirty) << when;
-        EXPECT_TRUE(t->appearance == produceAppearance(q, fresh, data, *session.document().dem, params.appearance)) << when;
-        EXPECT_TRUE(t->elevation == produceElevation(q, fresh, data, *session.document().dem, params.elevation)) << when;
-        ++compared;
-    });
-    EXPECT_GT(compared, 50u);
 }
 
 TEST(EditSession, RandomCommandsUndoneRestoreTheSceneAndEveryTileExactly) {

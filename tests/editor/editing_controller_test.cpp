@@ -16,16 +16,12 @@
 #include "model/roundabouts.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
+#include "tests/editor/session_checks.h"
 
 namespace lacet {
 namespace {
 
-SceneDocument syntheticDocument(std::uint64_t seed, std::size_t curves) {
-    SceneDocument doc;
-    doc.scene = makeSyntheticScene({seed, curves});
-    doc.dem = makeSyntheticDem(doc.scene, {seed, 1000});
-    return doc;
-}
+using test::syntheticDocument;
 
 SessionParams smallTiles() {
     SessionParams params;
