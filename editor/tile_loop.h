@@ -30,13 +30,14 @@
 //
 // Background tiles (tile_loop_background.cpp; SessionParams::backgroundMs, issue 24: no slow
 // frame): with a frame budget, a quad whose tiles are estimated to take longer than the knob (a
-// coarse quad of thousands of elements) is not made in the frame but on a background thread,
-// one quad a thread (SessionParams::backgroundThreads), over as many frames as it takes; its nearest ancestor's tile is shown
-// meanwhile and the frame that finds it done takes it into the cache. The thread reads the quad,
-// its tree and curve data while frames go on: what could change them stops it first (quiesce():
-// an edit, a new tree, a layer shown or hidden; before a refinement that would merge the quad
-// away, QuadForest::keeps), the producers checking its cancel flag between elements, so an edit
-// waits for no tile; a quad whose vector data arrived since it began (a lazy part) is made again.
+// coarse quad of thousands of elements) is not made in the frame but on a background thread, one
+// quad a thread (SessionParams::backgroundThreads), over as many frames as it takes; its nearest
+// ancestor's tile is shown meanwhile and the frame that finds it done takes it into the cache. The
+// thread reads the quad, its tree and curve data while frames go on: what could change them stops
+// it first (quiesce(): an edit, a new tree, a layer shown or hidden; before a refinement that would
+// merge the quad away, QuadForest::keeps), the producers checking its cancel flag between elements,
+// so an edit waits for no tile; a quad whose vector data arrived since it began (a lazy part) is
+// made again.
 //
 // Order of calls: setTree() (again after each new tree: it drops every tile), then frame() each
 // frame and edited() after each edit's UPDATE.
