@@ -1,7 +1,6 @@
 #include "editor/background_subdivision.h"
 
 #include <chrono>
-#include <exception>
 
 #include <tbb/task_arena.h>
 
@@ -27,8 +26,7 @@ std::optional<QuadChildren> BackgroundSubdivision::children(const Quadtree& tree
     // At once: without the knob, the root (the scene's graph: nothing to show meanwhile), or a leaf
     // within what was measured (a larger one is not trusted to the line's extrapolation) and
     // estimated to be quick.
-    if (!(params_.backgroundMs > 0.0) || !q.parent ||
-        (estimate_.covers(elements) && estimate_.predict(elements) <= params_.backgroundMs)) {
+    if (!(params_.backgroundMs > 0.0) || !q.parent || !estimate_.mayExceed(elements, params_.backgroundMs)) {
         const auto t0 = clock();
         QuadChildren kids = tree.makeChildren(q);
         if (q.parent) estimate_.add(elements, msSince(clock, t0));  // the root's (the scene's) says nothing of the others'
@@ -69,16 +67,13 @@ std::size_t BackgroundSubdivision::settle() {
 
 std::size_t BackgroundSubdivision::quiesce() {
     if (!job_) return 0;
-    job_->cancel->store(true);
-    try {
-        // Made before the flag was seen: freed on the worker (the children of a coarse leaf hold
-        // a quarter of its elements each; freeing them took a frame tens of milliseconds).
-        auto made = std::make_shared<QuadChildren>(job_->result.get());
-        workers_->submit([made] {
-            for (auto& kid : *made) kid.reset();
+    // Made before the flag was seen: freed on the worker, not by the frame (a coarse leaf's
+    // children hold all its elements).
+    if (std::optional<QuadChildren> made = stopJob(*job_->cancel, job_->result)) {
+        auto kids = std::make_shared<QuadChildren>(std::move(*made));
+        workers_->submit([kids] {
+            for (auto& kid : *kids) kid.reset();
         });
-    } catch (const std::exception&) {
-        // Cancelled (WorkCancelled), or failed: dropped either way.
     }
     job_.reset();
     return 1;

@@ -8,13 +8,16 @@
 // frame is never slowed by them, even with as many busy threads as cores. A job's cost is
 // measured on threadCpuClock() (model/work_clock.h), which its waiting does not inflate.
 
+#include <atomic>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <type_traits>
 #include <vector>
@@ -23,6 +26,18 @@ namespace lacet {
 
 // Lowers the calling thread to the idle scheduling class (where the system has one; else nothing).
 void lowerToIdlePriority();
+
+// Stops a job that checks `cancel` and waits for it: what it made (nullopt when it saw the flag,
+// or failed: dropped either way; whoever wants the work does it again).
+template <class T>
+std::optional<T> stopJob(std::atomic<bool>& cancel, std::future<T>& result) {
+    cancel.store(true);
+    try {
+        return result.get();
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
 
 class BackgroundWorkers {
 public:

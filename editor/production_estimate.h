@@ -25,6 +25,9 @@ public:
     // prediction beyond it extrapolates the line, and a coarse quad of ten times more elements
     // than any seen yet may cost far more than it says.
     bool covers(std::size_t elements) const;
+    // Whether a tile of `elements` may take longer than `ms`: beyond what was measured, or
+    // predicted longer (the rule that leaves work to the background, editor/background_work.h).
+    bool mayExceed(std::size_t elements, double ms) const { return !covers(elements) || predict(elements) > ms; }
 
 private:
     static constexpr double kDecay = 0.995;  // weight of the previous samples at each new one

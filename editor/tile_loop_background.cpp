@@ -14,9 +14,7 @@ bool TileLoop::slow(const Quad& q, bool fromPyramid) const {
     const std::size_t x = elementCount(q);
     const ProductionEstimate& a = fromPyramid ? estimates_[2] : estimates_[0];
     const std::size_t ax = fromPyramid ? 0 : x;
-    // A quad larger than any measured yet is not trusted to the line's extrapolation.
-    if (!a.covers(ax) || !estimates_[1].covers(x)) return true;
-    return std::max(a.predict(ax), estimates_[1].predict(x)) > params_.backgroundMs;
+    return a.mayExceed(ax, params_.backgroundMs) || estimates_[1].mayExceed(x, params_.backgroundMs);
 }
 
 void TileLoop::startBackground(const Quad& q, bool fromPyramid, glm::dvec3 viewer, FrameReport& r) {
@@ -93,25 +91,9 @@ void TileLoop::waitForBackground() {
 
 std::size_t TileLoop::quiesce() { return subdivisions_.quiesce() + dropBackgroundTiles(); }
 
-namespace {
-
-// Stops a background job and waits for it; what it made is dropped.
-template <class Job>
-void stop(Job& job) {
-    job.cancel->store(true);
-    try {
-        job.result.get();
-    } catch (const std::exception&) {
-        // Cancelled (WorkCancelled), or failed: dropped either way; a frame that wants the quad
-        // makes it again.
-    }
-}
-
-}  // namespace
-
 std::size_t TileLoop::dropBackgroundTiles() {
     for (Background& b : background_) b.cancel->store(true);  // all at once, then wait
-    for (Background& b : background_) stop(b);
+    for (Background& b : background_) stopJob(*b.cancel, b.result);
     const std::size_t n = background_.size();
     background_.clear();
     return n;
@@ -120,7 +102,7 @@ std::size_t TileLoop::dropBackgroundTiles() {
 void TileLoop::guardBackground(std::span<const glm::dvec3> viewers, FrameReport& r) {
     std::erase_if(background_, [&](Background& b) {
         if (forest_->keeps(*b.quad, viewers, params_.view)) return false;
-        stop(b);
+        stopJob(*b.cancel, b.result);
         ++r.backgroundDropped;
         return true;
     });
