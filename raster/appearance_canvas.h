@@ -9,11 +9,13 @@
 #include <limits>
 #include <vector>
 
+#include "raster/appearance_segments.h"
 #include "raster/appearance_shading.h"
 #include "raster/appearance_tile.h"
 #include "raster/area_triangulation.h"
 #include "raster/float4.h"
 #include "raster/rasterizer.h"
+#include "raster/segment4.h"
 
 namespace lacet::appearance {
 
@@ -44,6 +46,9 @@ struct Scratch {
     std::vector<float> dist, v, u;  // per element: distance to its border or axis, signed v, u
     std::vector<std::uint8_t> flags;
     std::vector<std::uint32_t> touched;
+    // A block's candidate segments, and the same in the block's frame (appearance_curves.cpp).
+    std::vector<const Segment*> candidates;
+    std::vector<LocalSegment> local;
     bool clean = false;
     void reset(std::size_t n) {
         colour.resize(n);

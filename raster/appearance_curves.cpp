@@ -6,13 +6,31 @@
 #include <glm/geometric.hpp>
 
 #include "model/segment.h"
+#include "raster/segment4.h"
 
 namespace lacet::appearance {
 
-// Block by block (kBlock pixels), only the candidate segments (candidatesNear) are measured:
-// wide roads seen from close would otherwise compute every segment of their margin at every
-// texel.
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
+namespace {
+
+// One pixel of the field, stored as distanceField's callers read it.
+void setTexel(Canvas& canvas, Scratch& s, std::size_t k, const std::vector<Segment>& segments, const Segment& nearest,
+              float dist, float v, double t, std::vector<FieldTexel>* keep) {
+    s.dist[k] = dist;
+    s.v[k] = v;
+    s.u[k] = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
+    const bool cap = (t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap);
+    s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
+    canvas.touch(k);
+    if (keep) keep->push_back({std::uint32_t(k), dist, v, std::uint32_t(&nearest - segments.data()), t});
+}
+
+// The field of distanceField, pixel by pixel: visit(k, dist, v, nearest, t) for each pixel within
+// `reach` and a pixel of the polyline, in block order. Block by block (kBlock pixels), only the
+// candidate segments (candidatesNear) are measured, four pixels of a row against one at once in
+// float, in the block's local frame (segment4.h): per lane the least squared distance, its
+// segment and parameter.
+template <class Visit>
+void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, double reach, Visit&& visit) {
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
@@ -20,6 +38,65 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
     for (const Segment& sg : segments)
         if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
     if (!finite(lo)) return;  // no finite segment
+    const int side = canvas.side();
+    const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
+    std::vector<const Segment*>& candidates = s.candidates;
+    std::vector<LocalSegment>& local = s.local;
+    constexpr int kLanes = kBlock / 4;
+    Float4 qx[kLanes];  // pixel centres of a block row, metres from the block's first one
+    for (int i = 0; i < kBlock; ++i) qx[i / 4][i % 4] = float(double(i) * px);
+    for (int by = y0; by < y1; by += kBlock)
+        for (int bx = x0; bx < x1; bx += kBlock) {
+            const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
+            if (candidatesNear(segments, {canvas.world(bx, by), canvas.world(ex - 1, ey - 1)}, within, candidates) > within) continue;
+            const Vec2 origin = canvas.world(bx, by);
+            local.clear();
+            for (const Segment* sg : candidates) local.push_back(localSegment(sg->p0, sg->p1, origin));
+            for (int y = by; y < ey; ++y) {
+                const float qy = float(double(y - by) * px);
+                Float4 best[kLanes], bestT[kLanes];
+                Int4 index[kLanes];
+                for (int l = 0; l < kLanes; ++l) best[l] = splat(kInf), bestT[l] = splat(0.0f), index[l] = splatInt(-1);
+                for (std::size_t c = 0; c < local.size(); ++c) {
+                    const LocalSegment& ls = local[c];
+                    const Int4 ci = splatInt(int(c));
+                    const float ry = qy - ls.y0;
+                    for (int l = 0; l < kLanes; ++l) {
+                        const Float4 rx = qx[l] - ls.x0;
+                        const Float4 t = clamp4((rx * ls.dx + ry * ls.dy) * ls.invLen2, splat(0.0f), splat(1.0f));
+                        const Float4 ex2 = rx - ls.dx * t, ey2 = ry - ls.dy * t;
+                        const Float4 d2 = ex2 * ex2 + ey2 * ey2;
+                        const Int4 nearer = d2 < best[l];  // the first among equally near ones stays
+                        best[l] = nearer ? d2 : best[l];
+                        bestT[l] = nearer ? t : bestT[l];
+                        index[l] = nearer ? ci : index[l];
+                    }
+                }
+                const std::size_t row = std::size_t(y) * std::size_t(side);
+                for (int x = bx; x < ex; ++x) {
+                    const int l = (x - bx) / 4, lane = (x - bx) % 4;
+                    if (index[l][lane] < 0) continue;
+                    const float dist = std::sqrt(best[l][lane]);
+                    if (double(dist) > within) continue;
+                    const LocalSegment& ls = local[std::size_t(index[l][lane])];
+                    const float rx = qx[l][lane] - ls.x0, ry = qy - ls.y0;
+                    const float v = ls.dx * ry - ls.dy * rx >= 0.0f ? dist : -dist;
+                    visit(row + std::size_t(x), dist, v, *candidates[std::size_t(index[l][lane])], double(bestT[l][lane]));
+                }
+            }
+        }
+}
+
+}  // namespace
+
+void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
+    Scratch& s = canvas.scratch();
+    const double px = canvas.pixelSize();
+    const double within = reach + px;
+    Vec2 lo(kInf), hi(-kInf);
+    for (const Segment& sg : segments)
+        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    if (!finite(lo)) return;
     const int side = canvas.side();
     const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
     std::vector<const Segment*> candidates;
@@ -35,53 +112,51 @@ void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double 
                     double bestT = 0.0;
                     Vec2 bestR(0.0);
                     for (const Segment* sg : candidates) {
-                        // The offset r - seg t from the start, as the 4-wide twin measures
-                        // it, not nearestOnSegment's q - point: the two differ in the last
-                        // bits, and the golden images are made with this one.
                         const Vec2 seg = sg->p1 - sg->p0, r = q - sg->p0;
                         const double t = nearestParameter(q, sg->p0, sg->p1);
                         const float d = float(glm::length(r - seg * t));
                         if (d < best) best = d, nearest = sg, bestT = t, bestR = r;
                     }
                     if (!nearest || double(best) > within) continue;
-                    const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
                     const Vec2 seg = nearest->p1 - nearest->p0;
-                    s.dist[k] = best;
-                    s.v[k] = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
-                    s.u[k] = float(nearest->u0 + (nearest->u1 - nearest->u0) * bestT);
-                    const bool cap = (bestT == 0.0 && nearest->startCap) || (bestT == 1.0 && nearest->endCap);
-                    s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
-                    canvas.touch(k);
-                    if (keep) keep->push_back({std::uint32_t(k), s.dist[k], s.v[k], std::uint32_t(nearest - segments.data()), bestT});
+                    const float v = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
+                    setTexel(canvas, s, std::size_t(y) * std::size_t(side) + std::size_t(x), segments, *nearest, best, v, bestT, keep);
                 }
         }
 }
 
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
+    Scratch& s = canvas.scratch();
+    forEachFieldPixel(canvas, segments, reach, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
+        setTexel(canvas, s, k, segments, nearest, dist, v, t, keep);
+    });
+}
+
 namespace {
 
-// The band within hw metres of the polyline, in one colour and water mask, by coverage.
+// The band within hw metres of the polyline, in one colour and water mask, by coverage: drawn as
+// the field is measured (each pixel is visited once), kept for the markings with `keep`.
 void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask,
               std::vector<FieldTexel>* keep = nullptr) {
-    distanceField(canvas, segments, hw, keep);
-    Scratch& s = canvas.scratch();
-    const float px = float(canvas.pixelSize());
-    for (std::uint32_t k : s.touched) canvas.over(k, rgb, mask, bandCoverage(s.dist[k] / px, float(hw) / px));
-    canvas.clearTouched();
+    const float px = float(canvas.pixelSize()), hwPixels = float(hw) / px;
+    const Rgbm colour(rgb, mask);
+    Rgbm* const out = canvas.scratch().colour.data();
+    forEachFieldPixel(canvas, segments, hw, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
+        const float alpha = bandCoverage(dist / px, hwPixels);
+        if (alpha > 0.0f) blend(out[k], colour, alpha);
+        if (keep) keep->push_back({std::uint32_t(k), dist, v, std::uint32_t(&nearest - segments.data()), t});
+    });
 }
 
 }  // namespace
 
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {
     const double hw = 0.5 * double(c.w), hwf = std::max(hw, 0.5 * double(c.wf));
-    distanceField(canvas, segments, hwf);
-    Scratch& s = canvas.scratch();
     const float px = float(canvas.pixelSize());
-    for (std::uint32_t k : s.touched) {
-        const float d = s.dist[k];
+    forEachFieldPixel(canvas, segments, hwf, [&](std::size_t k, float d, float, const Segment&, double) {
         const float cov = bandCoverage(d / px, float(hw) / px);
         canvas.over(k, riverBankColour(), 0.0f, (1.0f - cov) * smoothFall(double(d) - hw, hwf - hw));
-    }
-    canvas.clearTouched();
+    });
 }
 
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c) {

@@ -18,6 +18,15 @@ namespace lacet::appearance {
 // distance the first one wins. tests/raster/appearance_curves_test.cpp holds it to every
 // segment measured at every pixel.
 // With `keep`, each pixel set is also appended to it (FieldTexel), to draw from again.
+//
+// distanceFieldReference is the plain one, in double, one pixel and one segment at a time.
+// distanceField, the one the producer uses, measures four pixels against a segment at once in
+// float (segment4.h, in each block's local frame): the same pixels and values up to float
+// rounding of the local coordinates (about 1e-6 of the block's reach), and where two segments are
+// that near to equally near it may take the other one. tests/raster/appearance_curves_test.cpp
+// holds the two to each other within those bounds.
+void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach,
+                            std::vector<FieldTexel>* keep = nullptr);
 void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep = nullptr);
 
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where

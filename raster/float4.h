@@ -14,7 +14,10 @@ namespace lacet {
 
 using Float4 = float __attribute__((vector_size(16)));
 
+using Int4 = int __attribute__((vector_size(16)));  // also the lanes' masks of a comparison (-1 true, 0 false)
+
 inline Float4 splat(float v) { return Float4{v, v, v, v}; }
+inline Int4 splatInt(int v) { return Int4{v, v, v, v}; }
 // std::min(a, b) and std::clamp(v, lo, hi), lane by lane.
 inline Float4 min4(Float4 a, Float4 b) { return b < a ? b : a; }
 inline Float4 clamp4(Float4 v, Float4 lo, Float4 hi) {

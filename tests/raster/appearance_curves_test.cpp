@@ -1,13 +1,15 @@
-// The distance field of roads and rivers (distanceField, raster/appearance_curves.h), block-pruned,
-// against every segment measured at every pixel: for random polylines (short and long segments,
+// The distance field of roads and rivers (distanceFieldReference, raster/appearance_curves.h),
+// block-pruned, against every segment measured at every pixel: for random polylines (short and long segments,
 // degenerate and repeated ones, capped ends, some far outside the tile) and reaches, each pixel's
 // distance, signed distance, u, cap flag and touched mark equal those of the exhaustive search,
-// which takes, like the field, the first segment among equally near ones. Yield lines (drawMarkings).
+// which takes, like the field, the first segment among equally near ones; the producer's 4-wide
+// float field (distanceField) against that reference within float rounding. Yield lines (drawMarkings).
 #include "raster/appearance_curves.h"
 
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -17,46 +19,64 @@
 namespace lacet::appearance {
 namespace {
 
-TEST(DistanceField, EqualsTheExhaustiveSearch) {
-    std::mt19937_64 rng(67);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-#ifdef LACET_SANITIZED
-    const int trials = 8;
-#else
-    const int trials = 40;
-#endif
-    std::size_t touched = 0, pixels = 0;
-    for (int trial = 0; trial < trials; ++trial) {
-        const double size = trial % 2 ? 400.0 : 3.0;
-        const Vec2 origin = trial % 3 == 0 ? Vec2(3e6, -2e6) : Vec2(0.0);
-        const AppearanceTile t = test::bareTile(origin, size, 24 + int(rng() % 16), 2, 1 + int(rng() % 2));
-        Scratch s;
-        Canvas canvas(t, s);
-        std::vector<Segment> segments;
-        const int runs = 1 + int(rng() % 4);
-        for (int r = 0; r < runs; ++r) {
-            Vec2 p = origin + size * Vec2(1.6 * u(rng) - 0.3, 1.6 * u(rng) - 0.3);
-            double along = 0.0;
-            const int n = 1 + int(rng() % 25);
-            const std::size_t first = segments.size();
-            for (int i = 0; i < n; ++i) {
-                const double length = size * (u(rng) < 0.1 ? 0.8 : 0.08 * u(rng));
-                const double angle = 6.283185307179586 * u(rng);
-                Vec2 q = p + length * Vec2(std::cos(angle), std::sin(angle));
-                if (i % 7 == 3) q = p;  // degenerate
-                const double next = along + glm::length(q - p);
-                segments.push_back({p, q, along, next});
-                if (i % 9 == 5) segments.push_back({p, q, along, next});  // repeated: the first must win
-                p = q;
-                along = next;
-            }
-            segments[first].startCap = rng() % 2 == 0;
-            segments.back().endCap = rng() % 2 == 0;
-        }
-        const double reach = size * 0.1 * u(rng);
-        distanceField(canvas, segments, reach);
+// A random trial: a tile (3 m or 400 m wide, some near huge coordinates) and polylines over and
+// around it (short and long segments, degenerate and repeated ones, capped ends).
+struct FieldTrial {
+    AppearanceTile tile;
+    std::vector<Segment> segments;
+    double reach = 0.0;
+    double size = 0.0;
+};
 
-        const double within = reach + canvas.pixelSize();
+FieldTrial randomFieldTrial(std::mt19937_64& rng, int trial) {
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    FieldTrial f;
+    f.size = trial % 2 ? 400.0 : 3.0;
+    const double size = f.size;
+    const Vec2 origin = trial % 3 == 0 ? Vec2(3e6, -2e6) : Vec2(0.0);
+    f.tile = test::bareTile(origin, size, 24 + int(rng() % 16), 2, 1 + int(rng() % 2));
+    std::vector<Segment>& segments = f.segments;
+    const int runs = 1 + int(rng() % 4);
+    for (int r = 0; r < runs; ++r) {
+        Vec2 p = origin + size * Vec2(1.6 * u(rng) - 0.3, 1.6 * u(rng) - 0.3);
+        double along = 0.0;
+        const int n = 1 + int(rng() % 25);
+        const std::size_t first = segments.size();
+        for (int i = 0; i < n; ++i) {
+            const double length = size * (u(rng) < 0.1 ? 0.8 : 0.08 * u(rng));
+            const double angle = 6.283185307179586 * u(rng);
+            Vec2 q = p + length * Vec2(std::cos(angle), std::sin(angle));
+            if (i % 7 == 3) q = p;  // degenerate
+            const double next = along + glm::length(q - p);
+            segments.push_back({p, q, along, next});
+            if (i % 9 == 5) segments.push_back({p, q, along, next});  // repeated: the first must win
+            p = q;
+            along = next;
+        }
+        segments[first].startCap = rng() % 2 == 0;
+        segments.back().endCap = rng() % 2 == 0;
+    }
+    f.reach = size * 0.1 * u(rng);
+    return f;
+}
+
+#ifdef LACET_SANITIZED
+constexpr int kFieldTrials = 8;
+#else
+constexpr int kFieldTrials = 40;
+#endif
+
+TEST(DistanceFieldReference, EqualsTheExhaustiveSearch) {
+    std::mt19937_64 rng(67);
+    std::size_t touched = 0, pixels = 0;
+    for (int trial = 0; trial < kFieldTrials; ++trial) {
+        const FieldTrial f = randomFieldTrial(rng, trial);
+        const std::vector<Segment>& segments = f.segments;
+        Scratch s;
+        Canvas canvas(f.tile, s);
+        distanceFieldReference(canvas, segments, f.reach);
+
+        const double within = f.reach + canvas.pixelSize();
         const int side = canvas.side();
         for (int y = 0; y < side; ++y)
             for (int x = 0; x < side; ++x) {
@@ -88,10 +108,87 @@ TEST(DistanceField, EqualsTheExhaustiveSearch) {
                 const bool cap = (bestT == 0.0 && nearest->startCap) || (bestT == 1.0 && nearest->endCap);
                 ASSERT_EQ(bool(s.flags[k] & kCap), cap) << "trial " << trial << " pixel " << x << " " << y;
             }
-        ASSERT_EQ(s.touched.size(), std::size_t(std::count_if(s.flags.begin(), s.flags.end(), [](std::uint8_t f) { return f & kTouched; })));
+        ASSERT_EQ(s.touched.size(), std::size_t(std::count_if(s.flags.begin(), s.flags.end(), [](std::uint8_t flag) { return flag & kTouched; })));
         canvas.clearTouched();
     }
     EXPECT_GT(touched, pixels / 50);  // the field covered a fair part of the tiles
+}
+
+// The producer's 4-wide float field against the reference on the same trials: the same pixels
+// and the same values within `eps` (1e-5 of the tile's size, 1/800 of a pixel or less), except
+// where the float rounding may change the outcome: a distance within eps of the reach; a second
+// segment within 2 eps of the nearest (it may take that one: the sign of v, the cap flag, and u
+// unless both are nearest at a vertex they share); a pixel within eps of a segment's end along it
+// (the cap flag).
+TEST(DistanceField, AgreesWithTheReferenceWithinFloatRounding) {
+    std::mt19937_64 rng(67);
+    std::size_t touched = 0, unambiguous = 0;
+    float worst = 0.0f;
+    for (int trial = 0; trial < kFieldTrials; ++trial) {
+        const FieldTrial f = randomFieldTrial(rng, trial);
+        Scratch ref, fast;
+        Canvas a(f.tile, ref), b(f.tile, fast);
+        std::vector<FieldTexel> keptRef, keptFast;
+        distanceFieldReference(a, f.segments, f.reach, &keptRef);
+        distanceField(b, f.segments, f.reach, &keptFast);
+        const double eps = 1e-5 * f.size, within = f.reach + a.pixelSize();
+        ASSERT_LT(eps, a.pixelSize() / 500.0);
+        const int side = a.side();
+        for (int y = 0; y < side; ++y)
+            for (int x = 0; x < side; ++x) {
+                const std::size_t k = std::size_t(y) * std::size_t(side) + std::size_t(x);
+                const std::string where = "trial " + std::to_string(trial) + " pixel " + std::to_string(x) + " " + std::to_string(y);
+                const bool inRef = ref.flags[k] & kTouched, inFast = fast.flags[k] & kTouched;
+                if (inRef != inFast) {
+                    const float d = inRef ? ref.dist[k] : fast.dist[k];
+                    ASSERT_NEAR(double(d), within, eps) << where;
+                    continue;
+                }
+                if (!inRef) continue;
+                ++touched;
+                worst = std::max(worst, std::abs(fast.dist[k] - ref.dist[k]));
+                ASSERT_NEAR(fast.dist[k], ref.dist[k], eps) << where;
+                // The reference's nearest segment; whether another one is within 2 eps of it, and
+                // whether all those are nearest at the same place (a vertex they share: the same u).
+                const Vec2 q = a.world(x, y);
+                double best = kInf;
+                const Segment* nearest = nullptr;
+                for (const Segment& sg : f.segments) {
+                    const double d = distanceToSegment(q, sg.p0, sg.p1);
+                    if (d < best) best = d, nearest = &sg;
+                }
+                const Vec2 place = nearestOnSegment(q, nearest->p0, nearest->p1).point;
+                bool tie = false, samePlace = true;
+                for (const Segment& sg : f.segments) {
+                    if (&sg == nearest || distanceToSegment(q, sg.p0, sg.p1) > best + 2.0 * eps) continue;
+                    if (sg.p0 == nearest->p0 && sg.p1 == nearest->p1) continue;  // a repetition
+                    tie = true;
+                    samePlace = samePlace && glm::length(nearestOnSegment(q, sg.p0, sg.p1).point - place) <= eps;
+                }
+                ASSERT_NEAR(std::abs(fast.v[k]), std::abs(ref.v[k]), eps) << where;
+                if (tie && !samePlace) continue;
+                ++unambiguous;
+                ASSERT_NEAR(fast.u[k], ref.u[k], eps + 1e-6 * std::abs(double(ref.u[k]))) << where;
+                if (tie) continue;
+                if (std::abs(ref.v[k]) > eps) {
+                    ASSERT_EQ(fast.v[k] > 0.0f, ref.v[k] > 0.0f) << where;
+                }
+                const double length = glm::length(nearest->p1 - nearest->p0);
+                const double t = nearestParameter(q, nearest->p0, nearest->p1);
+                if (t * length > eps && (1.0 - t) * length > eps) {
+                    ASSERT_EQ(fast.flags[k] & kCap, ref.flags[k] & kCap) << where;
+                }
+            }
+        // The kept pixels are those set, in order, with their values.
+        ASSERT_EQ(keptFast.size(), fast.touched.size());
+        for (std::size_t i = 0; i < keptFast.size(); ++i) {
+            ASSERT_EQ(keptFast[i].k, fast.touched[i]);
+            ASSERT_EQ(keptFast[i].dist, fast.dist[keptFast[i].k]);
+            ASSERT_EQ(keptFast[i].v, fast.v[keptFast[i].k]);
+        }
+    }
+    EXPECT_GT(unambiguous, touched * 9 / 10);  // the bounds were checked almost everywhere
+    RecordProperty("largest_distance_difference_m_of_400m_tile", std::to_string(worst));
 }
 
 // A road entering a roundabout's ring at its start (and one at its end): the yield line is drawn
