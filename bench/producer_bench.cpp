@@ -1,6 +1,7 @@
 // `lacet bench producers`: time per quad of the appearance and elevation producers on a
 // synthetic scene at the paper's scale, at the deepest levels of views near the ground, one
 // thread; and the throughput of two threads against one.
+#include <algorithm>
 #include <map>
 #include <random>
 #include <set>
@@ -37,6 +38,33 @@ std::vector<glm::dvec3> roadViews(const Scene& s, int count, double altitude, st
     return out;
 }
 
+// What a quad holds, per layer kind: curves (their pieces' on-curve vertices), areas (their
+// pieces, those covering the quad, their loops' vertices): what the slowest tiles are made of.
+nlohmann::json contents(const Quad& q, const Scene& scene) {
+    nlohmann::json out = nlohmann::json::object();
+    for (LayerId l = 0; l < q.layers.size(); ++l) {
+        std::size_t curves = q.layers[l].curves.size(), vertices = 0, areas = 0, covering = 0, areaVertices = 0;
+        for (const auto& [id, pieces] : q.layers[l].curves)
+            for (const ClippedCurve& piece : pieces) vertices += piece.s.size();
+        for (const auto& [id, pieces] : q.layers[l].areas)
+            for (const ClippedArea& piece : pieces) {
+                ++areas;
+                covering += piece.coversQuad;
+                for (const ClippedLoop& loop : piece.loops) areaVertices += loop.vertices.size();
+            }
+        if (curves + areas == 0) continue;
+        nlohmann::json& k = out[std::string(toString(scene.layers[l].kind))];
+        if (k.is_null()) k = nlohmann::json::object();
+        if (curves) k["curves"] = k.value("curves", 0) + curves, k["curve_vertices"] = k.value("curve_vertices", 0) + vertices;
+        if (areas) {
+            k["area_pieces"] = k.value("area_pieces", 0) + areas;
+            k["covering_quad"] = k.value("covering_quad", 0) + covering;
+            k["area_vertices"] = k.value("area_vertices", 0) + areaVertices;
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 nlohmann::json benchProducers(const ProducerBenchOptions& o) {
@@ -62,6 +90,7 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
     std::vector<double> appearanceDeep, elevationDeep, appearanceDeepCold, elevationDeepCold;
     double oneThreadMs = 0.0, twoThreadsMs = 0.0;
     std::size_t deepQuads = 0, uniformDeep = 0;
+    std::vector<std::pair<double, nlohmann::json>> slowest;  // the deep quads' slowest appearance tiles (warm)
     AppearanceCounters counters;
     tbb::task_arena one(1), two(2);
     for (const glm::dvec3& view : roadViews(scene, o.views, o.altitude, o.seed)) {
@@ -94,6 +123,9 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
                     ++deepQuads;
                     uniformDeep += tile.uniform;
                     appearanceDeep.push_back(aWarm);
+                    slowest.push_back({aWarm, {{"ms", aWarm}, {"level", q->level}, {"uniform", tile.uniform}, {"holds", contents(*q, scene)}}});
+                    std::sort(slowest.begin(), slowest.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+                    if (slowest.size() > 8) slowest.pop_back();
                     elevationDeep.push_back(eWarm);
                     appearanceDeepCold.push_back(aCold);
                     elevationDeepCold.push_back(eCold);
@@ -136,7 +168,12 @@ nlohmann::json benchProducers(const ProducerBenchOptions& o) {
                       {"appearance_ms_one_thread", stats(appearanceDeep)},
                       {"elevation_ms_one_thread", stats(elevationDeep)},
                       {"appearance_cold_ms_one_thread", stats(appearanceDeepCold)},
-                      {"elevation_cold_ms_one_thread", stats(elevationDeepCold)}}},
+                      {"elevation_cold_ms_one_thread", stats(elevationDeepCold)},
+                      {"slowest_appearance", [&] {
+                           nlohmann::json a = nlohmann::json::array();
+                           for (const auto& [ms, j] : slowest) a.push_back(j);
+                           return a;
+                       }()}}},
             {"throughput", {{"one_thread_ms", oneThreadMs}, {"two_threads_ms", twoThreadsMs},
                             {"speedup", twoThreadsMs > 0.0 ? oneThreadMs / twoThreadsMs : 0.0}}},
             {"by_level", byLevel},

@@ -27,22 +27,17 @@ constexpr std::uint8_t kTouched = 1, kInside = 2, kCap = 4;  // kCap: nearest to
 // Per-thread buffers of one tile, on the supersampled canvas. Every drawing pass leaves dist
 // infinite and flags 0 where it set them (clearTouched, drawArea's rectangle), so a tile that
 // was drawn to the end leaves them `clean` for the next one; after an exception they are reset.
-// A pixel of a curve's distance field (appearance_curves.h: distanceField) kept to draw from again:
-// its index, distance, signed v, nearest segment (its index in the polyline) and the parameter
-// on it.
-struct FieldTexel {
+// A pixel of a road's markings found as its surface was drawn (appearance_curves.h:
+// drawRoadSurface), blended once every road of the layer is down: its index and coverage.
+struct MarkingTexel {
     std::uint32_t k = 0;
-    float dist = 0.0f, v = 0.0f;
-    std::uint32_t segment = 0;
-    double t = 0.0;
+    float alpha = 0.0f;
 };
 
 struct Scratch {
     std::vector<Rgbm> colour;
-    // The road surfaces' distance fields of a layer's roads, for their markings, and where each
-    // road's begins (raster/appearance_producer.cpp).
-    std::vector<FieldTexel> kept;
-    std::vector<std::size_t> keptStart;
+    // The markings of a layer's roads (raster/appearance_producer.cpp).
+    std::vector<MarkingTexel> marks;
     std::vector<float> dist, v, u;  // per element: distance to its border or axis, signed v, u
     std::vector<std::uint8_t> flags;
     std::vector<std::uint32_t> touched;

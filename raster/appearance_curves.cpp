@@ -13,15 +13,13 @@ namespace lacet::appearance {
 namespace {
 
 // One pixel of the field, stored as distanceField's callers read it.
-void setTexel(Canvas& canvas, Scratch& s, std::size_t k, const std::vector<Segment>& segments, const Segment& nearest,
-              float dist, float v, double t, std::vector<FieldTexel>* keep) {
+void setTexel(Canvas& canvas, Scratch& s, std::size_t k, const Segment& nearest, float dist, float v, double t) {
     s.dist[k] = dist;
     s.v[k] = v;
     s.u[k] = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
     const bool cap = (t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap);
     s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
     canvas.touch(k);
-    if (keep) keep->push_back({std::uint32_t(k), dist, v, std::uint32_t(&nearest - segments.data()), t});
 }
 
 // The field of distanceField, pixel by pixel: visit(k, dist, v, nearest, t) for each pixel within
@@ -89,7 +87,7 @@ void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, dou
 
 }  // namespace
 
-void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
+void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
@@ -120,31 +118,39 @@ void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments
                     if (!nearest || double(best) > within) continue;
                     const Vec2 seg = nearest->p1 - nearest->p0;
                     const float v = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
-                    setTexel(canvas, s, std::size_t(y) * std::size_t(side) + std::size_t(x), segments, *nearest, best, v, bestT, keep);
+                    setTexel(canvas, s, std::size_t(y) * std::size_t(side) + std::size_t(x), *nearest, best, v, bestT);
                 }
         }
 }
 
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep) {
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
     Scratch& s = canvas.scratch();
     forEachFieldPixel(canvas, segments, reach, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
-        setTexel(canvas, s, k, segments, nearest, dist, v, t, keep);
+        setTexel(canvas, s, k, nearest, dist, v, t);
     });
 }
 
 namespace {
 
 // The band within hw metres of the polyline, in one colour and water mask, by coverage: drawn as
-// the field is measured (each pixel is visited once), kept for the markings with `keep`.
+// the field is measured (each pixel is visited once). With `markings`, the coverage of the road's
+// markings at each pixel of the band is appended to `marks` where it is not 0.
 void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask,
-              std::vector<FieldTexel>* keep = nullptr) {
+              const RoadMarkings* markings = nullptr, std::vector<MarkingTexel>* marks = nullptr) {
     const float px = float(canvas.pixelSize()), hwPixels = float(hw) / px;
     const Rgbm colour(rgb, mask);
     Rgbm* const out = canvas.scratch().colour.data();
     forEachFieldPixel(canvas, segments, hw, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
         const float alpha = bandCoverage(dist / px, hwPixels);
         if (alpha > 0.0f) blend(out[k], colour, alpha);
-        if (keep) keep->push_back({std::uint32_t(k), dist, v, std::uint32_t(&nearest - segments.data()), t});
+        if (!markings) return;
+        // As drawMarkings reads them from distanceField: u along the nearest segment, the cap beyond a capped end.
+        const bool cap = (t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap);
+        const double d = dist, sv = v, u = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
+        if (d > markings->hw || cap) return;  // no side line around the round end caps
+        if (markings->beyondLines(d, sv, u)) return;  // most of the lanes: no coverage
+        const float m = markings->coverage(d, sv, u);
+        if (m > 0.0f) marks->push_back({std::uint32_t(k), m});
     });
 }
 
@@ -163,8 +169,9 @@ void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const 
     drawBand(canvas, segments, 0.5 * double(c.w), glm::vec3(surfaceColour({Surface::Water, 0, 0}, Vec2(0.0), 1.0)), 1.0f);
 }
 
-void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, std::vector<FieldTexel>* keep) {
-    drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f, keep);
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadMarkings* markings,
+                     std::vector<MarkingTexel>* marks) {
+    drawBand(canvas, segments, 0.5 * double(c.w), roadColour(c.cls), 0.0f, markings, marks);
 }
 
 void drawTunnelPortals(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, double length,
@@ -194,14 +201,24 @@ RoadMarkings::RoadMarkings(const Curve& c, const RoadEnds& e, double pixel)
       halfLine(float(0.5 * g.lineWidth / px)),
       sideAxis(float((hw - g.sideInset - 0.5 * g.lineWidth) / px)),
       laneHalf(0.5 * (hw - g.sideInset)),
-      lineReach(double(halfLine) + 1.5),
-      endReach(std::max(g.stopLineGap + g.stopLineWidth, yield.gap + yield.width) + 2.0 * px),
-      startLines(e.startStop || e.startYield),
-      endLines(e.endStop || e.endYield) {}
+      lineReach(double(halfLine) + 1.5) {}
 
 bool RoadMarkings::beyondLines(double d, double v, double u) const {
-    return std::abs(d / px - double(sideAxis)) >= lineReach && std::abs(v / px) >= lineReach &&
-           !(startLines && u <= ends.startRadius + endReach) && !(endLines && ends.length - u <= ends.endRadius + endReach);
+    // Side and centre lines: beyond their bands across the road, or cut off by a junction (its
+    // edgeCoverage is 0 a pixel inside the junction's radius).
+    const bool acrossLines = std::abs(d / px - double(sideAxis)) < lineReach || std::abs(v / px) < lineReach;
+    const bool cut = (ends.startRadius > 0.0 && u - ends.startRadius <= -px) ||
+                     (ends.endRadius > 0.0 && ends.length - ends.endRadius - u <= -px);
+    if (acrossLines && !cut) return false;
+    // Stop and yield lines: within their width (and two pixels) of their centre along the road.
+    const auto near = [&](double fromNode, double radius, double gap, double width) {
+        return std::abs(fromNode - (radius + gap + 0.5 * width)) < 0.5 * width + 2.0 * px;
+    };
+    if (ends.startStop && near(u, ends.startRadius, g.stopLineGap, g.stopLineWidth)) return false;
+    if (ends.endStop && near(ends.length - u, ends.endRadius, g.stopLineGap, g.stopLineWidth)) return false;
+    if (ends.startYield && near(u, ends.startRadius, yield.gap, yield.width)) return false;
+    if (ends.endYield && near(ends.length - u, ends.endRadius, yield.gap, yield.width)) return false;
+    return true;
 }
 
 float RoadMarkings::coverage(double d, double v, double u) const {
@@ -235,18 +252,8 @@ float RoadMarkings::coverage(double d, double v, double u) const {
     return m;
 }
 
-void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends,
-                  std::span<const FieldTexel> field) {
-    const RoadMarkings markings(c, ends, canvas.pixelSize());
-    for (const FieldTexel& f : field) {
-        // As distanceField sets them: u along the nearest segment, the cap beyond a capped end.
-        const Segment& sg = segments[f.segment];
-        const bool cap = (f.t == 0.0 && sg.startCap) || (f.t == 1.0 && sg.endCap);
-        const double d = f.dist, v = f.v, u = float(sg.u0 + (sg.u1 - sg.u0) * f.t);
-        if (d > markings.hw || cap) continue;  // no side line around the round end caps
-        if (markings.beyondLines(d, v, u)) continue;  // most of the lanes: no coverage, nothing drawn
-        canvas.over(f.k, markingColour(), 0.0f, markings.coverage(d, v, u));
-    }
+void drawMarkings(Canvas& canvas, std::span<const MarkingTexel> marks) {
+    for (const MarkingTexel& m : marks) canvas.over(m.k, markingColour(), 0.0f, m.alpha);
 }
 
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends) {

@@ -15,27 +15,23 @@ namespace lacet::appearance {
 // v (signed: > 0 on the left of the direction of travel), u of the nearest segment and the kCap
 // flag (nearest to a capped end, beyond it), for the pixels within `reach` metres and a pixel of
 // the polyline, and lists them as touched (the caller clears them). Among segments at the same
-// distance the first one wins. tests/raster/appearance_curves_test.cpp holds it to every
-// segment measured at every pixel.
-// With `keep`, each pixel set is also appended to it (FieldTexel), to draw from again.
+// distance the first one wins. The passes below draw from the same field, pixel by pixel, without
+// storing it.
 //
 // distanceFieldReference is the plain one, in double, one pixel and one segment at a time.
-// distanceField, the one the producer uses, measures four pixels against a segment at once in
+// distanceField, the one the passes use, measures four pixels against a segment at once in
 // float (segment4.h, in each block's local frame): the same pixels and values up to float
 // rounding of the local coordinates (about 1e-6 of the block's reach), and where two segments are
 // that near to equally near it may take the other one. tests/raster/appearance_curves_test.cpp
-// holds the two to each other within those bounds.
-void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach,
-                            std::vector<FieldTexel>* keep = nullptr);
-void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach, std::vector<FieldTexel>* keep = nullptr);
+// holds the reference to every segment measured at every pixel, and the two to each other within
+// those bounds.
+void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach);
+void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach);
 
 // Rivers in two passes over all the rivers of a layer, so no bank is drawn over water where
 // rivers meet: banks (between w/2 and wf/2), then water (mask 1) within w/2.
 void drawRiverBanks(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
 void drawRiverWater(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c);
-
-// With `keep`: its distance field kept (distanceField), for drawMarkings.
-void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, std::vector<FieldTexel>* keep = nullptr);
 
 // What a road's markings need to know about its ends, from the ancestor graph.
 struct RoadEnds {
@@ -79,16 +75,19 @@ struct RoadMarkings {
     const float halfLine, sideAxis;  // pixels
     const double laneHalf;
     const double lineReach;  // pixels from a line's axis beyond which its band covers nothing
-    const double endReach;   // m past an end's radius beyond which no stop or yield line reaches
-    const bool startLines, endLines;
 };
 
-// The road's markings from its distance field to `segments`, measured here (the reference), or
-// `field`, the one its surface kept (drawRoadSurface): the same pixels, bit for bit, when
-// `segments` have the same ends as those the surface was drawn with (segmentsOf of the same
-// pieces; their u and caps may differ, read here).
+// A road's surface (asphalt within w/2). With `markings`, the segments carry u (segmentsOf with
+// curve data) and the caps of its markings (capRingEnds), and the coverage of its markings is
+// found at each pixel of the surface and appended to `marks`, to be drawn once the layer's other
+// surfaces are down (drawMarkings of those marks).
+void drawRoadSurface(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c,
+                     const RoadMarkings* markings = nullptr, std::vector<MarkingTexel>* marks = nullptr);
+
+// The road's markings from its distance field to `segments` (the reference), or the marks its
+// surface found (drawRoadSurface): the same pixels, bit for bit, when the surface was drawn from
+// the same segments.
 void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends);
-void drawMarkings(Canvas& canvas, const std::vector<Segment>& segments, const Curve& c, const RoadEnds& ends,
-                  std::span<const FieldTexel> field);
+void drawMarkings(Canvas& canvas, std::span<const MarkingTexel> marks);
 
 }  // namespace lacet::appearance

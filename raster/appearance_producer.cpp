@@ -119,6 +119,27 @@ void capRingEnds(std::vector<Segment>& segments, const std::vector<ClippedCurve>
     }
 }
 
+// What a road's markings need to know about its ends (junctions, stop and yield lines), from
+// the ancestor graph.
+RoadEnds roadEnds(const Quadtree& quadtree, const CurveDataCache& curveData, LayerId l, AncestorId id, const Curve& c) {
+    const Layer& layer = quadtree.scene().layers[l];
+    RoadEnds ends;
+    ends.length = curveData.length(l, id);
+    ends.startRadius = junctionRadius(layer, c.start);
+    ends.endRadius = junctionRadius(layer, c.end);
+    ends.startStop = hasStopLine(layer, c.start, rootCurveOf(id));
+    ends.endStop = hasStopLine(layer, c.end, rootCurveOf(id));
+    // A road trimmed at a roundabout's ring yields there; its markings stop at the ring's edge.
+    ends.startYield = (c.flags & kYieldAtStart) != 0;
+    ends.endYield = (c.flags & kYieldAtEnd) != 0;
+    if (ends.startYield || ends.endYield)
+        if (const ProceduralCurve* pc = quadtree.proceduralCurve(l, id)) {
+            if (ends.startYield) ends.startRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtStart));
+            if (ends.endYield) ends.endRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtEnd));
+        }
+    return ends;
+}
+
 }  // namespace
 
 AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, const CurveDataCache& curveData,
@@ -182,62 +203,45 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
         while (last + 1 < items.size() && !items[last + 1].area && items[last + 1].layer == it.layer) ++last;
         const auto& curves = quad.layers[it.layer].curves;
         if (counters) counters->curvesDrawn += last - i + 1;
-        // A road's surface keeps its distance field for its markings (the same segments' ends,
-        // the same reach): measured once.
+        // A road's markings are found as its surface is drawn (the same distance field) and
+        // drawn once every surface of the layer is down.
         Scratch& scratch = canvas.scratch();
-        scratch.kept.clear();
-        scratch.keptStart.assign(last - i + 2, 0);
-        const auto marked = [&](const Curve& c) { return layer.kind == LayerKind::Roads && roadHasMarkings(c.cls) && !(c.flags & kTunnel) && markingsShow; };
+        scratch.marks.clear();
         for (std::size_t r = i; r <= last; ++r) {
             if ((r & 63) == 0) throwIfCancelled(cancel);
-            const Curve& c = quadtree.ancestorCurve(it.layer, items[r].id);
+            const AncestorId id = items[r].id;
+            const Curve& c = quadtree.ancestorCurve(it.layer, id);
             if (c.flags & kTunnel) {  // under the ground but for its portals
-                drawTunnelPortals(canvas, segmentsOf(curves.at(items[r].id), &curveData, it.layer, items[r].id), c,
-                                  curveData.length(it.layer, items[r].id), params.tunnelPortalLength);
+                drawTunnelPortals(canvas, segmentsOf(curves.at(id), &curveData, it.layer, id), c,
+                                  curveData.length(it.layer, id), params.tunnelPortalLength);
+            } else if (layer.kind == LayerKind::Rivers) {
+                drawRiverBanks(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
+            } else if (!roadHasMarkings(c.cls)) {
+                drawRoadSurface(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
+            } else if (!markingsShow) {
+                drawRoadSurface(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
+                if (counters) ++counters->markingsBelowTexel;
             } else {
-                const auto segments = segmentsOf(curves.at(items[r].id), nullptr, it.layer, items[r].id);
-                if (layer.kind == LayerKind::Rivers) drawRiverBanks(canvas, segments, c);
-                else drawRoadSurface(canvas, segments, c, marked(c) ? &scratch.kept : nullptr);
+                std::vector<Segment> segments = segmentsOf(curves.at(id), &curveData, it.layer, id);
+                if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) capRingEnds(segments, curves.at(id), c, *pc);
+                const RoadMarkings markings(c, roadEnds(quadtree, curveData, it.layer, id, c), canvas.pixelSize());
+                drawRoadSurface(canvas, segments, c, &markings, &scratch.marks);
+                if (counters) ++counters->curvesWithMarkings;
             }
-            scratch.keptStart[r - i + 1] = scratch.kept.size();
         }
         // The layer's areas that follow its curves (a river layer's): over the banks, under the water.
         std::size_t lastArea = last;
         while (lastArea + 1 < items.size() && items[lastArea + 1].area && items[lastArea + 1].layer == it.layer) ++lastArea;
         for (std::size_t r = last + 1; r <= lastArea; ++r) drawAreaItem(items[r]);
-        for (std::size_t r = i; r <= last; ++r) {
-            if ((r & 63) == 0) throwIfCancelled(cancel);
-            const AncestorId id = items[r].id;
-            const Curve& c = quadtree.ancestorCurve(it.layer, id);
-            if (layer.kind == LayerKind::Rivers) {
+        if (layer.kind == LayerKind::Rivers) {
+            for (std::size_t r = i; r <= last; ++r) {
+                if ((r & 63) == 0) throwIfCancelled(cancel);
+                const AncestorId id = items[r].id;
+                const Curve& c = quadtree.ancestorCurve(it.layer, id);
                 drawRiverWater(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
-                continue;
             }
-            if (!roadHasMarkings(c.cls) || (c.flags & kTunnel)) continue;
-            if (!markingsShow) {
-                if (counters) ++counters->markingsBelowTexel;
-                continue;
-            }
-            RoadEnds ends;
-            ends.length = curveData.length(it.layer, id);
-            ends.startRadius = junctionRadius(layer, c.start);
-            ends.endRadius = junctionRadius(layer, c.end);
-            ends.startStop = hasStopLine(layer, c.start, rootCurveOf(id));
-            ends.endStop = hasStopLine(layer, c.end, rootCurveOf(id));
-            // A road trimmed at a roundabout's ring yields there; its markings stop at the ring's edge.
-            ends.startYield = (c.flags & kYieldAtStart) != 0;
-            ends.endYield = (c.flags & kYieldAtEnd) != 0;
-            if (ends.startYield || ends.endYield)
-                if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) {
-                    if (ends.startYield) ends.startRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtStart));
-                    if (ends.endYield) ends.endRadius = 0.5 * double(roundaboutRingWidth(layer, pc->ringAtEnd));
-                }
-            std::vector<Segment> segments = segmentsOf(curves.at(id), &curveData, it.layer, id);
-            if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) capRingEnds(segments, curves.at(id), c, *pc);
-            const std::span<const FieldTexel> all(scratch.kept);
-            drawMarkings(canvas, segments, c, ends, all.subspan(scratch.keptStart[r - i], scratch.keptStart[r - i + 1] - scratch.keptStart[r - i]));
-            if (counters) ++counters->curvesWithMarkings;
         }
+        drawMarkings(canvas, scratch.marks);
         i = lastArea;
     }
     canvas.scratch().clean = true;

@@ -134,6 +134,10 @@ void SurfaceShader::prepareBlocks(double step) {
 }
 
 void SurfaceShader::block(Vec2 start, int nx, int ny, Rgbm* out, std::size_t stride) const {
+    if (shade_.surface == Surface::Forest) {
+        forestBlock(start, nx, ny, out, stride);
+        return;
+    }
     if (!tables_) {  // not a field with a pattern
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i) out[std::size_t(j) * stride + std::size_t(i)] = at(start + Vec2(double(i), double(j)) * step_);
@@ -153,6 +157,53 @@ void SurfaceShader::block(Vec2 start, int nx, int ny, Rgbm* out, std::size_t str
             const Float4 v = base * factor[i];
             std::memcpy(&row[i], &v, sizeof v);
         }
+    }
+}
+
+// forestAt's arithmetic, with what depends on x alone (the cell column, its smoothed fraction)
+// made once per column and what depends on y once per row: the same doubles, so the same colours.
+void SurfaceShader::forestBlock(Vec2 start, int nx, int ny, Rgbm* out, std::size_t stride) const {
+    const double cells[2] = {kCanopyCell, kCanopyDetail};
+    struct Axis {
+        std::int64_t cell[kMaxBlock];
+        double smooth[kMaxBlock];
+    };
+    Axis columns[2];
+    int octaves[2], count = 0;
+    for (int o = 0; o < 2; ++o) {
+        if (!(weight_[o] > 0.0)) continue;
+        octaves[count++] = o;
+        for (int i = 0; i < nx; ++i) {
+            const double q = (start.x + double(i) * step_) / cells[o], f = std::floor(q), t = q - f;
+            columns[o].cell[i] = std::int64_t(f);
+            columns[o].smooth[i] = t * t * (3.0 - 2.0 * t);
+        }
+    }
+    for (int j = 0; j < ny; ++j) {
+        const double y = start.y + double(j) * step_;
+        double n[kMaxBlock] = {};
+        for (int c = 0; c < count; ++c) {
+            const int o = octaves[c];
+            const double q = y / cells[o], f = std::floor(q), t = q - f;
+            const std::int64_t iy = std::int64_t(f);
+            const double ty = t * t * (3.0 - 2.0 * t);
+            const NoiseLattice& l = lattice_[o];
+            for (int i = 0; i < nx; ++i) {
+                const std::int64_t ix = columns[o].cell[i];
+                double a, b, cc, d;
+                if (l.holds(ix, iy)) {
+                    const double* row = &l.values[std::size_t(iy - l.y0) * std::size_t(l.nx) + std::size_t(ix - l.x0)];
+                    a = row[0], b = row[1], cc = row[l.nx], d = row[l.nx + 1];
+                } else {
+                    a = latticeValue(ix, iy, kCanopySeeds[o]), b = latticeValue(ix + 1, iy, kCanopySeeds[o]);
+                    cc = latticeValue(ix, iy + 1, kCanopySeeds[o]), d = latticeValue(ix + 1, iy + 1, kCanopySeeds[o]);
+                }
+                const double tx = columns[o].smooth[i];
+                n[i] += weight_[o] * (((a + (b - a) * tx) + ((cc + (d - cc) * tx) - (a + (b - a) * tx)) * ty) - 0.5);
+            }
+        }
+        Rgbm* row = out + std::size_t(j) * stride;
+        for (int i = 0; i < nx; ++i) row[i] = Rgbm(base_ * float(1.0 + n[i]), 0.0f);
     }
 }
 

@@ -59,6 +59,7 @@ public:
 
 private:
     Rgbm forestAt(Vec2 p) const;
+    void forestBlock(Vec2 start, int nx, int ny, Rgbm* out, std::size_t stride) const;
     double step_ = 0.0;
     bool tables_ = false;                                  // a field with a pattern, prepared
     double cosX_[kMaxBlock] = {}, sinX_[kMaxBlock] = {};   // cos and sin of i * step * direction_.x
