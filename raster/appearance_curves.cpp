@@ -22,13 +22,38 @@ void setTexel(Canvas& canvas, Scratch& s, std::size_t k, const Segment& nearest,
     canvas.touch(k);
 }
 
-// The field of distanceField, pixel by pixel: visit(k, dist, v, nearest, t) for each pixel within
-// `reach` and a pixel of the polyline, in block order. Block by block (kBlock pixels), only the
-// candidate segments (candidatesNear) are measured, four pixels of a row against one at once in
-// float, in the block's local frame (segment4.h): per lane the least squared distance, its
-// segment and parameter.
+constexpr int kLanes = kBlock / 4;  // Float4 vectors in a block row
+
+// One row of a block of the field (forEachFieldRow): pixels k0 .. k0 + count - 1 of the canvas,
+// four to a vector. Per pixel: the distance (infinite where no segment is a candidate), the
+// parameter on the nearest segment and its index in `local` and `candidates` (-1: none); the
+// pixel centres (qx, qy) and the segments in the block's local frame.
+struct FieldRow {
+    std::size_t k0 = 0;
+    int count = 0;
+    Float4 dist[kLanes], t[kLanes];
+    Int4 index[kLanes];
+    const Float4* qx = nullptr;
+    float qy = 0.0f;
+    const LocalSegment* local = nullptr;
+    const Segment* const* candidates = nullptr;
+    float at(const Float4* v, int i) const { return v[i / 4][i % 4]; }
+    // Signed v of pixel i (> 0 on the left of its nearest segment), from the local frame.
+    float signedV(int i) const {
+        const LocalSegment& ls = local[std::size_t(index[i / 4][i % 4])];
+        const float rx = qx[i / 4][i % 4] - ls.x0, ry = qy - ls.y0;
+        const float d = at(dist, i);
+        return ls.dx * ry - ls.dy * rx >= 0.0f ? d : -d;
+    }
+};
+
+// The field of distanceField, a block row at a time: visit(row) for every row of every block
+// with a candidate segment within `reach` and a pixel of the polyline. Block by block (kBlock
+// pixels), only the candidate segments (candidatesNear) are measured, four pixels of a row
+// against one at once in float, in the block's local frame (segment4.h): per lane the least
+// squared distance, its segment and parameter.
 template <class Visit>
-void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, double reach, Visit&& visit) {
+void forEachFieldRow(Canvas& canvas, const std::vector<Segment>& segments, double reach, Visit&& visit) {
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
@@ -40,9 +65,10 @@ void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, dou
     const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
     std::vector<const Segment*>& candidates = s.candidates;
     std::vector<LocalSegment>& local = s.local;
-    constexpr int kLanes = kBlock / 4;
     Float4 qx[kLanes];  // pixel centres of a block row, metres from the block's first one
     for (int i = 0; i < kBlock; ++i) qx[i / 4][i % 4] = float(double(i) * px);
+    FieldRow row;
+    row.qx = qx;
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
             const int ex = std::min(bx + kBlock, x1), ey = std::min(by + kBlock, y1);
@@ -50,11 +76,13 @@ void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, dou
             const Vec2 origin = canvas.world(bx, by);
             local.clear();
             for (const Segment* sg : candidates) local.push_back(localSegment(sg->p0, sg->p1, origin));
+            row.local = local.data();
+            row.candidates = candidates.data();
+            row.count = ex - bx;
             for (int y = by; y < ey; ++y) {
                 const float qy = float(double(y - by) * px);
-                Float4 best[kLanes], bestT[kLanes];
-                Int4 index[kLanes];
-                for (int l = 0; l < kLanes; ++l) best[l] = splat(kInf), bestT[l] = splat(0.0f), index[l] = splatInt(-1);
+                Float4* const best = row.dist;
+                for (int l = 0; l < kLanes; ++l) best[l] = splat(kInf), row.t[l] = splat(0.0f), row.index[l] = splatInt(-1);
                 for (std::size_t c = 0; c < local.size(); ++c) {
                     const LocalSegment& ls = local[c];
                     const Int4 ci = splatInt(int(c));
@@ -66,23 +94,31 @@ void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, dou
                         const Float4 d2 = ex2 * ex2 + ey2 * ey2;
                         const Int4 nearer = d2 < best[l];  // the first among equally near ones stays
                         best[l] = nearer ? d2 : best[l];
-                        bestT[l] = nearer ? t : bestT[l];
-                        index[l] = nearer ? ci : index[l];
+                        row.t[l] = nearer ? t : row.t[l];
+                        row.index[l] = nearer ? ci : row.index[l];
                     }
                 }
-                const std::size_t row = std::size_t(y) * std::size_t(side);
-                for (int x = bx; x < ex; ++x) {
-                    const int l = (x - bx) / 4, lane = (x - bx) % 4;
-                    if (index[l][lane] < 0) continue;
-                    const float dist = std::sqrt(best[l][lane]);
-                    if (double(dist) > within) continue;
-                    const LocalSegment& ls = local[std::size_t(index[l][lane])];
-                    const float rx = qx[l][lane] - ls.x0, ry = qy - ls.y0;
-                    const float v = ls.dx * ry - ls.dy * rx >= 0.0f ? dist : -dist;
-                    visit(row + std::size_t(x), dist, v, *candidates[std::size_t(index[l][lane])], double(bestT[l][lane]));
-                }
+                for (int l = 0; l < kLanes; ++l) best[l] = sqrt4(best[l]);
+                row.qy = qy;
+                row.k0 = std::size_t(y) * std::size_t(side) + std::size_t(bx);
+                visit(row);
             }
         }
+}
+
+// The same pixel by pixel: visit(k, dist, v, nearest, t) for each pixel within `reach` and a
+// pixel of the polyline, in block order.
+template <class Visit>
+void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, double reach, Visit&& visit) {
+    const double within = reach + canvas.pixelSize();
+    forEachFieldRow(canvas, segments, reach, [&](const FieldRow& row) {
+        for (int i = 0; i < row.count; ++i) {
+            const int index = row.index[i / 4][i % 4];
+            const float dist = row.at(row.dist, i);
+            if (index < 0 || double(dist) > within) continue;
+            visit(row.k0 + std::size_t(i), dist, row.signedV(i), *row.candidates[std::size_t(index)], double(row.at(row.t, i)));
+        }
+    });
 }
 
 }  // namespace
@@ -138,19 +174,34 @@ namespace {
 void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask,
               const RoadMarkings* markings = nullptr, std::vector<MarkingTexel>* marks = nullptr) {
     const float px = float(canvas.pixelSize()), hwPixels = float(hw) / px;
+    const double within = hw + canvas.pixelSize();
     const Rgbm colour(rgb, mask);
     Rgbm* const out = canvas.scratch().colour.data();
-    forEachFieldPixel(canvas, segments, hw, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
-        const float alpha = bandCoverage(dist / px, hwPixels);
-        if (alpha > 0.0f) blend(out[k], colour, alpha);
+    forEachFieldRow(canvas, segments, hw, [&](const FieldRow& row) {
+        // bandCoverage four pixels at a time (0 where no segment is near: an infinite distance).
+        Float4 alpha[kLanes];
+        for (int l = 0; l < kLanes; ++l) {
+            const Float4 x = row.dist[l] / px, zero = splat(0.0f), one = splat(1.0f);
+            alpha[l] = clamp4(hwPixels - x + 0.5f, zero, one) + clamp4(hwPixels + x + 0.5f, zero, one) - 1.0f;
+        }
+        for (int i = 0; i < row.count; ++i) {
+            const float a = row.at(alpha, i);
+            if (a > 0.0f) blend(out[row.k0 + std::size_t(i)], colour, a);
+        }
         if (!markings) return;
-        // As drawMarkings reads them from distanceField: u along the nearest segment, the cap beyond a capped end.
-        const bool cap = (t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap);
-        const double d = dist, sv = v, u = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
-        if (d > markings->hw || cap) return;  // no side line around the round end caps
-        if (markings->beyondLines(d, sv, u)) return;  // most of the lanes: no coverage
-        const float m = markings->coverage(d, sv, u);
-        if (m > 0.0f) marks->push_back({std::uint32_t(k), m});
+        for (int i = 0; i < row.count; ++i) {
+            const int index = row.index[i / 4][i % 4];
+            const double d = row.at(row.dist, i);
+            if (index < 0 || d > markings->hw || d > within) continue;
+            // As drawMarkings reads them from distanceField: u along the nearest segment, the cap beyond a capped end.
+            const Segment& nearest = *row.candidates[std::size_t(index)];
+            const double t = row.at(row.t, i);
+            if ((t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap)) continue;  // no side line around the round end caps
+            const double v = row.signedV(i), u = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
+            if (markings->beyondLines(d, v, u)) continue;  // most of the lanes: no coverage
+            const float m = markings->coverage(d, v, u);
+            if (m > 0.0f) marks->push_back({std::uint32_t(row.k0 + std::size_t(i)), m});
+        }
     });
 }
 
