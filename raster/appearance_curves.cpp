@@ -1,6 +1,7 @@
 #include "raster/appearance_curves.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -37,6 +38,7 @@ struct FieldRow {
     float qy = 0.0f;
     const LocalSegment* local = nullptr;
     const Segment* const* candidates = nullptr;
+    std::size_t candidateCount = 0;
     float at(const Float4* v, int i) const { return v[i / 4][i % 4]; }
     // Signed v of pixel i (> 0 on the left of its nearest segment), from the local frame.
     float signedV(int i) const {
@@ -78,6 +80,7 @@ void forEachFieldRow(Canvas& canvas, const std::vector<Segment>& segments, doubl
             for (const Segment* sg : candidates) local.push_back(localSegment(sg->p0, sg->p1, origin));
             row.local = local.data();
             row.candidates = candidates.data();
+            row.candidateCount = candidates.size();
             row.count = ex - bx;
             for (int y = by; y < ey; ++y) {
                 const float qy = float(double(y - by) * px);
@@ -189,7 +192,28 @@ void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, g
             if (a > 0.0f) blend(out[row.k0 + std::size_t(i)], colour, a);
         }
         if (!markings) return;
-        for (int i = 0; i < row.count; ++i) {
+        // Without a stop or yield line in reach of the row's segments (their u), a pixel has
+        // markings only within the side and centre lines' bands across the road (|v| = d): the
+        // others are skipped four at a time, with a margin over beyondLines' bound.
+        double uLo = kInf, uHi = -kInf;
+        for (std::size_t c = 0; c < row.candidateCount; ++c)
+            uLo = std::min({uLo, row.candidates[c]->u0, row.candidates[c]->u1}),
+            uHi = std::max({uHi, row.candidates[c]->u0, row.candidates[c]->u1});
+        const double slack = 1e-6 * std::max(std::abs(uLo), std::abs(uHi));  // u is rounded to float
+        std::uint32_t lanes = 0;  // bit i: pixel i may have markings
+        if (markings->endLinesWithin(uLo - slack, uHi + slack)) {
+            lanes = (1u << row.count) - 1u;
+        } else {
+            const float reachPixels = float(markings->lineReach) + 0.01f, axis = markings->sideAxis;
+            for (int l = 0; l < kLanes; ++l) {
+                const Float4 x = row.dist[l] / px, side = x - axis;
+                const Int4 near = ((side < 0.0f ? -side : side) < reachPixels) | (x < reachPixels);
+                for (int j = 0; j < 4; ++j) lanes |= near[j] ? 1u << (4 * l + j) : 0u;
+            }
+            lanes &= (1u << row.count) - 1u;
+        }
+        for (; lanes; lanes &= lanes - 1) {
+            const int i = std::countr_zero(lanes);
             const int index = row.index[i / 4][i % 4];
             const double d = row.at(row.dist, i);
             if (index < 0 || d > markings->hw || d > within) continue;
@@ -253,6 +277,22 @@ RoadMarkings::RoadMarkings(const Curve& c, const RoadEnds& e, double pixel)
       sideAxis(float((hw - g.sideInset - 0.5 * g.lineWidth) / px)),
       laneHalf(0.5 * (hw - g.sideInset)),
       lineReach(double(halfLine) + 1.5) {}
+
+bool RoadMarkings::endLinesWithin(double uLo, double uHi) const {
+    // The stop and yield lines' reach along the road (as beyondLines), from either end.
+    const auto overlaps = [&](bool line, double radius, double gap, double width, bool fromEnd) {
+        if (!line) return false;
+        const double centre = radius + gap + 0.5 * width, reach = 0.5 * width + 2.0 * px;
+        const double lo = fromEnd ? ends.length - centre - reach : centre - reach;
+        const double hi = fromEnd ? ends.length - centre + reach : centre + reach;
+        return !(uHi < lo || uLo > hi);
+    };
+    return !(uLo <= uHi) ||  // none, or NaN: the careful way
+           overlaps(ends.startStop, ends.startRadius, g.stopLineGap, g.stopLineWidth, false) ||
+           overlaps(ends.endStop, ends.endRadius, g.stopLineGap, g.stopLineWidth, true) ||
+           overlaps(ends.startYield, ends.startRadius, yield.gap, yield.width, false) ||
+           overlaps(ends.endYield, ends.endRadius, yield.gap, yield.width, true);
+}
 
 bool RoadMarkings::beyondLines(double d, double v, double u) const {
     // Side and centre lines: beyond their bands across the road, or cut off by a junction (its

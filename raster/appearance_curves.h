@@ -67,6 +67,9 @@ struct RoadMarkings {
     RoadMarkings(const Curve& c, const RoadEnds& ends, double pixel);
     float coverage(double d, double v, double u) const;
     bool beyondLines(double d, double v, double u) const;
+    // Whether a stop or yield line reaches some u in [uLo, uHi] (where it does not, beyondLines
+    // depends on d alone: |d / px - sideAxis| >= lineReach and d / px >= lineReach).
+    bool endLinesWithin(double uLo, double uHi) const;
 
     const MarkingGeometry g{};
     const YieldLineGeometry yield{};

@@ -277,6 +277,14 @@ TEST(Markings, TheTexelsSkippedBeyondTheLinesHaveNoCoverage) {
                              : k % 8 == 7 ? ends.length - ends.endRadius - lineEdge
                                           : ends.length * unit(rng);
             const float cov = m.coverage(d, v, u);
+            // Where no stop or yield line reaches u, beyondLines depends on d alone (the producer
+            // skips pixels by d, four at a time, there).
+            if (!m.endLinesWithin(u, u)) {
+                const bool byDistance = std::abs(d / px - double(m.sideAxis)) >= m.lineReach && d / px >= m.lineReach;
+                if (byDistance) {
+                    ASSERT_TRUE(m.beyondLines(d, v, u)) << "w " << c.w << " px " << px << " d " << d << " u " << u;
+                }
+            }
             if (m.beyondLines(d, v, u)) {
                 ++skipped;
                 ASSERT_EQ(cov, 0.0f) << "w " << c.w << " px " << px << " d " << d << " v " << v << " u " << u;
