@@ -188,9 +188,7 @@ void SurfaceShader::forestBlock(Vec2 start, int nx, int ny, Rgbm* out, std::size
             const std::int64_t iy = std::int64_t(f);
             const double ty = t * t * (3.0 - 2.0 * t);
             const NoiseLattice& l = lattice_[o];
-            for (int i = 0; i < nx; ++i) {
-                const std::int64_t ix = columns[o].cell[i];
-                double a, b, cc, d;
+            const auto corners = [&](std::int64_t ix, double& a, double& b, double& cc, double& d) {
                 if (l.holds(ix, iy)) {
                     const double* row = &l.values[std::size_t(iy - l.y0) * std::size_t(l.nx) + std::size_t(ix - l.x0)];
                     a = row[0], b = row[1], cc = row[l.nx], d = row[l.nx + 1];
@@ -198,8 +196,23 @@ void SurfaceShader::forestBlock(Vec2 start, int nx, int ny, Rgbm* out, std::size
                     a = latticeValue(ix, iy, kCanopySeeds[o]), b = latticeValue(ix + 1, iy, kCanopySeeds[o]);
                     cc = latticeValue(ix, iy + 1, kCanopySeeds[o]), d = latticeValue(ix + 1, iy + 1, kCanopySeeds[o]);
                 }
-                const double tx = columns[o].smooth[i];
-                n[i] += weight_[o] * (((a + (b - a) * tx) + ((cc + (d - cc) * tx) - (a + (b - a) * tx)) * ty) - 0.5);
+            };
+            const double w = weight_[o];
+            const double* smooth = columns[o].smooth;
+            if (columns[o].cell[0] == columns[o].cell[nx - 1]) {  // the row within one cell: its corners once
+                double a, b, cc, d;
+                corners(columns[o].cell[0], a, b, cc, d);
+                for (int i = 0; i < nx; ++i) {
+                    const double tx = smooth[i];
+                    n[i] += w * (((a + (b - a) * tx) + ((cc + (d - cc) * tx) - (a + (b - a) * tx)) * ty) - 0.5);
+                }
+                continue;
+            }
+            for (int i = 0; i < nx; ++i) {
+                double a, b, cc, d;
+                corners(columns[o].cell[i], a, b, cc, d);
+                const double tx = smooth[i];
+                n[i] += w * (((a + (b - a) * tx) + ((cc + (d - cc) * tx) - (a + (b - a) * tx)) * ty) - 0.5);
             }
         }
         Rgbm* row = out + std::size_t(j) * stride;
