@@ -273,7 +273,16 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     }
     if (!o.runs.empty())
         std::erase_if(plan, [&](const Run& r) { return std::find(o.runs.begin(), o.runs.end(), r.name()) == o.runs.end(); });
-    const ViewParams view;
+    const ViewParams view = [&] {
+        ViewParams v;
+        v.K = o.K;
+        return v;
+    }();
+    // What K costs on screen: the texels of the leaves in view magnified, in screen pixels a
+    // texel at the leaf's nearest point (its size / resolution seen at viewDistance, the 800
+    // pixels of the window's height spanning the camera's vertical field of view).
+    const double focalPixels = 800.0 / (2.0 * std::tan(0.5 * Camera{}.fovY));
+    const double resolution = double(RefineParams{}.resolution);
     for (const Run& run : plan) {
         const double budget = run.budget;
         const bool prefetch = run.prefetch;
@@ -296,7 +305,7 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
         std::size_t demFallbackFrames = 0, demFallbackTiles = 0, demRemade = 0, demHeldPeak = 0, partsArrived = 0;
         double kMin = view.K, kSum = 0.0;
         if (run.pyramid) session.setPyramid(pyramid);
-        std::vector<double> ms, tiles, refine, produce;
+        std::vector<double> ms, tiles, refine, produce, texelMagnification;
         std::size_t fromPyramid = 0, pyramidFailed = 0, backgroundStarted = 0, backgroundTaken = 0, backgroundDropped = 0,
                     backgroundSubdivisions = 0;
         std::size_t cachePeak = 0, pendingFrames = 0, prefetched = 0, deferredFrames = 0, replacedFrames = 0, replacedMax = 0;
@@ -315,6 +324,13 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
             const FrameReport r = session.frame(viewerAt(f), budget, visible,
                                                 prefetch ? std::optional<glm::dvec3>(viewerAt(f + o.prefetchFrames)) : std::nullopt);
             ms.push_back(msSince(t0));
+            double pixelsPerTexel = 0.0;  // the largest of the frame's leaves in view
+            session.quadtree().forEachQuad([&](const Quad& q) {
+                if (!q.isLeaf() || (visible && !visible(q))) return;
+                const double d = std::max(Quadtree::viewDistance(q, viewerAt(f)), 1e-3);
+                pixelsPerTexel = std::max(pixelsPerTexel, q.bounds.size().x / resolution * focalPixels / d);
+            });
+            texelMagnification.push_back(pixelsPerTexel);
             if (adaptive) {
                 kSum += adaptive->K();
                 const double k = adaptive->onFrame(ms.back(), r.pending == 0);
@@ -439,6 +455,8 @@ nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
                         {"cache_peak_tiles", cachePeak},
                         {"cache_tiles", run.cacheTiles},
                         {"view_leaves_mean", viewSum / double(ms.size())},
+                        {"screen_pixels_per_texel",  // of each frame's most magnified leaf in view
+                         {{"frame_median", median(texelMagnification)}, {"frame_max", quantile(texelMagnification, 1.0)}}},
                         {"frames_with_replaced_leaves", replacedFrames},
                         {"replaced_leaves_mean", replacedSum / double(ms.size())},
                         {"replaced_leaves_max", replacedMax},

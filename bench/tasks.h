@@ -79,6 +79,7 @@ struct FlyoverBenchOptions {
     // before, as a window's would: the background threads run between frames); 0: unpaced, each
     // frame right after the last (what a frame's own work costs, when no work is left to a thread).
     double fps = 60.0;
+    double K = ViewParams{}.K;  // the subdivision factor of the flight (§8), > 0
     // The runs flown (FlyoverBench's names: plain, prefetch, refine-budget, cache-784, no-culling,
     // pyramid); empty: all that apply.
     std::vector<std::string> runs;

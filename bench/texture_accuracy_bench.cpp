@@ -180,6 +180,65 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
         out["appearance_resolution"] = {{"reference_resolution", kReference}, {"rows", rows}};
     }
 
+    // Elevation tile resolution (samples per quad side), against 192: the height each tile gives
+    // (z_m, bilinear between its samples, as the terrain mesh interpolates it) at every sample of
+    // the reference inside the quad; also only where the reference's footprint is full (b = 1:
+    // on roads, rivers and lakes).
+    {
+        constexpr int kReference = 192;
+        auto produceAt = [&](int resolution, std::vector<double>* times) {
+            GraphStep qtStep(scene);
+            Quadtree qt(scene, RefineParams{{.elevationResolution = resolution}}, &qtStep);
+            std::vector<const Quad*> quads;
+            for (const Key& k : keys) quads.push_back(reach(qt, k));
+            CurveDataCache data(qt, heights);
+            for (const Quad* q : quads) produceElevation(*q, qt, data, dem, {});  // z-profiles computed: warm
+            std::vector<ElevationTile> tiles;
+            for (int run = 0; run < (times ? kTimingRuns : 1); ++run) {
+                tiles.clear();
+                for (const Quad* q : quads) {
+                    const auto t0 = Clock::now();
+                    tiles.push_back(produceElevation(*q, qt, data, dem, {}));
+                    if (times) times->push_back(msSince(t0));
+                }
+            }
+            return tiles;
+        };
+        // z_m of `t` at p (inside its quad), bilinear between its samples.
+        const auto heightAt = [](const ElevationTile& t, Vec2 p) {
+            const Vec2 g = (p - t.bounds.min) / t.delta;
+            const int i = std::clamp(int(std::floor(g.x)), 0, t.resolution - 1), j = std::clamp(int(std::floor(g.y)), 0, t.resolution - 1);
+            const double fx = g.x - double(i), fy = g.y - double(j);
+            const double a = t.zm[t.index(i, j)], b = t.zm[t.index(i + 1, j)], c = t.zm[t.index(i, j + 1)], d = t.zm[t.index(i + 1, j + 1)];
+            return (a + (b - a) * fx) * (1.0 - fy) + (c + (d - c) * fx) * fy;
+        };
+        const auto reference = produceAt(kReference, nullptr);
+        nlohmann::json rows = nlohmann::json::array();
+        for (int resolution : {12, 24, 48, 96}) {
+            std::vector<double> times;
+            const auto tiles = produceAt(resolution, &times);
+            double worst = 0.0, worstFootprint = 0.0, sum2 = 0.0;
+            std::size_t samples = 0;
+            for (std::size_t k = 0; k < tiles.size(); ++k) {
+                const ElevationTile& r = reference[k];
+                for (int j = 0; j <= r.resolution; ++j)
+                    for (int i = 0; i <= r.resolution; ++i) {
+                        const double e = std::abs(heightAt(tiles[k], r.position(i, j)) - double(r.zm[r.index(i, j)]));
+                        worst = std::max(worst, e);
+                        if (r.b[r.index(i, j)] >= 1.0f) worstFootprint = std::max(worstFootprint, e);
+                        sum2 += e * e;
+                        ++samples;
+                    }
+            }
+            rows.push_back({{"resolution", resolution},
+                            {"median_ms_per_tile", median(times)},
+                            {"max_height_error_m", worst},
+                            {"rms_height_error_m", std::sqrt(sum2 / double(std::max<std::size_t>(samples, 1)))},
+                            {"max_height_error_on_footprints_m", worstFootprint}});
+        }
+        out["elevation_resolution"] = {{"reference_resolution", kReference}, {"rows", rows}};
+    }
+
     // z-profiles: sample spacing against 0.5 m, kernel radius against the terrain it smooths.
     // Cost: computing the z-profiles of every road and river of the scene (cold cache), per curve.
     // Error: max |z_m - reference| over the elevation tiles of the quads, and the largest
