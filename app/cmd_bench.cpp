@@ -132,6 +132,9 @@ void addBenchCommand(CLI::App& app) {
     pyramid->add_option("--threads", po->threads, "Thread counts, e.g. 1,2")->delimiter(',');
     pyramid->add_option("--encodings", po->encodings, "Encodings to compare, e.g. png:1,jpeg:90,webp:90")->delimiter(',');
     pyramid->add_flag("--mip-error", po->mipError, "Also the error of mipmapped levels against levels made from vector data");
+    pyramid->add_option("--vector-levels", po->vectorLevels,
+                        "With --mip-error: the counts of deepest levels made from vector data compared, e.g. 1,2,3 (default 1)")
+        ->delimiter(',');
     pyramid->add_flag("--edit-road", po->editRoad, "Also: one road moved 20 m, pyramid update against a rebuild (tiles remade, equality)");
     pyramid->add_flag("--json", *pjson, "Print JSON (the only format)");
     pyramid->callback([po] { std::cout << bench::benchPyramid(*po).dump(2) << "\n"; });

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <stdexcept>
 
 #include <glm/geometric.hpp>
 #include <tbb/global_control.h>
@@ -45,6 +47,42 @@ PyramidStats build(const SceneDocument& doc, const std::string& path, PyramidPar
     return buildPyramid(doc, path, p, true, nullptr);
 }
 
+// The appearance tiles of two pyramids of the same levels compared texel by texel (8-bit
+// channels, every tile both hold), per level.
+struct LevelError {
+    double sum2 = 0.0, sumAbs = 0.0, max = 0.0, count = 0.0, over16 = 0.0;
+    void add(const LevelError& o) {
+        sum2 += o.sum2, sumAbs += o.sumAbs, max = std::max(max, o.max), count += o.count, over16 += o.over16;
+    }
+    double psnr() const { return sum2 > 0.0 ? 10.0 * std::log10(255.0 * 255.0 * count / sum2) : INFINITY; }
+    nlohmann::json json() const {
+        return {{"rmse", std::sqrt(sum2 / count)}, {"mean_abs", sumAbs / count}, {"max_abs", max},
+                {"fraction_over_16", over16 / count}, {"psnr_db", psnr()}};
+    }
+};
+
+std::map<int, LevelError> compareAppearance(const std::string& pathA, const std::string& pathB) {
+    PyramidStore a(pathA, PyramidStore::Mode::ReadOnly), b(pathB, PyramidStore::Mode::ReadOnly);
+    const auto ta = a.allTiles(kAppearanceTable), tb = b.allTiles(kAppearanceTable);
+    if (ta.size() != tb.size()) throw std::runtime_error("bench pyramid: the pyramids compared hold different tiles");
+    std::map<int, LevelError> levels;
+    for (std::size_t i = 0; i < ta.size(); ++i) {
+        if (!(ta[i].first == tb[i].first)) throw std::runtime_error("bench pyramid: the pyramids compared hold different tiles");
+        const DecodedImage ia = decodeImage(ta[i].second), ib = decodeImage(tb[i].second);
+        if (ia.pixels.size() != ib.pixels.size()) throw std::runtime_error("bench pyramid: tiles of different sizes compared");
+        LevelError& e = levels[ta[i].first.level];
+        for (std::size_t k = 0; k < ia.pixels.size(); ++k) {
+            const double d = std::abs(double(ia.pixels[k]) - double(ib.pixels[k]));
+            e.sum2 += d * d;
+            e.sumAbs += d;
+            e.max = std::max(e.max, d);
+            e.count += 1.0;
+            e.over16 += d > 16.0 ? 1.0 : 0.0;
+        }
+    }
+    return levels;
+}
+
 }  // namespace
 
 nlohmann::json benchPyramid(const PyramidBenchOptions& o) {
@@ -72,16 +110,33 @@ nlohmann::json benchPyramid(const PyramidBenchOptions& o) {
     }
     out["threads"] = threads;
 
-    // Encoders: the same build with each encoding (all threads).
+    // Encoders: the same build with each encoding (all threads), its appearance against the same
+    // build in PNG (lossless): the coding error, carried up the mipmapped levels as a user sees it.
     nlohmann::json encoders = nlohmann::json::array();
+    const int allThreads = int(o.threads.empty() ? 2 : o.threads.back());
+    std::optional<TempPyramid> lossless;
+    if (!o.encodings.empty()) {
+        lossless.emplace("lossless");
+        PyramidParams p = base;
+        p.encoding = parseEncoding("png:1");
+        build(doc, lossless->path, p, allThreads);
+    }
     for (const std::string& e : o.encodings) {
         TempPyramid t("encoding");
         PyramidParams p = base;
         p.encoding = parseEncoding(e);
-        nlohmann::json j = runJson(build(doc, t.path, p, int(o.threads.empty() ? 2 : o.threads.back())));
+        nlohmann::json j = runJson(build(doc, t.path, p, allThreads));
         j["encoding"] = e;
-        PyramidStore s(t.path, PyramidStore::Mode::ReadOnly);
-        j["appearance_bytes"] = s.tileBytes(kAppearanceTable);
+        {
+            PyramidStore s(t.path, PyramidStore::Mode::ReadOnly);
+            j["appearance_bytes"] = s.tileBytes(kAppearanceTable);
+        }
+        LevelError all;
+        for (const auto& [level, err] : compareAppearance(t.path, lossless->path)) {
+            all.add(err);
+            if (level == o.maxLevel) j["against_png_deepest_level"] = err.json();
+        }
+        j["against_png"] = all.json();
         encoders.push_back(j);
     }
     out["encodings"] = encoders;
@@ -137,44 +192,36 @@ nlohmann::json benchPyramid(const PyramidBenchOptions& o) {
     }
 
     // Mipmapped levels against the same levels made from vector data (PNG: no coding error in
-    // either), per level: the colour difference over every texel.
+    // either), per level and over all levels, for each count of levels made from vector data
+    // (PyramidParams::vectorLevels; the rest are 2x2 means of their children).
     if (o.mipError) {
-        TempPyramid mip("mip"), vec("vector");
+        TempPyramid vec("vector");
         PyramidParams p = base;
         p.encoding = parseEncoding("png:1");
-        p.vectorLevels = 1;
-        const PyramidStats sm = build(doc, mip.path, p, 2);
         p.vectorLevels = o.maxLevel - o.minLevel + 1;
-        const PyramidStats sv = build(doc, vec.path, p, 2);
-        PyramidStore a(mip.path, PyramidStore::Mode::ReadOnly), b(vec.path, PyramidStore::Mode::ReadOnly);
-        const auto ta = a.allTiles(kAppearanceTable), tb = b.allTiles(kAppearanceTable);
-        struct LevelError {
-            double sum2 = 0.0, sumAbs = 0.0, max = 0.0, count = 0.0, over16 = 0.0;
-        };
-        std::map<int, LevelError> levels;
-        for (std::size_t i = 0; i < ta.size() && i < tb.size(); ++i) {
-            const DecodedImage ia = decodeImage(ta[i].second), ib = decodeImage(tb[i].second);
-            LevelError& e = levels[ta[i].first.level];
-            for (std::size_t k = 0; k < ia.pixels.size(); ++k) {
-                const double d = std::abs(double(ia.pixels[k]) - double(ib.pixels[k]));
-                e.sum2 += d * d;
-                e.sumAbs += d;
-                e.max = std::max(e.max, d);
-                e.count += 1.0;
-                e.over16 += d > 16.0 ? 1.0 : 0.0;
+        const PyramidStats sv = build(doc, vec.path, p, allThreads);
+        nlohmann::json rows = nlohmann::json::array();
+        for (int levels : o.vectorLevels.empty() ? std::vector<int>{1} : o.vectorLevels) {
+            if (levels < 1 || levels > o.maxLevel - o.minLevel + 1)
+                throw std::invalid_argument("bench pyramid --vector-levels: " + std::to_string(levels) + " is not within 1.." +
+                                            std::to_string(o.maxLevel - o.minLevel + 1));
+            TempPyramid mip("mip");
+            p.vectorLevels = levels;
+            const PyramidStats sm = build(doc, mip.path, p, allThreads);
+            nlohmann::json perLevel = nlohmann::json::array();
+            LevelError all;
+            for (const auto& [level, e] : compareAppearance(mip.path, vec.path)) {
+                all.add(e);
+                nlohmann::json j = e.json();
+                j["level"] = level;
+                perLevel.push_back(j);
             }
+            rows.push_back({{"vector_levels", levels}, {"wall_s", sm.wallSeconds}, {"appearance_tiles", sm.appearanceTiles},
+                            {"all_levels", all.json()}, {"per_level", perLevel}});
         }
-        nlohmann::json err = nlohmann::json::array();
-        for (const auto& [level, e] : levels)
-            err.push_back({{"level", level},
-                           {"rmse", std::sqrt(e.sum2 / e.count)},
-                           {"mean_abs", e.sumAbs / e.count},
-                           {"max_abs", e.max},
-                           {"fraction_over_16", e.over16 / e.count}});
-        out["mipmap_error"] = {{"per_level", err},
-                               {"note", "8-bit channel values; mipmapped (deepest level from vector data, the rest 2x2 means) "
+        out["mipmap_error"] = {{"rows", rows},
+                               {"note", "8-bit channel values; the deepest vector_levels levels from vector data, the rest 2x2 means, "
                                         "against every level from vector data, both PNG"},
-                               {"wall_s_mipmapped", sm.wallSeconds},
                                {"wall_s_all_vector", sv.wallSeconds}};
     }
     return out;

@@ -127,6 +127,7 @@ struct PyramidBenchOptions {
     std::vector<int> threads{1, 2};
     std::vector<std::string> encodings;
     bool mipError = false;
+    std::vector<int> vectorLevels;  // with mipError: the counts of levels made from vector data compared (empty: 1)
     bool editRoad = false;  // one road moved, then update against a rebuild
 };
 nlohmann::json benchPyramid(const PyramidBenchOptions& options);

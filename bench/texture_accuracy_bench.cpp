@@ -180,7 +180,7 @@ nlohmann::json benchTextureAccuracy(std::size_t curves, std::uint64_t seed, int 
         out["appearance_resolution"] = {{"reference_resolution", kReference}, {"rows", rows}};
     }
 
-    // Elevation tile resolution (samples per quad side), against 192: the height each tile gives
+    // Elevation tile resolution (cells per quad side), against 192: the height each tile gives
     // (z_m, bilinear between its samples, as the terrain mesh interpolates it) at every sample of
     // the reference inside the quad; also only where the reference's footprint is full (b = 1:
     // on roads, rivers and lakes).
