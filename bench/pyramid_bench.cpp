@@ -54,10 +54,11 @@ struct LevelError {
     void add(const LevelError& o) {
         sum2 += o.sum2, sumAbs += o.sumAbs, max = std::max(max, o.max), count += o.count, over16 += o.over16;
     }
-    double psnr() const { return sum2 > 0.0 ? 10.0 * std::log10(255.0 * 255.0 * count / sum2) : INFINITY; }
     nlohmann::json json() const {
+        // PSNR over 8-bit channels; identical tiles have none (null) and say so.
+        const nlohmann::json psnr = sum2 > 0.0 ? nlohmann::json(10.0 * std::log10(255.0 * 255.0 * count / sum2)) : nlohmann::json();
         return {{"rmse", std::sqrt(sum2 / count)}, {"mean_abs", sumAbs / count}, {"max_abs", max},
-                {"fraction_over_16", over16 / count}, {"psnr_db", psnr()}};
+                {"fraction_over_16", over16 / count}, {"psnr_db", psnr}, {"identical", sum2 == 0.0}};
     }
 };
 
