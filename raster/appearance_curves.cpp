@@ -177,7 +177,6 @@ namespace {
 void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, glm::vec3 rgb, float mask,
               const RoadMarkings* markings = nullptr, std::vector<MarkingTexel>* marks = nullptr) {
     const float px = float(canvas.pixelSize()), hwPixels = float(hw) / px;
-    const double within = hw + canvas.pixelSize();
     const Rgbm colour(rgb, mask);
     Rgbm* const out = canvas.scratch().colour.data();
     forEachFieldRow(canvas, segments, hw, [&](const FieldRow& row) {
@@ -216,7 +215,7 @@ void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, g
             const int i = std::countr_zero(lanes);
             const int index = row.index[i / 4][i % 4];
             const double d = row.at(row.dist, i);
-            if (index < 0 || d > markings->hw || d > within) continue;
+            if (index < 0 || d > markings->hw) continue;  // hw: the band's reach, within the field's
             // As drawMarkings reads them from distanceField: u along the nearest segment, the cap beyond a capped end.
             const Segment& nearest = *row.candidates[std::size_t(index)];
             const double t = row.at(row.t, i);

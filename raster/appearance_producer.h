@@ -12,9 +12,10 @@
 //   and closing paths) and rasterized; coverage near the real border (not the closing paths)
 //   from the exact distance to it, the box filter of edgeCoverage() on each side; a border strip
 //   of width wf outside (banks, field margins, forest edges).
-// - Curves: each texel near a curve takes the exact distance to its nearest refined segment
-//   (found among the few that can be nearest in its block of texels), and that segment gives the
-//   texel its (u, v), so the result is the band of the distance to the polyline: joins at sharp
+// - Curves: each texel near a curve takes the distance to its nearest refined segment (found
+//   among the few that can be nearest in its block of texels, measured four texels at a time in
+//   float in the block's frame: within about 1e-6 of the block's reach of the exact one), and
+//   that segment gives the texel its (u, v), so the result is the band of the distance to the polyline: joins at sharp
 //   turns and hairpins wider than their radius have no spike and no gap, ends get round caps
 //   and junctions are the union of the roads' discs.
 //   Rivers: water (mask 1) within w/2, banks to wf/2; a Rivers layer's areas are water, drawn
