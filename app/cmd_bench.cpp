@@ -80,7 +80,7 @@ void addBenchCommand(CLI::App& app) {
     flyover->add_option("--runs", fo->runs, "Only these runs: plain, prefetch, refine-budget, cache-784, no-culling, pyramid")
         ->delimiter(',')
         ->check(CLI::IsMember({"plain", "prefetch", "refine-budget", "cache-784", "no-culling", "pyramid"}));
-    flyover->add_option("--fps", fo->fps, "Frames a second the flight is paced at, as a window's (0: unpaced)")->check(CLI::NonNegativeNumber);
+    flyover->add_option("--fps", fo->fps, "Frames a second the flight is paced at, as a window's (0: unpaced, with --background-ms 0)")->check(CLI::NonNegativeNumber);
     flyover->add_option("--k", fo->K, "The subdivision factor K of the flight (§8; quads closer than K times their size are subdivided)")
         ->check(CLI::PositiveNumber);
     flyover->add_option("--budgets", fo->budgetsMs, "Production budgets per frame (ms; 0: no budget)")->delimiter(',');

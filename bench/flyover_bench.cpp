@@ -121,6 +121,12 @@ nlohmann::json profileError(const EditSession& session, const FlyoverBenchOption
 
 nlohmann::json benchFlyover(const FlyoverBenchOptions& o) {
     if (o.frames < 2) throw std::invalid_argument("bench flyover: --frames must be 2 or more");
+    // Unpaced frames leave background work no time between them: the flight ends (a frame that
+    // makes nothing takes microseconds) before the root's first subdivision arrives, and measures
+    // nothing.
+    if (o.fps <= 0.0 && o.backgroundMs > 0.0)
+        throw std::invalid_argument("bench flyover: --fps 0 (unpaced) needs --background-ms 0: unpaced frames give the "
+                                    "background threads no time between them, and the flight would end before their work arrives");
     SceneDocument doc;
     const bool lazy = !o.scene.empty() && o.vectorBudgetMiB > 0.0;
     LazyParams lazyParams;

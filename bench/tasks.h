@@ -77,7 +77,8 @@ struct FlyoverBenchOptions {
     int frames = 4381;  // 73 s at 60 frames per second, as in the paper
     // Frames a second the flight is paced at (a frame begins no sooner than 1/fps after the one
     // before, as a window's would: the background threads run between frames); 0: unpaced, each
-    // frame right after the last (what a frame's own work costs, when no work is left to a thread).
+    // frame right after the last (what a frame's own work costs, when no work is left to a thread:
+    // with backgroundMs 0 only).
     double fps = 60.0;
     double K = ViewParams{}.K;  // the subdivision factor of the flight (§8), > 0
     // The runs flown (FlyoverBench's names: plain, prefetch, refine-budget, cache-784, no-culling,
