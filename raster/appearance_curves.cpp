@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -14,13 +15,24 @@ namespace lacet::appearance {
 namespace {
 
 // One pixel of the field, stored as distanceField's callers read it.
-void setTexel(Canvas& canvas, Scratch& s, std::size_t k, const Segment& nearest, float dist, float v, double t) {
+void setTexel(Canvas& canvas, std::size_t k, const Segment& nearest, float dist, float v, double t) {
+    Scratch& s = canvas.scratch();
     s.dist[k] = dist;
     s.v[k] = v;
     s.u[k] = float(nearest.u0 + (nearest.u1 - nearest.u0) * t);
     const bool cap = (t == 0.0 && nearest.startCap) || (t == 1.0 && nearest.endCap);
     s.flags[k] = std::uint8_t(cap ? (s.flags[k] | kCap) : (s.flags[k] & ~kCap));
     canvas.touch(k);
+}
+
+// The canvas pixels a field within `within` metres of the finite segments can reach (none
+// without a finite segment: a non-finite one is nobody's candidate).
+std::optional<Canvas::Rect> fieldRect(const Canvas& canvas, const std::vector<Segment>& segments, double within) {
+    Vec2 lo(kInf), hi(-kInf);
+    for (const Segment& sg : segments)
+        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
+    if (!finite(lo)) return std::nullopt;
+    return canvas.around(lo, hi, within / canvas.pixelSize() + 2.0);
 }
 
 constexpr int kLanes = kBlock / 4;  // Float4 vectors in a block row
@@ -39,6 +51,7 @@ struct FieldRow {
     const LocalSegment* local = nullptr;
     const Segment* const* candidates = nullptr;
     std::size_t candidateCount = 0;
+    std::size_t block = 0;  // counts the blocks visited: what a pass derives from the candidates holds while it is the same
     float at(const Float4* v, int i) const { return v[i / 4][i % 4]; }
     // Signed v of pixel i (> 0 on the left of its nearest segment), from the local frame.
     float signedV(int i) const {
@@ -59,12 +72,10 @@ void forEachFieldRow(Canvas& canvas, const std::vector<Segment>& segments, doubl
     Scratch& s = canvas.scratch();
     const double px = canvas.pixelSize();
     const double within = reach + px;
-    Vec2 lo(kInf), hi(-kInf);  // of the finite segments (a non-finite one is nobody's candidate)
-    for (const Segment& sg : segments)
-        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
-    if (!finite(lo)) return;  // no finite segment
+    const std::optional<Canvas::Rect> rect = fieldRect(canvas, segments, within);
+    if (!rect) return;
+    const auto [x0, y0, x1, y1] = *rect;
     const int side = canvas.side();
-    const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
     std::vector<const Segment*>& candidates = s.candidates;
     std::vector<LocalSegment>& local = s.local;
     Float4 qx[kLanes];  // pixel centres of a block row, metres from the block's first one
@@ -82,6 +93,7 @@ void forEachFieldRow(Canvas& canvas, const std::vector<Segment>& segments, doubl
             row.candidates = candidates.data();
             row.candidateCount = candidates.size();
             row.count = ex - bx;
+            ++row.block;
             for (int y = by; y < ey; ++y) {
                 const float qy = float(double(y - by) * px);
                 Float4* const best = row.dist;
@@ -127,15 +139,11 @@ void forEachFieldPixel(Canvas& canvas, const std::vector<Segment>& segments, dou
 }  // namespace
 
 void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
-    Scratch& s = canvas.scratch();
-    const double px = canvas.pixelSize();
-    const double within = reach + px;
-    Vec2 lo(kInf), hi(-kInf);
-    for (const Segment& sg : segments)
-        if (finite(sg.p0) && finite(sg.p1)) lo = glm::min(lo, glm::min(sg.p0, sg.p1)), hi = glm::max(hi, glm::max(sg.p0, sg.p1));
-    if (!finite(lo)) return;
+    const double within = reach + canvas.pixelSize();
+    const std::optional<Canvas::Rect> rect = fieldRect(canvas, segments, within);
+    if (!rect) return;
+    const auto [x0, y0, x1, y1] = *rect;
     const int side = canvas.side();
-    const auto [x0, y0, x1, y1] = canvas.around(lo, hi, within / px + 2.0);
     std::vector<const Segment*> candidates;
     for (int by = y0; by < y1; by += kBlock)
         for (int bx = x0; bx < x1; bx += kBlock) {
@@ -157,15 +165,14 @@ void distanceFieldReference(Canvas& canvas, const std::vector<Segment>& segments
                     if (!nearest || double(best) > within) continue;
                     const Vec2 seg = nearest->p1 - nearest->p0;
                     const float v = float(seg.x * bestR.y - seg.y * bestR.x >= 0.0 ? double(best) : -double(best));
-                    setTexel(canvas, s, std::size_t(y) * std::size_t(side) + std::size_t(x), *nearest, best, v, bestT);
+                    setTexel(canvas, std::size_t(y) * std::size_t(side) + std::size_t(x), *nearest, best, v, bestT);
                 }
         }
 }
 
 void distanceField(Canvas& canvas, const std::vector<Segment>& segments, double reach) {
-    Scratch& s = canvas.scratch();
     forEachFieldPixel(canvas, segments, reach, [&](std::size_t k, float dist, float v, const Segment& nearest, double t) {
-        setTexel(canvas, s, k, nearest, dist, v, t);
+        setTexel(canvas, k, nearest, dist, v, t);
     });
 }
 
@@ -179,6 +186,8 @@ void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, g
     const float px = float(canvas.pixelSize()), hwPixels = float(hw) / px;
     const Rgbm colour(rgb, mask);
     Rgbm* const out = canvas.scratch().colour.data();
+    std::size_t endLinesBlock = 0;  // the block endLines was found for (blocks count from 1)
+    bool endLines = true;
     forEachFieldRow(canvas, segments, hw, [&](const FieldRow& row) {
         // bandCoverage four pixels at a time (0 where no segment is near: an infinite distance).
         Float4 alpha[kLanes];
@@ -191,16 +200,20 @@ void drawBand(Canvas& canvas, const std::vector<Segment>& segments, double hw, g
             if (a > 0.0f) blend(out[row.k0 + std::size_t(i)], colour, a);
         }
         if (!markings) return;
-        // Without a stop or yield line in reach of the row's segments (their u), a pixel has
+        // Without a stop or yield line in reach of the block's segments (their u), a pixel has
         // markings only within the side and centre lines' bands across the road (|v| = d): the
         // others are skipped four at a time, with a margin over beyondLines' bound.
-        double uLo = kInf, uHi = -kInf;
-        for (std::size_t c = 0; c < row.candidateCount; ++c)
-            uLo = std::min({uLo, row.candidates[c]->u0, row.candidates[c]->u1}),
-            uHi = std::max({uHi, row.candidates[c]->u0, row.candidates[c]->u1});
-        const double slack = 1e-6 * std::max(std::abs(uLo), std::abs(uHi));  // u is rounded to float
+        if (row.block != endLinesBlock) {
+            double uLo = kInf, uHi = -kInf;
+            for (std::size_t c = 0; c < row.candidateCount; ++c)
+                uLo = std::min({uLo, row.candidates[c]->u0, row.candidates[c]->u1}),
+                uHi = std::max({uHi, row.candidates[c]->u0, row.candidates[c]->u1});
+            const double slack = 1e-6 * std::max(std::abs(uLo), std::abs(uHi));  // u is rounded to float
+            endLines = markings->endLinesWithin(uLo - slack, uHi + slack);
+            endLinesBlock = row.block;
+        }
         std::uint32_t lanes = 0;  // bit i: pixel i may have markings
-        if (markings->endLinesWithin(uLo - slack, uHi + slack)) {
+        if (endLines) {
             lanes = (1u << row.count) - 1u;
         } else {
             const float reachPixels = float(markings->lineReach) + 0.01f, axis = markings->sideAxis;

@@ -216,11 +216,9 @@ AppearanceTile produceAppearance(const Quad& quad, const Quadtree& quadtree, con
                                   curveData.length(it.layer, id), params.tunnelPortalLength);
             } else if (layer.kind == LayerKind::Rivers) {
                 drawRiverBanks(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
-            } else if (!roadHasMarkings(c.cls)) {
+            } else if (!roadHasMarkings(c.cls) || !markingsShow) {
                 drawRoadSurface(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
-            } else if (!markingsShow) {
-                drawRoadSurface(canvas, segmentsOf(curves.at(id), nullptr, it.layer, id), c);
-                if (counters) ++counters->markingsBelowTexel;
+                if (counters && roadHasMarkings(c.cls)) ++counters->markingsBelowTexel;
             } else {
                 std::vector<Segment> segments = segmentsOf(curves.at(id), &curveData, it.layer, id);
                 if (const ProceduralCurve* pc = quadtree.proceduralCurve(it.layer, id)) capRingEnds(segments, curves.at(id), c, *pc);
