@@ -67,6 +67,9 @@ void addBenchCommand(CLI::App& app) {
     edit->add_option("--scene", e->scene, "A scene file read lazily (with --vector-budget) instead of the synthetic scene");
     edit->add_option("--vector-budget", e->vectorBudgetMiB, "With --scene: MiB of vector data held (editor/lazy_forest.h)");
     edit->add_option("--part-level", e->partLevel, "With --scene: the level of the quads read as one part (-1: at most 5 km wide)");
+    edit->add_flag("--save", e->save,
+                   "With --scene: a drag kept and saved into the file, then undone and saved again (the file's content as it was): "
+                   "the save's cost");
     edit->add_option("--pyramid", e->pyramid, "With --scene: its pyramid (the levels above the parts read from it)");
     edit->add_flag("--json", *eJson, "Print JSON (the only format)");
     edit->callback([e, eJson] { std::cout << bench::benchEdit(*e).dump(2) << "\n"; });

@@ -45,6 +45,7 @@ struct CheckOptions {
     bool lazy = false;             // edits of the scene read lazily against the whole scene's
     double vectorBudgetMiB = 512.0;
     int partLevel = -1;
+    int saveEvery = 8;             // with --lazy: the lazy edits saved into the file every this many edits (0: never)
 };
 
 // `--lazy`: the synthetic scene saved into a temporary file, edited through a session reading it
@@ -70,7 +71,7 @@ int runLazy(const CheckOptions& o) {
     lazy.partLevel = o.partLevel;
     lazy.background = false;  // deterministic: a part is read in the frame that wants it
     EditSession session(file.path, lazy, params);
-    const LazyEditCheckReport r = checkLazyEdits(session, whole, {.seed = o.seed * 7919 + 1, .edits = o.edits});
+    const LazyEditCheckReport r = checkLazyEdits(session, whole, {.seed = o.seed * 7919 + 1, .edits = o.edits, .saveEvery = o.saveEvery});
     const LazyStats& st = session.lazyForest()->stats();
     const nlohmann::json out = {{"seed", o.seed},
                                 {"curves", curves},
@@ -88,11 +89,13 @@ int runLazy(const CheckOptions& o) {
                                 {"mismatch_details", r.details},
                                 {"lazy_command_median_ms", bench::median(r.lazyMs)},
                                 {"lazy_command_p95_ms", bench::quantile(r.lazyMs, 0.95)},
-                                {"whole_command_median_ms", bench::median(r.wholeMs)}};
+                                {"whole_command_median_ms", bench::median(r.wholeMs)},
+                                {"saves", r.saves},
+                                {"save_median_ms", bench::median(r.saveMs)}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
         std::cout << r.edits << " edits of a scene read lazily (" << r.commands << " commands, " << r.undos << " undos, " << r.redos
-                  << " redos), " << r.tilesCompared << " tiles compared with the whole scene's, " << r.mismatches << " mismatches\n";
+                  << " redos, " << r.saves << " saves), " << r.tilesCompared << " tiles compared with the whole scene's, " << r.mismatches << " mismatches\n";
     if (r.edits == 0 || r.tilesCompared == 0) {
         std::cerr << "lacet check incremental --lazy: nothing was compared\n";
         return 2;
@@ -258,6 +261,9 @@ void addCheckCommand(CLI::App& app) {
     inc->add_flag("--json", o->json, "Print JSON");
     inc->add_flag("--lazy", o->lazy, "Edits of the scene read lazily (saved into a temporary file) against edits of the whole scene, tile for tile");
     inc->add_option("--vector-budget", o->vectorBudgetMiB, "With --lazy: MiB of vector data the lazy session holds");
+    inc->add_option("--save-every", o->saveEvery,
+                    "With --lazy: save the lazy edits into the file every this many edits and when all is undone, the file then "
+                    "summing to the whole scene (0: never)");
     inc->add_option("--part-level", o->partLevel, "With --lazy: the level of the quads read as one part (-1: quads of at most 5 km)");
     inc->callback([o] {
         if (const int rc = o->lazy ? runLazy(*o) : run(*o); rc != 0) throw CLI::RuntimeError(rc);

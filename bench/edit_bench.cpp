@@ -6,7 +6,9 @@
 // again (both producers, TBB worker threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
 // they come into view. Also reported: the same without frustum culling (every leaf of the view).
 // With `--scene F --vector-budget M [--pyramid P]`: a scene file read lazily (issue 23), its edits
-// kept over the file; the drags from the view only (the frustum).
+// kept over the file; the drags from the view only (the frustum). With `--save` too, a road and a
+// field node dragged and kept, saved into the file, undone and saved again (the file's content as
+// it was): what a save in place costs (io/scene_save_edits.h).
 #include <algorithm>
 #include <cmath>
 
@@ -232,6 +234,31 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
     const double firstMs = msSince(t0);
     nlohmann::json runs = {{"frustum_culled", dragRuns(session, targets, o, visible, viewer, false)}};
     runs["road_over_river"] = dragRuns(session, targets, o, visible, viewer, true)["road_over_river"];
+    nlohmann::json saves;
+    if (o.save) {
+        // The road and the field node dragged (kept), their edits saved into the file; then undone
+        // and saved again, so that the file holds what it held (io/scene_save_edits.h).
+        const auto saved = [&](const char* what) {
+            const SceneEditsSaved s = session.saveEdits();
+            saves[what] = {{"rows", s.nodes + s.curves + s.areas},
+                           {"features_updated", s.features.updated},
+                           {"features_inserted", s.features.inserted},
+                           {"features_deleted", s.features.deleted},
+                           {"write_ms", s.writeMs},
+                           {"checksum_ms", s.checksumMs},
+                           {"total_ms", s.totalMs}};
+        };
+        session.beginGroup();
+        for (int i = 1; i <= o.steps; ++i) {
+            const double f = double(i) / o.steps;
+            session.execute(MoveVertexCmd{kRoadsLayer, targets.road, targets.index, targets.at + Vec2(30.0, 20.0) * f}, true);
+            session.execute(MoveNodeCmd{kFieldsLayer, targets.field, targets.fieldAt + Vec2(8.0, -6.0) * f}, true);
+        }
+        session.endGroup();
+        saved("edits");
+        session.undo();
+        saved("undone");
+    }
     const LazyStats& st = session.lazyForest()->stats();
     return {{"scene", o.scene},
             {"lazy",
@@ -255,6 +282,7 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
             {"first_frame_ms", firstMs},
             {"field_node_distance_m", glm::length(targets.fieldAt - targets.at)},
             {"runs", runs},
+            {"saves", saves},
             {"peak_rss_mib", peakRssMiB()}};
 }
 
@@ -266,6 +294,7 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
         return benchEditLazy(o);
     }
     if (!o.pyramid.empty()) throw std::invalid_argument("bench edit: --pyramid goes with --scene");
+    if (o.save) throw std::invalid_argument("bench edit: --save goes with --scene (a scene file read lazily)");
     auto t0 = Clock::now();
     SceneDocument doc;
     doc.scene = makeSyntheticScene({o.seed, o.curves});

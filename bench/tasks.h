@@ -63,6 +63,9 @@ struct EditBenchOptions {
     std::string scene, pyramid;
     double vectorBudgetMiB = 0.0;
     int partLevel = -1;
+    // With `scene`: a drag kept and its edits saved into the file, then undone and saved again (the
+    // file's content as before; io/scene_save_edits.h): what a save costs.
+    bool save = false;
 };
 nlohmann::json benchEdit(const EditBenchOptions& options);
 

@@ -57,6 +57,18 @@ void EditSession::buildTree() {
     }
 }
 
+SceneEditsSaved EditSession::saveEdits() {
+    if (!lazyEdits_) throw std::logic_error("EditSession::saveEdits: the session holds a whole document: save it with saveScene");
+    loop_->quiesce();
+    forest_->waitForReads();  // read with the file's stored checksum before the save: taken as they are
+    const SceneEditsSaved saved = saveSceneEdits(lazyPath_, *lazyEdits_->overlay(), storedChecksum_);
+    storedChecksum_ = saved.checksum;
+    forest_->setStoredChecksum(saved.checksum);
+    lazyEdits_->markSaved();
+    forest_->setOverlay(lazyEdits_->overlay(), lazyEdits_->version());
+    return saved;
+}
+
 void EditSession::readTopAgain() {
     LazyTop top = LazyForest::readTop(lazyPath_, *lazy_, params_.refine, /*dem=*/false, lazyEdits_->overlay().get());
     if (top.stats.checksum != storedChecksum_)  // as a part's read refuses it

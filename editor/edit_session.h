@@ -37,6 +37,7 @@
 #include "editor/tile_loop.h"
 #include "io/dem_stream.h"
 #include "io/document.h"
+#include "io/scene_save_edits.h"
 #include "model/curve_data.h"
 #include "model/graph_step.h"
 #include "model/quadtree.h"
@@ -86,6 +87,12 @@ public:
     // Marks the document as saved (by the caller, with io/scene_file.h: the session knows no file
     // format): modified() is false while the scene is in this state.
     void markSaved() { history_.markSaved(); }
+    // A scene read lazily: saves its edits into its file, in place (io/scene_save_edits.h), after
+    // the background work and the parts being read are done; modified() is then false, and undo
+    // and redo go on over the saved file. SceneFileError naming the file when it cannot be saved
+    // (the file changed since it was opened, cannot be written...): the edits stay unsaved.
+    // std::logic_error for a session of a whole document.
+    SceneEditsSaved saveEdits();
     // Forgets the redo history (after a command group was taken back because it was refused: its
     // undoing is no step of the user's to redo).
     void forgetRedo() { lazyEdits_ ? lazyEdits_->forgetRedo() : history_.forgetRedo(); }

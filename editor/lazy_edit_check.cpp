@@ -3,6 +3,7 @@
 #include <chrono>
 #include <random>
 
+#include "io/scene_checksum.h"
 #include "model/edits.h"
 
 namespace lacet {
@@ -82,6 +83,19 @@ LazyEditCheckReport checkLazyEdits(EditSession& lazy, EditSession& whole, const 
                                     std::to_string(y) + " differs:" + differs);
         }
     };
+    // The lazy session's edits saved into its file: the rows the file holds now sum to the whole
+    // session's document (io/scene_checksum.h: every value of every element, bit for bit).
+    const auto save = [&]() {
+        const SceneEditsSaved saved = lazy.saveEdits();
+        ++r.saves;
+        r.saveMs.push_back(saved.totalMs);
+        const std::string expected = sceneChecksumText(whole.document());
+        if (saved.checksum != expected || lazy.modified()) {
+            ++r.mismatches;
+            if (r.details.size() < p.maxDetails)
+                r.details.push_back("edit " + std::to_string(edit) + ": the file saved sums to " + saved.checksum + ", the whole scene to " + expected);
+        }
+    };
     for (edit = 0; edit < p.edits; ++edit) {
         const LayerId l = LayerId(std::size_t(u(rng) * double(scene.layers.size())) % scene.layers.size());
         const Layer& layer = scene.layers[l];
@@ -137,16 +151,19 @@ LazyEditCheckReport checkLazyEdits(EditSession& lazy, EditSession& whole, const 
                 r.mismatches += c2 != d;
             }
         }
+        if (p.saveEvery > 0 && (edit + 1) % p.saveEvery == 0) save();
         compare({at.x, at.y, 40.0 + 300.0 * u(rng)});
         if (edit % 3 == 0) {
             const Vec2 q = extent.min + Vec2(u(rng), u(rng)) * extent.size();
             compare({q.x, q.y, 60.0});
         }
     }
-    // Everything undone: the file as it is, in both.
+    // Everything undone: the file as it was opened, in both (saved again when edits were saved).
     while (whole.undo())
         if (!lazy.undo()) ++r.mismatches;
-    if (lazy.undo() || lazy.modified()) ++r.mismatches;
+    if (lazy.undo()) ++r.mismatches;
+    if (r.saves > 0) save();
+    if (lazy.modified()) ++r.mismatches;
     compare({extent.center().x, extent.center().y, 80.0});
     return r;
 }

@@ -16,6 +16,11 @@
 // editor/lazy_forest.h), the quads drawn from the top tree (above the part level, and at it where
 // the part is not held) keep the pyramid's appearance until it is updated and have the objects of
 // what the top tree reads: only their elevation is compared.
+//
+// With saveEvery, the lazy edits are saved into the file now and then (io/scene_save_edits.h), and
+// the file's rows must then sum to the whole session's document; the parts read after a save read
+// the file saved, its rows and R-trees. (Tiles rarely show a stale R-tree box, which the reads'
+// margins hide: tests/editor/lazy_save_test.cpp compares the feature tables themselves.)
 
 #include <cstddef>
 #include <cstdint>
@@ -34,6 +39,10 @@ struct LazyEditCheckParams {
     int appearanceFrom = 0;         // the first level whose appearance is compared (a pyramid's first vector level)
     bool topElevationOnly = false;  // the lazy session's top tree reads what elevation needs only
     std::size_t maxDetails = 20;
+    // > 0: the lazy session's edits saved into its file (EditSession::saveEdits) after every
+    // saveEvery edits and once more when all is undone; each time the file's rows must sum to the
+    // whole session's document (its checksum), and undo and redo go on over the file saved.
+    int saveEvery = 0;
 };
 
 struct LazyEditCheckReport {
@@ -43,6 +52,8 @@ struct LazyEditCheckReport {
     std::size_t undos = 0, redos = 0;
     std::size_t tilesCompared = 0, mismatches = 0;
     std::size_t topReads = 0, partsRenewed = 0;
+    std::size_t saves = 0;
+    std::vector<double> saveMs;
     std::vector<double> lazyMs, wholeMs;  // per command: execute (lazily: reading what it touches and the parts again)
     std::vector<std::string> details;     // "edit I: what differs"
 };

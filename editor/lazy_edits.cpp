@@ -229,6 +229,18 @@ bool LazyEdits::rollback() {
     return true;
 }
 
+void LazyEdits::markSaved() {
+    // A change whose value before was the file's row names it now: the row is this state's.
+    for (std::vector<Step>* steps : {&done_, &undone_})
+        for (Step& s : *steps)
+            for (Change& ch : s.changes)
+                if (!ch.before) ch.before = ch.value;
+    overlay_ = std::make_shared<const SceneOverlay>();
+    ++version_;
+    savedSerial_ = topSerial();
+    before_.reset();  // what was saved is not taken back
+}
+
 std::optional<LazyStep> LazyEdits::undo() {
     if (done_.empty()) return std::nullopt;
     return moveSteps(done_, undone_, false);

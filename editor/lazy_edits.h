@@ -12,8 +12,10 @@
 // The session (editor/edit_session.h) reads again, with the new overlay, the parts and the top tree
 // that a step touches (LazyStep: the elements and where they were and are).
 //
+// Saving: io/scene_save_edits.h writes the overlay into the file, then markSaved().
+//
 // Not yet: commands that add elements (AddNodeCmd, AddCurveCmd: the file's ids for new elements),
-// refused with EditError; saving the overlay into the file.
+// refused with EditError.
 
 #include <cstdint>
 #include <memory>
@@ -53,6 +55,10 @@ public:
     std::size_t undoDepth() const { return done_.size(); }
     std::size_t redoDepth() const { return undone_.size(); }
     bool modified() const { return topSerial() != savedSerial_; }
+    // The edits now saved into the file (io/scene_save_edits.h): the overlay is empty from now
+    // on (a new version()); undo and redo set the values before and after explicitly, since the
+    // file's rows are now those of this state; modified() is false until the next step.
+    void markSaved();
     void forgetRedo() { undone_.clear(); }
     // Takes back the last execute, undo or redo whole (the history and the overlay as before it,
     // with a new version()), when what follows it could not be done (the session's read of the

@@ -365,6 +365,11 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
     return done;
 }
 
+void LazyForest::waitForReads() const {
+    for (const Read& r : reading_)
+        if (r.result.valid()) r.result.wait();
+}
+
 void LazyForest::setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version) {
     if (!overlay) throw std::invalid_argument("LazyForest::setOverlay: no overlay");
     overlay_ = std::move(overlay);

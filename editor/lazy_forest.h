@@ -119,6 +119,11 @@ public:
     // Edits not saved, read over the file from now on (never null), and their version; then
     // renew() with what the edit changed.
     void setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version);
+    // Waits for the parts being read on the worker (they are taken by the next refine()).
+    void waitForReads() const;
+    // The file's stored checksum after its edits were saved into it (io/scene_save_edits.h), which
+    // the reads from now on must find.
+    void setStoredChecksum(std::string checksum) { storedChecksum_ = std::move(checksum); }
     // The top tree read again (the same knobs; both must outlive the forest).
     void setTop(Quadtree& top, const CurveDataCache& topData);
     // After an edit of `refs` (the file's ids) that lay and lies in `boxes`: reads again, with the

@@ -407,8 +407,18 @@ void readAreas(SqliteDb& db, Scene& scene) {
 
 }  // namespace
 
-ElementTablesWriter::ElementTablesWriter(SqliteDb& db)
-    : db_(db), node_(db.prepareKept(kInsertNode)), curve_(db.prepareKept(kInsertCurve)), area_(db.prepareKept(kInsertArea)) {}
+namespace {
+// An insert statement of the writer, as it is or as INSERT OR REPLACE (rows replaced by (layer, id)).
+std::string insertSql(const char* sql, bool replace) {
+    return replace ? "INSERT OR REPLACE" + std::string(sql).substr(std::string_view("INSERT").size()) : std::string(sql);
+}
+}  // namespace
+
+ElementTablesWriter::ElementTablesWriter(SqliteDb& db, bool replace)
+    : db_(db),
+      node_(db.prepareKept(insertSql(kInsertNode, replace))),
+      curve_(db.prepareKept(insertSql(kInsertCurve, replace))),
+      area_(db.prepareKept(insertSql(kInsertArea, replace))) {}
 
 ElementTablesWriter::~ElementTablesWriter() = default;
 

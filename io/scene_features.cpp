@@ -15,9 +15,10 @@
 #include "io/dem_lod.h"
 #include "io/gpkg_dem.h"
 #include "io/le_bytes.h"
+#include "io/scene_features_internal.h"
 
 namespace lacet {
-namespace {
+namespace feature_tables {
 
 // Halvings of one Bezier piece stop here: a piece within kMaxCoordinate (model/validate.h) is flat
 // within 2e9 / 4^24 < 1e-5 m after 24, so any tolerance above that is met; a smaller one is not
@@ -26,9 +27,7 @@ constexpr int kMaxHalvings = 24;
 
 // GDAL numbers the CRSs it cannot identify from 100000; a new row for the scene's WKT does too.
 constexpr std::int64_t kFirstCustomSrsId = 100000;
-constexpr std::int64_t kUndefinedCartesianSrsId = -1;
 
-constexpr const char* kGeometryColumn = "geom";
 constexpr const char* kRtreeDefinition = "http://www.geopackage.org/spec120/#extension_rtree";
 
 bool isLayerOfLines(LayerKind kind) { return kind == LayerKind::Roads || kind == LayerKind::Rivers; }
@@ -122,24 +121,6 @@ std::vector<std::vector<Vec2>> polygonRings(const Layer& layer, const Area& area
     return ordered;
 }
 
-struct Envelope {
-    double minX = std::numeric_limits<double>::infinity(), maxX = -std::numeric_limits<double>::infinity();
-    double minY = std::numeric_limits<double>::infinity(), maxY = -std::numeric_limits<double>::infinity();
-    void add(Vec2 p) {
-        minX = std::min(minX, p.x);
-        maxX = std::max(maxX, p.x);
-        minY = std::min(minY, p.y);
-        maxY = std::max(maxY, p.y);
-    }
-    void add(const Envelope& e) {
-        minX = std::min(minX, e.minX);
-        maxX = std::max(maxX, e.maxX);
-        minY = std::min(minY, e.minY);
-        maxY = std::max(maxY, e.maxY);
-    }
-    bool empty() const { return !(minX <= maxX); }
-};
-
 // GeoPackage binary geometry (GPKG 1.2 §2.1.3): "GP", version 0, flags (little-endian header, an
 // [minx, maxx, miny, maxy] envelope), srs_id, the envelope, then little-endian WKB (ISO 2D).
 constexpr std::uint8_t kGpFlagsLittleEndianXyEnvelope = 0x01 | (1u << 1);
@@ -213,17 +194,18 @@ std::vector<std::pair<std::string, std::string>> attributeColumns(const FeatureT
     for (ElementId id : t.elements)
         if (const auto it = index.find({t.layer, kind, id}); it != index.end())
             for (const auto& entry : it->second) keys.insert(entry.first);
-    std::set<std::string> taken = {"fid", kGeometryColumn, "lacet_id", "class", "w", "wf", "bridge", "tunnel"};
+    std::set<std::string> taken = fixedColumnNames();
     std::vector<std::pair<std::string, std::string>> columns;
-    for (const std::string& key : keys) {
-        std::string name = identifierPart(key);
-        if (name.empty())
-            name = "attr";
-        else if (!isAsciiLetter(name[0]) || taken.contains(name))
-            name = "attr_" + name;
-        columns.emplace_back(key, uniqueName(name, taken));
-    }
+    for (const std::string& key : keys) columns.emplace_back(key, uniqueName(attributeColumnBase(key, taken), taken));
     return columns;
+}
+
+std::set<std::string> fixedColumnNames() { return {"fid", kGeometryColumn, "lacet_id", "class", "w", "wf", "bridge", "tunnel"}; }
+
+std::string attributeColumnBase(const std::string& key, const std::set<std::string>& taken) {
+    const std::string name = identifierPart(key);
+    if (name.empty()) return "attr";
+    return !isAsciiLetter(name[0]) || taken.contains(name) ? "attr_" + name : name;
 }
 
 // ---- one table ----
@@ -341,7 +323,9 @@ CREATE TABLE IF NOT EXISTS gpkg_extensions (
   scope TEXT NOT NULL, CONSTRAINT ge_tce UNIQUE (table_name, column_name, extension_name));
 )sql";
 
-}  // namespace
+}  // namespace feature_tables
+
+using namespace feature_tables;
 
 // ---- the SRS ----
 
@@ -377,7 +361,7 @@ std::vector<Vec2> flattenSpline(std::span<const Vertex> vertices, double toleran
     return out;
 }
 
-namespace {
+namespace feature_tables {
 
 // SQLite's R-tree keeps 32-bit floats, the lower bound rounded down and the upper bound up, as
 // its rtreeValueDown and rtreeValueUp do (a factor of 1 -/+ 2^-23 where the cast rounded the
@@ -398,7 +382,7 @@ std::optional<Box> rtreeBox(const Envelope& e) {
     return Box{{floatDown(e.minX), floatDown(e.minY)}, {floatUp(e.maxX), floatUp(e.maxY)}};
 }
 
-}  // namespace
+}  // namespace feature_tables
 
 std::optional<Box> featureBox(const Layer& layer, const Curve& c, double tolerance) {
     if (!isLineFeature(layer, c)) return std::nullopt;

@@ -56,6 +56,7 @@
 
 #include "io/document.h"
 #include "io/sqlite_db.h"
+#include "model/changeset.h"
 
 namespace lacet {
 
@@ -110,6 +111,42 @@ private:
     const SceneDocument& head_;
     FeatureTableParams params_;
     std::unique_ptr<State> state_;
+};
+
+// The feature tables of a scene file edited in place (io/scene_save_edits.h: a lazy session's edits
+// saved), inside the caller's open transaction, after the element tables hold the edited rows:
+// set() gives each changed curve or area the feature writeFeatureTables would give it now, in
+// the file's ids. A feature found is updated (geometry and fixed columns; its attribute columns
+// stay, as attributes are never edited), a feature gone is deleted, a new one is inserted with
+// its attributes from lacet_attributes (a column added for a key its table has none for; a key's
+// column is found by the naming rule above, so where two keys of one table made the same name,
+// "name" and "Name", the first is taken), into a table made when its layer has none of that
+// kind (named as above). Its R-tree follows through the GeoPackage triggers, for which the
+// connection gets the ST_* functions they call; GDAL's counts through its own. finish()
+// enlarges the tables' extents in gpkg_contents and their largest wf in kFeatureIndexTable (an
+// upper bound: never lowered, what io/scene_region.h needs). Throws SqliteError, and
+// std::invalid_argument for a file without kFeatureIndexTable.
+class FeatureTablesEditor {
+public:
+    FeatureTablesEditor(SqliteDb& db, const SceneDocument& head);
+    ~FeatureTablesEditor();
+    struct Counts {
+        std::size_t updated = 0, inserted = 0, deleted = 0, tablesMade = 0;
+    };
+    // Curve or area `ref` (layer, kind, file id) now: `local` holds it at `id` with what its
+    // feature needs, in ids of `local` (a curve's areas; an area's loop curves and axial curve).
+    // `before`: a box its feature before the edits meets (none: it had none).
+    void set(const ElementRef& ref, const std::optional<Box>& before, const Layer& local, ElementId id);
+    Counts finish();
+
+private:
+    struct Table;
+    Table& table(LayerId layer, bool polygons);  // made when missing
+    void insert(Table& t, const ElementRef& ref);
+    SqliteDb& db_;
+    const SceneDocument& head_;
+    std::vector<std::unique_ptr<Table>> tables_;
+    Counts counts_;
 };
 
 // The gpkg_spatial_ref_sys row of the scene's CRS in `db` (the SRS above): -1 without a valid

@@ -54,6 +54,11 @@ struct StreamedLayer {
 // and the checksum is that of the rows written, read back in order.
 void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed = nullptr);
 
+// The checksum (io/scene_checksum.h) of `doc` with the layers `fromRows` names summed from their
+// rows in `db` as they are now (decoded and checked as readElementTables does), not from doc's
+// (whose heads, name and kind, still count); doc gives the rest: attributes, georeference, DEM.
+std::string checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows);
+
 using Meta = std::map<std::string, std::string>;
 
 // Checks that `db` is an intact GeoPackage holding a Lacet scene of a known version (its size is
@@ -74,9 +79,10 @@ Box metaBox(const Meta& meta, const std::string& prefix);  // prefix_min_x ... p
 // a layer part at a time: layers(), then the elements of each layer in (layer, id) order, a part's
 // rows with ids `o` more than their index in the part and its references written as they are
 // (offsetElementIds first), then attributes().
+// With `replace`, a row replaces the one of the same (layer, id) (a scene's edits saved in place).
 class ElementTablesWriter {
 public:
-    explicit ElementTablesWriter(SqliteDb& db);
+    explicit ElementTablesWriter(SqliteDb& db, bool replace = false);
     ~ElementTablesWriter();
     void layers(const Scene& scene);
     void elements(LayerId layer, const Layer& part, const ElementOffsets& o);

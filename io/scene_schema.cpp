@@ -207,26 +207,30 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
         features.finish();
     }
     if (streamed) {
-        SceneChecksum sum(doc.scene);
-        for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
-            if (streamed->layer != l) {
-                sum.layer(doc.scene.layers[l]);
-                continue;
-            }
-            sum.layerHead(doc.scene.layers[l]);
-            const auto counted = [&](std::size_t n) { sum.count(n); };
-            forEachNodeRow(db, LayerId(l), counted, [&](const Node& n) { sum.node(n); });
-            forEachCurveRow(db, LayerId(l), counted, [&](const Curve& c) { sum.curve(c); });
-            forEachAreaRow(db, LayerId(l), counted, [&](const Area& a) { sum.area(a); });
-        }
         auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = 'checksum'");
-        s.bindText(1, sum.finish(doc));
+        s.bindText(1, checksumOfRows(db, doc, [&](LayerId l) { return l == streamed->layer; }));
         s.step();
     }
     // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
     db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
     db.exec("COMMIT");
     db.close();
+}
+
+std::string checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows) {
+    SceneChecksum sum(doc.scene);
+    for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+        if (!fromRows(LayerId(l))) {
+            sum.layer(doc.scene.layers[l]);
+            continue;
+        }
+        sum.layerHead(doc.scene.layers[l]);
+        const auto counted = [&](std::size_t n) { sum.count(n); };
+        forEachNodeRow(db, LayerId(l), counted, [&](const Node& n) { sum.node(n); });
+        forEachCurveRow(db, LayerId(l), counted, [&](const Curve& c) { sum.curve(c); });
+        forEachAreaRow(db, LayerId(l), counted, [&](const Area& a) { sum.area(a); });
+    }
+    return sum.finish(doc);
 }
 
 namespace {

@@ -75,6 +75,8 @@ public:
     bool hasTable(const std::string& name);
     // Closes the connection; throws SqliteError if SQLite cannot (e.g. unfinalized statements).
     void close();
+    // The connection, for what this wrapper does not do (SQL functions of the caller's).
+    sqlite3* handle() { return db_; }
 
 private:
     sqlite3* db_ = nullptr;

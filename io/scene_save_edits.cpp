@@ -1,0 +1,174 @@
+#include "io/scene_save_edits.h"
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <variant>
+
+#include "io/scene_file.h"
+#include "io/scene_format.h"
+
+namespace lacet {
+namespace {
+
+using namespace scene_format;
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::optional<Box> unite(const std::optional<Box>& a, const Box& b) {
+    if (!(b.min.x <= b.max.x)) return a;
+    return a ? Box{glm::min(a->min, b.min), glm::max(a->max, b.max)} : b;
+}
+
+// A box the feature of element `r` meets as the file holds it now (none: it has none): the hull of
+// a curve's control points, or of an area's loop curves'.
+std::optional<Box> featureSearchBox(ElementRows& rows, const ElementRef& r) {
+    if (r.kind == ElementKind::Curve) {
+        const Curve c = rows.curve(r.layer, r.id);
+        return c.alive ? unite(std::nullopt, hullBox(c)) : std::nullopt;
+    }
+    const Area a = rows.area(r.layer, r.id);
+    if (!a.alive) return std::nullopt;
+    std::optional<Box> box;
+    for (const auto& loop : a.loops)
+        for (const AreaEdge& e : loop) box = unite(box, hullBox(rows.curve(r.layer, e.curve)));
+    return box;
+}
+
+// The loop curves of area `r` as the file holds it now.
+std::vector<ElementId> loopCurves(ElementRows& rows, const ElementRef& r) {
+    std::vector<ElementId> out;
+    for (const auto& loop : rows.area(r.layer, r.id).loops)
+        for (const AreaEdge& e : loop) out.push_back(e.curve);
+    return out;
+}
+
+// What the feature of `r` needs, read as the file holds it now, in ids of the layer returned: the
+// element at 0; a curve's areas, an area's loop curves and axial curve after it.
+Layer featureLayer(ElementRows& rows, const ElementRef& r) {
+    Layer local;
+    if (r.kind == ElementKind::Curve) {
+        Curve c = rows.curve(r.layer, r.id);
+        for (ElementId& a : c.areas) {
+            local.areas.push_back(rows.area(r.layer, a));
+            a = ElementId(local.areas.size() - 1);
+        }
+        local.curves.push_back(std::move(c));
+        return local;
+    }
+    Area a = rows.area(r.layer, r.id);
+    std::map<ElementId, ElementId> ids;
+    const auto localOf = [&](ElementId file) {
+        const auto [it, added] = ids.emplace(file, ElementId(local.curves.size()));
+        if (added) local.curves.push_back(rows.curve(r.layer, file));
+        return it->second;
+    };
+    for (auto& loop : a.loops)
+        for (AreaEdge& e : loop) e.curve = localOf(e.curve);
+    if (a.axial != kNoElement) a.axial = localOf(a.axial);
+    local.areas.push_back(std::move(a));
+    return local;
+}
+
+std::string storedChecksum(SqliteDb& db) {
+    auto s = db.prepare("SELECT value FROM lacet_meta WHERE key = 'checksum'");
+    return s.step() ? s.text(0) : std::string();
+}
+
+}  // namespace
+
+SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& overlay, const std::string& expected) {
+    const auto t0 = std::chrono::steady_clock::now();
+    SceneEditsSaved out;
+    out.checksum = expected;
+    if (overlay.empty()) return out;
+    const auto changed = [&](const std::string& now) {
+        return SceneFileError(path + ": not saved: the file changed since its edits began (its stored checksum is " + now + ", was " +
+                              expected + "); it is left as it is");
+    };
+    // The document but its elements: what the checksum sums beside the rows.
+    SceneDocument head;
+    const std::string stored = loadSceneParts(
+        path, head,
+        [](SqliteDb& db, SceneDocument& doc) {
+            readLayerTable(db, doc.scene);
+            const std::size_t layers = doc.scene.layers.size();
+            const std::vector<std::size_t> counts[] = {fileIdCounts(db, "lacet_nodes", layers), fileIdCounts(db, "lacet_curves", layers),
+                                                       fileIdCounts(db, "lacet_areas", layers)};
+            readAttributesOf(
+                db, doc, [&](LayerId l, ElementKind k) { return counts[std::size_t(k)][l]; },
+                [](const ElementAttribute& a) { return a.id; });
+        },
+        /*readDem=*/true, /*wholeFileCheck=*/false);
+    if (stored != expected) throw changed(stored);
+    try {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.busyTimeout(10000);
+        db.exec("BEGIN IMMEDIATE");
+        if (const std::string now = storedChecksum(db); now != expected) throw changed(now);
+        {
+            ElementRows rows(db);
+            // The features to set, with the boxes their rows meet before the edits: the curves and
+            // areas changed, and the curves of the loops of an area changed, before and after.
+            std::map<ElementRef, std::optional<Box>> features;
+            const auto add = [&](const ElementRef& r) {
+                if (!features.contains(r)) features.emplace(r, featureSearchBox(rows, r));
+            };
+            for (const auto& [ref, e] : overlay.elements) {
+                if (ref.kind == ElementKind::Node) continue;
+                add(ref);
+                if (ref.kind != ElementKind::Area) continue;
+                for (ElementId c : loopCurves(rows, ref)) add({ref.layer, ElementKind::Curve, c});
+                for (const auto& loop : std::get<Area>(e.value).loops)
+                    for (const AreaEdge& edge : loop) add({ref.layer, ElementKind::Curve, edge.curve});
+            }
+            if (db.queryInteger("SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'") == 0)
+                db.exec("ALTER TABLE lacet_nodes ADD COLUMN roundabout REAL NOT NULL DEFAULT 0");
+            {
+                ElementTablesWriter writer(db, /*replace=*/true);
+                for (const auto& [ref, e] : overlay.elements) {
+                    Layer one;
+                    ElementOffsets at;
+                    if (const Node* n = std::get_if<Node>(&e.value)) {
+                        one.nodes.push_back(*n);
+                        at.nodes = ref.id;
+                        ++out.nodes;
+                    } else if (const Curve* c = std::get_if<Curve>(&e.value)) {
+                        one.curves.push_back(*c);
+                        at.curves = ref.id;
+                        ++out.curves;
+                    } else {
+                        one.areas.push_back(std::get<Area>(e.value));
+                        at.areas = ref.id;
+                        ++out.areas;
+                    }
+                    writer.elements(ref.layer, one, at);
+                }
+            }
+            FeatureTablesEditor editor(db, head);
+            for (const auto& [ref, box] : features) editor.set(ref, box, featureLayer(rows, ref), 0);
+            out.features = editor.finish();
+        }
+        out.writeMs = msSince(t0);
+        const auto t1 = std::chrono::steady_clock::now();
+        out.checksum = checksumOfRows(db, head, [](LayerId) { return true; });
+        out.checksumMs = msSince(t1);
+        {
+            auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = 'checksum'");
+            s.bindText(1, out.checksum);
+            s.step();
+        }
+        db.exec("COMMIT");
+        db.close();
+    } catch (const SceneFileError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw SceneFileError(path + ": the edits were not saved (the file is as it was): " + e.what());
+    }
+    out.totalMs = msSince(t0);
+    return out;
+}
+
+}  // namespace lacet

@@ -1,0 +1,36 @@
+#pragma once
+// A scene file's edits saved into it, in place (issue 23: saving a scene edited lazily, §7): the
+// elements a lazy session changed (io/scene_overlay.h, in the file's ids) written over their rows,
+// without reading or writing the rest of the scene, which may be larger than memory.
+//
+// One SQLite transaction (BEGIN IMMEDIATE: one writer at a time; SQLite's journal makes it atomic,
+// so a crash or an error at any point leaves the file as it was):
+//   - each element's row in lacet_nodes, lacet_curves or lacet_areas, replaced;
+//   - the features of the curves and areas changed, and of the curves of the loops of an area
+//     changed (io/scene_features.h: FeatureTablesEditor), the same geometry and columns saveScene
+//     would write for them;
+//   - lacet_meta's checksum summed again over every row of the element tables (io/scene_checksum.h):
+//     the one cost that grows with the scene, a read of the whole of those tables.
+// The file must be the one the edits were made over: its stored checksum is `expected` (else the
+// save is refused, the file unchanged). Throws SceneFileError naming the file and the reason.
+
+#include <cstddef>
+#include <string>
+
+#include "io/scene_features.h"
+#include "io/scene_overlay.h"
+
+namespace lacet {
+
+struct SceneEditsSaved {
+    std::string checksum;                  // the file's stored checksum now
+    std::size_t nodes = 0, curves = 0, areas = 0;  // rows written
+    FeatureTablesEditor::Counts features;
+    double writeMs = 0.0;     // the rows and features
+    double checksumMs = 0.0;  // summing the element tables again
+    double totalMs = 0.0;
+};
+
+SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& overlay, const std::string& expected);
+
+}  // namespace lacet

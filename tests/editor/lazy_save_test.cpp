@@ -1,0 +1,245 @@
+// A scene read lazily saves its edits into its file, in place (issue 23; io/scene_save_edits.h,
+// EditSession::saveEdits): the file saved holds the whole session's document (its rows sum to the
+// same checksum, and loadScene checks it), its feature tables and R-trees are those a whole save
+// writes, attributes kept; undo and redo go on over the file saved; a file changed since it was
+// opened is refused and left as it is. A synthetic scene of 3,000 curves, copied for each test.
+#include "io/scene_save_edits.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "editor/edit_session.h"
+#include "editor/lazy_edit_check.h"
+#include "io/scene_checksum.h"
+#include "io/scene_features.h"
+#include "io/scene_file.h"
+#include "io/sqlite_db.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+#include "tests/io/gis_fixtures.h"
+
+namespace lacet {
+namespace {
+
+SessionParams sessionParams() {
+    SessionParams params;
+    params.view.maxLevel = 6;
+    params.cacheTiles = 1u << 20;
+    return params;
+}
+
+LazyParams lazyParams() {
+    LazyParams lazy;
+    lazy.partLevel = 2;
+    lazy.vectorBudgetMiB = 1024.0;
+    lazy.background = false;
+    return lazy;
+}
+
+// The feature tables of a scene file as comparable text: per table (kFeatureIndexTable's rows but
+// the largest wf, which an edit only raises), each feature by its element id with every column but
+// fid, its geometry in hex, and its R-tree box; GDAL's count.
+using FeatureDump = std::map<std::string, std::vector<std::string>>;
+
+FeatureDump dumpFeatures(const std::string& path) {
+    SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+    FeatureDump out;
+    std::vector<std::string> tables;
+    {
+        auto s = db.prepare(std::string("SELECT table_name, layer, polygons, tolerance FROM ") + kFeatureIndexTable + " ORDER BY table_name");
+        while (s.step()) {
+            tables.push_back(s.text(0));
+            out["index"].push_back(s.text(0) + " " + s.text(1) + " " + s.text(2) + " " + s.text(3));
+        }
+    }
+    for (const std::string& t : tables) {
+        std::vector<std::string> columns;
+        {
+            auto c = db.prepare("SELECT name FROM pragma_table_info(?) ORDER BY name");
+            c.bindText(1, t);
+            while (c.step())
+                if (c.text(0) != "fid") columns.push_back(c.text(0));
+        }
+        std::string select = "SELECT t.lacet_id, r.minx, r.maxx, r.miny, r.maxy";
+        for (const std::string& c : columns) select += ", quote(t.\"" + c + "\")";
+        auto s = db.prepare(select + " FROM \"" + t + "\" t LEFT JOIN \"" + featureRtreeName(t) + "\" r ON r.id = t.fid ORDER BY t.lacet_id");
+        std::vector<std::string>& rows = out[t];
+        while (s.step()) {
+            std::string row = s.text(0) + " box " + s.text(1) + " " + s.text(2) + " " + s.text(3) + " " + s.text(4);
+            for (std::size_t k = 0; k < columns.size(); ++k)
+                if (s.text(int(k) + 5) != "NULL") row += " " + columns[k] + "=" + s.text(int(k) + 5);
+            rows.push_back(row);
+        }
+        rows.push_back("rtree rows " + std::to_string(db.queryInteger("SELECT COUNT(*) FROM \"" + featureRtreeName(t) + "\"")));
+        if (db.hasTable("gpkg_ogr_contents")) {
+            auto c = db.prepare("SELECT feature_count FROM gpkg_ogr_contents WHERE table_name = ?");
+            c.bindText(1, t);
+            if (c.step()) rows.push_back("count " + c.text(0));
+        }
+    }
+    return out;
+}
+
+void expectSameFeatures(const FeatureDump& a, const FeatureDump& b, const std::string& when) {
+    ASSERT_EQ(a.size(), b.size()) << when;
+    for (const auto& [table, rows] : a) {
+        const auto it = b.find(table);
+        ASSERT_NE(it, b.end()) << when << ": table " << table;
+        ASSERT_EQ(rows.size(), it->second.size()) << when << ": table " << table;
+        for (std::size_t k = 0; k < rows.size(); ++k) EXPECT_EQ(rows[k], it->second[k]) << when << ": table " << table;
+    }
+}
+
+class LazySaveTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new std::filesystem::path(test::scratchDir("lazy_save"));
+        SceneDocument doc;
+        doc.scene = makeSyntheticScene({.seed = 21, .curves = 3000, .roundaboutFraction = 0.3});
+        doc.dem = makeSyntheticDem(doc.scene, {.seed = 21, .resolution = 1000});
+        // Source attributes on some roads, so that a feature deleted and made again keeps them.
+        const ElementId named = ElementId(std::min<std::size_t>(40, doc.scene.layers[0].curves.size()));
+        for (ElementId c = 0; c < named; ++c) {
+            doc.attributes.push_back({0, ElementKind::Curve, c, "name", std::string("Road ").append(std::to_string(c))});
+            if (c % 3 == 0) doc.attributes.push_back({0, ElementKind::Curve, c, "ref", std::string("N").append(std::to_string(c))});
+        }
+        original_ = new std::string((*dir_ / "original.gpkg").string());
+        saveScene(*original_, doc);
+    }
+    static void TearDownTestSuite() {
+        std::filesystem::remove_all(*dir_);
+        delete original_;
+        delete dir_;
+    }
+    // A copy of the scene to edit, as `name`.
+    static std::string copy(const std::string& name) {
+        const std::string path = (*dir_ / name).string();
+        std::filesystem::copy_file(*original_, path, std::filesystem::copy_options::overwrite_existing);
+        return path;
+    }
+    // What saveScene writes for the document the file at `path` holds, as `name`.
+    static std::string savedWhole(const std::string& path, const std::string& name) {
+        const std::string out = (*dir_ / name).string();
+        saveScene(out, loadScene(path));
+        return out;
+    }
+    static std::filesystem::path* dir_;
+    static std::string* original_;
+};
+std::filesystem::path* LazySaveTest::dir_ = nullptr;
+std::string* LazySaveTest::original_ = nullptr;
+
+TEST_F(LazySaveTest, RandomEditsSavedNowAndThenSumToTheWholeSceneAndUndoGoesOnOverTheFileSaved) {
+    const std::string path = copy("random.gpkg");
+    EditSession whole(loadScene(path), sessionParams());
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const LazyEditCheckReport r = checkLazyEdits(lazy, whole, {.seed = 17, .edits = 30, .saveEvery = 4});
+    for (const std::string& d : r.details) ADD_FAILURE() << d;
+    EXPECT_EQ(r.mismatches, 0u);
+    EXPECT_GE(r.saves, 8u);  // 7 while editing, 1 when all is undone
+    EXPECT_GT(r.undos, 0u);
+    EXPECT_GT(r.tilesCompared, 1000u);
+    // All undone and saved: the file holds what it held when opened, values and checksum.
+    SceneDocument now = loadScene(path);
+    EXPECT_EQ(sceneChecksumText(now), sceneChecksumText(loadScene(*original_)));
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(savedWhole(path, "random.whole.gpkg")), "all undone");
+}
+
+TEST_F(LazySaveTest, AFileSavedInPlaceHasTheFeatureTablesOfAWholeSaveAttributesKept) {
+    const std::string path = copy("features.gpkg");
+    const SceneDocument doc = loadScene(path);
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Layer& roads = doc.scene.layers[0];
+    ASSERT_EQ(roads.kind, LayerKind::Roads);
+    // Roads with attributes deleted, moved, widened, made bridges; a node dragged; a field's
+    // border moved (its area's polygon changes).
+    std::size_t deleted = 0;
+    for (ElementId c = 0; c < roads.curves.size() && deleted < 4; ++c)
+        if (roads.curves[c].alive) {
+            lazy.execute(DeleteCurveCmd{0, c});
+            ++deleted;
+        }
+    ASSERT_EQ(deleted, 4u);
+    for (ElementId c = 5; c < roads.curves.size(); c += 3) {
+        const Curve& cv = roads.curves[c];
+        if (!cv.alive || cv.vertices.size() < 3) continue;
+        lazy.execute(MoveVertexCmd{0, c, 1, cv.vertices[1].p + Vec2(35.0, -20.0)});
+        lazy.execute(SetCurveWidthCmd{0, c, cv.w * 2.0f, cv.wf * 2.0f});
+        lazy.execute(SetCurveFlagsCmd{0, c, std::uint16_t(cv.flags ^ kBridge)});
+    }
+    const ElementId node = roads.curves[roads.curves.size() - 1].start;
+    lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(-25.0, 30.0)});
+    bool movedBorder = false;
+    for (std::size_t l = 1; l < doc.scene.layers.size() && !movedBorder; ++l) {
+        const Layer& layer = doc.scene.layers[l];
+        for (ElementId c = 0; c < layer.curves.size() && !movedBorder; ++c) {
+            const Curve& cv = layer.curves[c];
+            if (!cv.alive || cv.areas.empty() || cv.vertices.size() < 3) continue;
+            lazy.execute(MoveVertexCmd{LayerId(l), c, 1, cv.vertices[1].p + Vec2(8.0, 8.0)});
+            movedBorder = true;
+        }
+    }
+    ASSERT_TRUE(movedBorder);
+    ASSERT_TRUE(lazy.modified());
+    const SceneEditsSaved saved = lazy.saveEdits();
+    EXPECT_FALSE(lazy.modified());
+    EXPECT_EQ(saved.features.deleted, 4u);
+    EXPECT_GT(saved.features.updated, 5u);
+    EXPECT_EQ(saved.checksum, sceneChecksumText(loadScene(path)));  // loadScene checks the stored one too
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(savedWhole(path, "features.whole.gpkg")), "edited");
+    // Undone and saved again: the deleted roads' features are made again, with their attributes.
+    while (lazy.undo()) {
+    }
+    ASSERT_TRUE(lazy.modified());
+    const SceneEditsSaved back = lazy.saveEdits();
+    EXPECT_EQ(back.features.inserted, 4u);
+    EXPECT_EQ(back.checksum, sceneChecksumText(doc));
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(*original_), "undone");
+    // And redone over the file saved: the edited file again.
+    while (lazy.redo()) {
+    }
+    lazy.saveEdits();
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(savedWhole(path, "features.redone.gpkg")), "redone");
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), saved.checksum);
+}
+
+TEST_F(LazySaveTest, ASaveOverAFileChangedSinceItWasOpenedIsRefusedAndLeavesItAsItIs) {
+    const std::string path = copy("changed.gpkg");
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Layer& roads = loadScene(path).scene.layers[0];
+    const ElementId node = roads.curves[3].start;
+    lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(10.0, 10.0)});
+    SceneDocument other;
+    other.scene = makeSyntheticScene({.seed = 22, .curves = 500});
+    other.dem = makeSyntheticDem(other.scene, {.seed = 22, .resolution = 200});
+    saveScene(path, other);
+    const std::string before = sceneChecksumText(loadScene(path));
+    try {
+        lazy.saveEdits();
+        ADD_FAILURE() << "saved over a file changed since it was opened";
+    } catch (const SceneFileError& e) {
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("changed since"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(lazy.modified());
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), before);
+}
+
+TEST_F(LazySaveTest, NothingToSaveWritesNothing) {
+    const std::string path = copy("nothing.gpkg");
+    const auto time = std::filesystem::last_write_time(path);
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const SceneEditsSaved saved = lazy.saveEdits();
+    EXPECT_EQ(saved.nodes + saved.curves + saved.areas, 0u);
+    EXPECT_EQ(saved.checksum, lazy.storedChecksum());
+    EXPECT_EQ(std::filesystem::last_write_time(path), time);
+}
+
+}  // namespace
+}  // namespace lacet
