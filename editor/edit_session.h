@@ -21,6 +21,7 @@
 // the records up to it.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -60,8 +61,8 @@ public:
     EditSession(SceneDocument document, SessionParams params = {});
     // The scene file at `path` read lazily (§7; editor/lazy_forest.h): the levels down to the part
     // level now (LazyForest::readTop), each part as the view wants it, within lazy.vectorBudgetMiB.
-    // Its commands name the file's ids (editor/lazy_edits.h: the edits are kept over the file,
-    // not saved yet); each reads again the parts it touches, and the top tree where it holds, or
+    // Its commands name the file's ids (editor/lazy_edits.h: the edits are kept over the file
+    // until saveEdits() writes them into it); each reads again the parts it touches, and the top tree where it holds, or
     // would hold, what changed. Throws SceneFileError naming the file.
     EditSession(const std::string& path, LazyParams lazy, SessionParams params = {});
     EditSession(const EditSession&) = delete;
@@ -165,6 +166,12 @@ public:
     // Whether quad `q`'s appearance would be read from the pyramid now.
     bool readsPyramid(const Quad& q) const { return loop_->readsPyramid(q); }
     const PyramidUse& pyramidUse() const { return loop_->pyramidUse(); }
+    // The documents the window sees (the file's ids in Layer::sceneIds): document(), then, for a
+    // scene read lazily, each part held (an element may be in several; each holds it as it is).
+    void forEachHeldDocument(const std::function<void(const SceneDocument&)>& f) const {
+        f(doc_);
+        if (forest_) forest_->forEachPart(f);
+    }
     // The parts of a scene read lazily (nullptr: the whole scene is loaded).
     const LazyForest* lazyForest() const { return forest_.get(); }
     // Its edits, for a scene read lazily (nullptr otherwise).

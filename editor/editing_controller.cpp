@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <unordered_set>
 #include <variant>
 
 #include <glm/geometric.hpp>
 
+#include "io/scene_overlay.h"
 #include "model/segment.h"
 
 namespace lacet {
@@ -72,12 +74,6 @@ void EditingController::setTool(Tool tool) {
 }
 
 bool EditingController::execute(const Command& command, bool merge) {
-    // A scene read lazily takes commands in its file's ids (editor/lazy_edits.h); what the window
-    // picks has the ids of the part it was drawn from, which an edit may renumber: not yet.
-    if (session_.lazyForest()) {
-        message("Refused: the scene is read lazily (a vector budget): the window views it only, for now");
-        return false;
-    }
     if (layerLocked(layerOf(command))) {
         message("Refused: the layer is locked");
         return false;
@@ -117,11 +113,20 @@ bool EditingController::setRoundabout(ElementId node, float radius) {
     return execute(SetRoundaboutCmd{current_, node, radius});
 }
 
+EditingController::Held EditingController::held(LayerId layer, ElementKind kind, ElementId file) const {
+    Held out;
+    session_.forEachHeldDocument([&](const SceneDocument& doc) {
+        if (out.layer || layer >= doc.scene.layers.size()) return;
+        const Layer& l = doc.scene.layers[layer];
+        if (const ElementId id = localIdOf(l, kind, file); id != kNoElement) out = {&l, id};
+    });
+    return out;
+}
+
 const Curve* EditingController::selectedCurve() const {
-    const Scene& scene = session_.document().scene;
-    if (selected_.kind != Pick::Kind::Curve || selected_.layer >= scene.layers.size()) return nullptr;
-    const Layer& layer = scene.layers[selected_.layer];
-    return selected_.id < layer.curves.size() && layer.curves[selected_.id].alive ? &layer.curves[selected_.id] : nullptr;
+    if (selected_.kind != Pick::Kind::Curve) return nullptr;
+    const Held h = held(selected_.layer, ElementKind::Curve, selected_.id);
+    return h.layer && h.layer->curves[h.id].alive ? &h.layer->curves[h.id] : nullptr;
 }
 
 bool EditingController::setSelectedWidth(float w) {
@@ -145,9 +150,12 @@ bool EditingController::setSelectedFlag(std::uint16_t bit, bool on) {
 
 std::size_t EditingController::selectedBridges() const {
     if (!selectedCurve()) return 0;
+    // The session's tree: the document's (a lazy session's top holds the curves wide enough for it).
+    const ElementId id = localIdOf(session_.document().scene.layers.at(selected_.layer), ElementKind::Curve, selected_.id);
+    if (id == kNoElement) return 0;
     const Quadtree& qt = session_.quadtree();
     std::size_t bridges = 0;
-    for (AncestorId a : qt.expansionOf(selected_.layer, selected_.id)) bridges += (qt.ancestorCurve(selected_.layer, a).flags & kBridge) != 0;
+    for (AncestorId a : qt.expansionOf(selected_.layer, id)) bridges += (qt.ancestorCurve(selected_.layer, a).flags & kBridge) != 0;
     return bridges;
 }
 
@@ -161,6 +169,10 @@ bool EditingController::finishDrawing() {
     const std::vector<ElementId> nodes = std::move(drawnNodes_);
     drawn_.clear(), drawnNodes_.clear();
     if (points.size() < 2) return false;
+    if (session_.lazyForest()) {
+        message("Refused: drawing new curves on a scene read lazily (a vector budget) is not built yet");
+        return false;
+    }
     if (layerLocked(current_)) {
         message("Refused: the layer is locked");
         return false;
@@ -202,10 +214,11 @@ double EditingController::viewerHeight() const { return session_.heightAboveGrou
 
 bool EditingController::pickable(const Pick& p) const {
     if (p.layer != current_) return false;
-    const Layer& layer = session_.document().scene.layers[current_];
-    if (p.kind == Pick::Kind::Node) return p.id < layer.nodes.size() && layer.nodes[p.id].alive;
-    return p.id < layer.curves.size() && layer.curves[p.id].alive &&
-           (p.kind != Pick::Kind::Vertex || p.index + 1 < layer.curves[p.id].vertices.size());
+    const Held h = held(current_, p.kind == Pick::Kind::Node ? ElementKind::Node : ElementKind::Curve, p.id);
+    if (!h.layer) return false;
+    if (p.kind == Pick::Kind::Node) return h.layer->nodes[h.id].alive;
+    const Curve& c = h.layer->curves[h.id];
+    return c.alive && (p.kind != Pick::Kind::Vertex || p.index + 1 < c.vertices.size());
 }
 
 Pick EditingController::pick(glm::dvec2 pixel, bool pointsOnly) const {
@@ -220,11 +233,11 @@ Pick EditingController::pick(glm::dvec2 pixel, bool pointsOnly) const {
         if (score < best.pixels) best = item.pick, best.pixels = score;
     }
     if (best.kind != Pick::Kind::None || pointsOnly) return best;
-    const Layer& layer = session_.document().scene.layers[current_];
     for (const ElementId id : overlay_.curves) {
         if (!pickable({Pick::Kind::Curve, current_, id, 0, 0.0})) continue;
+        const Held h = held(current_, ElementKind::Curve, id);
         std::optional<glm::dvec2> prev;
-        for (const Vertex& v : layer.curves[id].vertices) {
+        for (const Vertex& v : h.layer->curves[h.id].vertices) {
             const auto p = project(groundPoint(v.p));
             if (p && prev) {
                 const double d = distanceToSegment(pixel, *prev, *p);
@@ -250,7 +263,6 @@ std::size_t EditingController::insertIndex(const Curve& c, glm::dvec2 pixel) con
 }
 
 bool EditingController::press(glm::dvec2 pixel) {
-    const Layer& layer = session_.document().scene.layers[current_];
     switch (tool_) {
         case Tool::Select: {
             const Pick p = pick(pixel, false);
@@ -265,8 +277,9 @@ bool EditingController::press(glm::dvec2 pixel) {
             selected_ = p;
             if (p.kind == Pick::Kind::Node) {
                 // The selection shows a curve of the node, for the properties panel.
-                const Node& n = layer.nodes[p.id];
-                if (!n.curves.empty()) selected_ = {Pick::Kind::Curve, p.layer, n.curves.front(), 0, 0.0};
+                const Held h = held(p.layer, ElementKind::Node, p.id);
+                const Node& n = h.layer->nodes[h.id];
+                if (!n.curves.empty()) selected_ = {Pick::Kind::Curve, p.layer, h.layer->sceneCurveId(n.curves.front()), 0, 0.0};
             } else if (p.kind == Pick::Kind::Vertex) {
                 selected_.kind = Pick::Kind::Curve;
             }
@@ -279,7 +292,8 @@ bool EditingController::press(glm::dvec2 pixel) {
                 message("Insert: click on a curve of the current layer");
                 return true;
             }
-            const std::size_t index = insertIndex(layer.curves[p.id], pixel);
+            const Held h = held(current_, ElementKind::Curve, p.id);
+            const std::size_t index = insertIndex(h.layer->curves[h.id], pixel);
             execute(InsertVertexCmd{current_, p.id, index, Vertex{Vec2(at->x, at->y), true, false}});
             selected_ = {Pick::Kind::Curve, current_, p.id, 0, 0.0};
             return true;
@@ -309,7 +323,8 @@ bool EditingController::press(glm::dvec2 pixel) {
             }
             const Pick p = pick(pixel, true);
             if (p.kind == Pick::Kind::Node) {
-                drawn_.push_back(layer.nodes[p.id].p);
+                const Held h = held(current_, ElementKind::Node, p.id);
+                drawn_.push_back(h.layer->nodes[h.id].p);
                 drawnNodes_.push_back(p.id);
             } else if (const auto at = groundAt(pixel)) {
                 drawn_.push_back(Vec2(at->x, at->y));
@@ -344,14 +359,18 @@ const Overlay& EditingController::buildOverlay(std::size_t pointBudget) {
     };
     const glm::dvec3 lift(0.0, 0.0, kOverlayLiftMetres);
     std::size_t points = 0;
-    for (LayerId li = 0; li < scene.layers.size(); ++li) {
+    // Each curve once, by its id in the file, from the first document or part that holds it.
+    std::vector<std::unordered_set<ElementId>> seen(scene.layers.size());
+    session_.forEachHeldDocument([&](const SceneDocument& doc) {
+    for (LayerId li = 0; li < scene.layers.size() && li < doc.scene.layers.size(); ++li) {
         if (!pointsShown(li)) continue;
         const bool current = li == current_;
-        const Layer& layer = scene.layers[li];
-        for (ElementId id = 0; id < layer.curves.size() && points < pointBudget; ++id) {
-            const Curve& c = layer.curves[id];
+        const Layer& layer = doc.scene.layers[li];
+        for (ElementId local = 0; local < layer.curves.size() && points < pointBudget; ++local) {
+            const Curve& c = layer.curves[local];
+            const ElementId id = layer.sceneCurveId(local);
             const bool selected = selected_.kind == Pick::Kind::Curve && selected_.layer == li && selected_.id == id;
-            if (!c.alive || (!selected && !near(c))) continue;
+            if (!c.alive || (!selected && !near(c)) || !seen[li].insert(id).second) continue;
             if (current) overlay_.curves.push_back(id);
             auto add = [&](const glm::dvec3& world, const Pick& p, OverlayPoint::Style style) {
                 const auto px = project(world);
@@ -368,9 +387,11 @@ const Overlay& EditingController::buildOverlay(std::size_t pointBudget) {
                 if (k == 0 || k + 1 == c.vertices.size()) continue;  // the nodes, below
                 add(w, {Pick::Kind::Vertex, li, id, k, 0.0}, c.vertices[k].onCurve ? OverlayPoint::Style::OnCurve : OverlayPoint::Style::Control);
             }
-            for (const ElementId n : {c.start, c.end}) add(groundPoint(layer.nodes[n].p), {Pick::Kind::Node, li, n, 0, 0.0}, OverlayPoint::Style::Node);
+            for (const ElementId n : {c.start, c.end})
+                add(groundPoint(layer.nodes[n].p), {Pick::Kind::Node, li, layer.sceneNodeId(n), 0, 0.0}, OverlayPoint::Style::Node);
         }
     }
+    });
     for (std::size_t k = 0; k < drawn_.size(); ++k) {
         const glm::dvec3 w = groundPoint(drawn_[k]) + lift;
         overlay_.points.push_back({OverlayPoint::Style::Drawing, w, Pick{}, project(w).value_or(glm::dvec2(-1e9)), true, false});

@@ -11,6 +11,13 @@
 // deleteSelection); then buildOverlay() for what to draw. Picks are made against the overlay
 // last built: the points the user saw when clicking.
 //
+// Ids: picks, the selection and commands name elements by their ids in the scene file, which are
+// the document's own for a session holding a whole document. A session reading a scene file
+// lazily (editor/lazy_forest.h) shows the elements of its top document and of the parts it holds
+// (EditSession::forEachHeldDocument), each once; its commands take the file's ids
+// (editor/lazy_edits.h), its edits are saved into the file in place (EditSession::saveEdits).
+// Drawing new curves is refused there (new elements need ids in the file: not built yet).
+//
 // Lock policy: every command of the controller checks the lock of its layer and is refused on a
 // locked layer (the message says so), whether it comes from a tool, a key, a panel or a script.
 // Undo and redo walk the history and are not refused: they restore states the user made. The
@@ -169,6 +176,13 @@ public:
 private:
     void message(const std::string& text);
     bool pickable(const Pick& p) const;  // still there (the overlay is the last frame's)
+    // An element the window sees, by its id in the file: the layer of the document or part that
+    // holds it and its id there (layer nullptr: nothing held has it).
+    struct Held {
+        const Layer* layer = nullptr;
+        ElementId id = kNoElement;
+    };
+    Held held(LayerId layer, ElementKind kind, ElementId file) const;
     std::size_t insertIndex(const Curve& c, glm::dvec2 pixel) const;
 
     EditSession& session_;

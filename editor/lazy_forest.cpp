@@ -365,6 +365,10 @@ bool LazyForest::refine(std::span<const glm::dvec3> viewers, const ViewParams& v
     return done;
 }
 
+void LazyForest::forEachPart(const std::function<void(const SceneDocument&)>& f) const {
+    for (const auto& [key, part] : parts_) f(part->doc);
+}
+
 void LazyForest::waitForReads() const {
     for (const Read& r : reading_)
         if (r.result.valid()) r.result.wait();

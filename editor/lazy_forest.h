@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <map>
 #include <memory>
@@ -119,6 +120,8 @@ public:
     // Edits not saved, read over the file from now on (never null), and their version; then
     // renew() with what the edit changed.
     void setOverlay(std::shared_ptr<const SceneOverlay> overlay, std::uint64_t version);
+    // Each part held: its document (the file's ids in Layer::sceneIds), in quad order.
+    void forEachPart(const std::function<void(const SceneDocument&)>& f) const;
     // Waits for the parts being read on the worker (they are taken by the next refine()).
     void waitForReads() const;
     // The file's stored checksum after its edits were saved into it (io/scene_save_edits.h), which

@@ -56,26 +56,32 @@ std::string PyramidLink::afterSave(const EditSession& session, const std::string
                           std::filesystem::weakly_canonical(target, e1) == std::filesystem::weakly_canonical(scene_, e2) && !e1 && !e2;
     if (!sameFile) return "Saved to another file than " + scene_ + ": its pyramid " + pyramid_ + " was not updated";
     const bool queued = running_ != nullptr;
-    start(std::make_shared<const SceneDocument>(session.document()), session.editCount());
+    if (session.lazyForest())  // the file itself, saved in place (its document is a part of it)
+        start(nullptr, session.storedChecksum(), session.editCount());
+    else
+        start(std::make_shared<const SceneDocument>(session.document()), {}, session.editCount());
     return "Updating the pyramid " + pyramid_ + (queued ? " after the update in flight..." : "...");
 }
 
-void PyramidLink::start(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt) {
+void PyramidLink::start(std::shared_ptr<const SceneDocument> saved, std::string checksum, std::uint64_t madeAt) {
     if (running_) {  // one update at a time: this one after it (a later save replaces it)
-        queued_ = std::move(saved);
+        queued_ = true;
+        queuedDocument_ = std::move(saved);
+        queuedChecksum_ = std::move(checksum);
         queuedAt_ = madeAt;
         return;
     }
     running_ = std::make_unique<Running>();
     Running* u = running_.get();
     u->document = std::move(saved);
+    u->checksum = std::move(checksum);
     u->madeAt = madeAt;
     u->session = session_;
     u->result.path = pyramid_;
     u->result.madeAt = madeAt;
-    u->thread = std::thread([u] {
+    u->thread = std::thread([u, scene = scene_] {
         try {
-            const PyramidStats f = updatePyramid(*u->document, u->result.path, nullptr);
+            const PyramidStats f = u->document ? updatePyramid(*u->document, u->result.path, nullptr) : updatePyramid(scene, u->result.path, nullptr);
             u->result.quads = f.quads, u->result.quadsChanged = f.quadsChanged, u->result.tilesMade = f.tilesMade;
             u->result.tilesWritten = f.tilesWritten, u->result.seconds = f.wallSeconds, u->result.rebuilt = f.rebuilt;
             u->result.updated = true;
@@ -96,7 +102,12 @@ std::optional<PyramidUpdateResult> PyramidLink::poll(EditSession& session, bool 
         if (r.ok()) {
             try {
                 // The saved document, which the pyramid now shows (edits made since stay live).
-                session.setPyramid(std::make_shared<PyramidReader>(pyramid_, *u->document), u->madeAt);
+                const SceneDocument& doc = session.document();
+                session.setPyramid(u->document ? std::make_shared<PyramidReader>(pyramid_, *u->document)
+                                               : std::make_shared<PyramidReader>(pyramid_, doc.scene.extent,
+                                                                                 doc.georeference.valid ? doc.georeference.crsWkt : std::string(),
+                                                                                 u->checksum),
+                                   u->madeAt);
             } catch (const std::exception& e) {
                 r.error = e.what();
             }
@@ -105,10 +116,11 @@ std::optional<PyramidUpdateResult> PyramidLink::poll(EditSession& session, bool 
         out = std::move(r);
     }
     if (queued_ && u->session == session_) {
-        std::shared_ptr<const SceneDocument> next = std::move(queued_);
-        start(std::move(next), queuedAt_);
+        queued_ = false;
+        start(std::move(queuedDocument_), std::move(queuedChecksum_), queuedAt_);
     }
-    queued_.reset();
+    queued_ = false;
+    queuedDocument_.reset();
     return out;
 }
 

@@ -2,8 +2,8 @@
 // The pyramid that goes with the scene file the editor edits (§7; pyramid/pyramid_reader.h,
 // pyramid/pyramid_build.h): opened for each editing session, so that the appearance of the quads
 // below its first vector level is read from it (EditSession::setPyramid); updated after each save
-// to that scene file (`lacet pyramid update` on a copy of the saved document, in a background
-// thread); reopened in the session when the update is done, with the edit count of the save (the
+// to that scene file (`lacet pyramid update` on a copy of the saved document, or on the scene file
+// for a session reading it lazily, in a background thread); reopened in the session when the update is done, with the edit count of the save (the
 // quads edited since stay live). One update runs at a time: a save during it is queued, a later
 // save replacing the queued one. A save to another file updates nothing (that file is another
 // scene). The window (ui/editor_app.h) only shows what happens: the status line, its log, the
@@ -90,16 +90,20 @@ private:
     struct Running {
         std::thread thread;
         std::atomic<bool> done{false};
-        std::shared_ptr<const SceneDocument> document;  // as saved
+        std::shared_ptr<const SceneDocument> document;  // as saved; none: the scene file (a session reading it lazily)
+        std::string checksum;                           // then: its stored checksum at the save
         std::uint64_t madeAt = 0, session = 0;
         PyramidUpdateResult result;
     };
-    void start(std::shared_ptr<const SceneDocument> saved, std::uint64_t madeAt);
+    // An update to `saved`, or to the scene file as saved with `checksum` (saved null).
+    void start(std::shared_ptr<const SceneDocument> saved, std::string checksum, std::uint64_t madeAt);
 
     std::string pyramid_, scene_;
     std::uint64_t session_ = 0;  // sessionStarted() count
     std::unique_ptr<Running> running_;
-    std::shared_ptr<const SceneDocument> queued_;  // a save while an update ran
+    bool queued_ = false;  // a save while an update ran:
+    std::shared_ptr<const SceneDocument> queuedDocument_;
+    std::string queuedChecksum_;
     std::uint64_t queuedAt_ = 0;
     std::optional<PyramidUpdateResult> last_;
     std::optional<PyramidLevels> levels_;

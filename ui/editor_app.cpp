@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -163,7 +164,7 @@ void EditorApp::resetSession(SceneDocument doc, const std::string& lazyPath) {
     openPyramid();
     if (const LazyForest* f = session_->lazyForest()) {
         std::ostringstream m;
-        m << "Read lazily within " << options_.vectorBudgetMiB << " MiB, parts of level " << f->partLevel() << ": viewing only";
+        m << "Read lazily within " << options_.vectorBudgetMiB << " MiB, parts of level " << f->partLevel() << " (edits saved into the file in place; drawing new curves not built yet)";
         const auto& levels = pyramid_.levels();
         if (f->params().topElevationOnly && (!levels || levels->vectorLevel <= f->partLevel()))
             m << "; levels " << (levels ? levels->vectorLevel : 0) << " to " << f->partLevel()
@@ -278,10 +279,20 @@ void EditorApp::save(const std::string& path) {
     const std::string target = !path.empty() ? path : !scenePath_.empty() ? scenePath_ : options_.outDir + "/scene.gpkg";
     try {
         const auto t0 = Clock::now();
-        saveScene(target, session_->document());
-        session_->markSaved();
-        scenePath_ = target;
-        status("Saved " + target + " in " + std::to_string(int(msSince(t0))) + " ms");
+        if (session_->lazyForest()) {
+            // A scene read lazily: its edits written into its own file, in place.
+            std::error_code e1, e2;
+            if (std::filesystem::weakly_canonical(target, e1) != std::filesystem::weakly_canonical(scenePath_, e2) || e1 || e2)
+                throw std::runtime_error("a scene read lazily (a vector budget) is saved into its own file " + scenePath_ + ", not " + target);
+            const SceneEditsSaved s = session_->saveEdits();
+            status("Saved " + std::to_string(s.nodes + s.curves + s.areas) + " edited elements into " + target + " in " +
+                   std::to_string(int(msSince(t0))) + " ms");
+        } else {
+            saveScene(target, session_->document());
+            session_->markSaved();
+            scenePath_ = target;
+            status("Saved " + target + " in " + std::to_string(int(msSince(t0))) + " ms");
+        }
     } catch (const std::exception& e) {
         status(std::string("Not saved: ") + e.what());
         return;

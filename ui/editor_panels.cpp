@@ -137,7 +137,7 @@ void EditorApp::drawPanels() {
     if (const LazyForest* lazy = session_->lazyForest()) {
         const LazyStats& st = lazy->stats();
         ImGui::Separator();
-        ImGui::Text("Vector data: read lazily, parts of level %d (%.0f m), viewing only", st.partLevel,
+        ImGui::Text("Vector data: read lazily, parts of level %d (%.0f m); edits saved in place", st.partLevel,
                     session_->document().scene.extent.size().x / double(std::int64_t(1) << st.partLevel));
         ImGui::Text("  parts: %zu held (%.1f of %.1f MiB beside the top's %.1f), %zu read, %zu evicted, %zu refused", st.partsHeld,
                     st.heldMiB, lazy->params().vectorBudgetMiB - st.topMiB, st.topMiB, st.partsRead, st.partsEvicted, st.partsRefused);

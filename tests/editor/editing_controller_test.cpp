@@ -12,6 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "editor/draw_curve.h"
+#include "io/scene_file.h"
+#include "io/scene_overlay.h"
+#include "tests/io/gis_fixtures.h"
 #include "model/bezier.h"
 #include "model/roundabouts.h"
 #include "synth/synthetic_dem.h"
@@ -32,14 +35,17 @@ SessionParams smallTiles() {
 
 // A session, its controller, and a camera looking down steeply at the scene's centre.
 struct Fixture {
-    EditSession session;
+    std::unique_ptr<EditSession> owned;
+    EditSession& session;
     EditingController controller;
     std::vector<std::string> messages;
 
-    Fixture() : session(syntheticDocument(7, 3000), smallTiles()), controller(session) {
+    Fixture() : Fixture(std::make_unique<EditSession>(syntheticDocument(7, 3000), smallTiles())) {}
+    // `target`: the roads to look at (default: the session's document's).
+    explicit Fixture(std::unique_ptr<EditSession> s, const Layer* target = nullptr) : owned(std::move(s)), session(*owned), controller(session) {
         controller.onMessage = [this](const std::string& m) { messages.push_back(m); };
         // Looking at the middle of the road with the most vertices, from 1500 m.
-        const Layer& l = roads();
+        const Layer& l = target ? *target : roads();
         const Curve* road = &l.curves.front();
         for (const Curve& c : l.curves)
             if (c.alive && c.vertices.size() > road->vertices.size()) road = &c;
@@ -258,6 +264,76 @@ TEST(EditingController, ADragMovesThePointOntoTheGroundAsOneUndoStep) {
     // A press on the ground selects nothing and is left to the window (a pan).
     EXPECT_FALSE(f.controller.press(v.pixel + glm::dvec2(3.0 * kPickPixels, 3.0 * kPickPixels)));
     EXPECT_EQ(f.controller.selection().kind, Pick::Kind::None);
+}
+
+// A scene file read lazily (a vector budget; editor/lazy_forest.h) whose top holds only what
+// elevation needs: the overlay shows the curves of the parts held too, by their ids in the file;
+// a drag of one of them is a command in the file's ids, saved into the file in place.
+TEST(EditingController, OnASceneReadLazilyTheCurvesOfThePartsAreEditedByTheirFileIdsAndSaved) {
+    const std::filesystem::path dir = test::scratchDir("controller_lazy");
+    const std::string path = (dir / "scene.gpkg").string();
+    const SceneDocument whole = syntheticDocument(7, 3000);
+    saveScene(path, whole);
+    LazyParams lazy;
+    lazy.partLevel = 2;
+    lazy.vectorBudgetMiB = 1024.0;
+    lazy.background = false;
+    lazy.topElevationOnly = true;
+    Fixture f(std::make_unique<EditSession>(path, lazy, smallTiles()), &whole.scene.layers[kRoadsLayer]);
+    ASSERT_NE(f.session.lazyForest(), nullptr);
+    ASSERT_GT(f.session.lazyForest()->stats().partsRead, 0u);
+    // Some curves shown are held by a part only, not by the top document.
+    const Layer& top = f.session.document().scene.layers[kRoadsLayer];
+    std::size_t partsOnly = 0;
+    for (const ElementId id : f.controller.overlay().curves) partsOnly += localIdOf(top, ElementKind::Curve, id) == kNoElement;
+    EXPECT_GT(partsOnly, 0u);
+    // Each point shown is where the file's element of its id has it.
+    const Layer& file = whole.scene.layers[kRoadsLayer];
+    for (const OverlayPoint& p : f.controller.overlay().points) {
+        if (p.pick.kind == Pick::Kind::Vertex) {
+            EXPECT_EQ(Vec2(p.world.x, p.world.y), file.curves[p.pick.id].vertices[p.pick.index].p);
+        }
+        if (p.pick.kind == Pick::Kind::Node) {
+            EXPECT_EQ(Vec2(p.world.x, p.world.y), file.nodes[p.pick.id].p);
+        }
+    }
+    const OverlayPoint v = f.isolated(Pick::Kind::Vertex);
+    ASSERT_TRUE(f.controller.press(v.pixel));
+    EXPECT_EQ(f.controller.selection().id, v.pick.id);
+    ASSERT_NE(f.controller.selectedCurve(), nullptr);
+    for (int i = 1; i <= 4; ++i) f.controller.drag(v.pixel + glm::dvec2(5.0 * i, 3.0 * i));
+    f.controller.release();
+    EXPECT_TRUE(f.messages.empty()) << f.messages.front();
+    ASSERT_TRUE(f.session.modified());
+    EXPECT_EQ(f.session.undoDepth(), 1u);
+    const OverlayElement* moved = f.session.lazyEdits()->overlay()->find({kRoadsLayer, ElementKind::Curve, v.pick.id});
+    ASSERT_NE(moved, nullptr);
+    const Curve now = std::get<Curve>(moved->value);
+    EXPECT_NE(now.vertices[v.pick.index].p, file.curves[v.pick.id].vertices[v.pick.index].p);
+    // The panel's width goes through the same ids.
+    ASSERT_TRUE(f.controller.setSelectedWidth(now.w + 1.0f));
+    // Drawing a new curve is refused with a reason; nothing is added.
+    f.controller.setTool(Tool::Draw);
+    f.controller.press({400.0, 500.0});
+    f.controller.press({600.0, 500.0});
+    EXPECT_FALSE(f.controller.finishDrawing());
+    EXPECT_EQ(f.session.undoDepth(), 2u);
+    // Saved into the file in place: it holds the drag and the width, and nothing else changed.
+    f.session.saveEdits();
+    EXPECT_FALSE(f.session.modified());
+    const SceneDocument saved = loadScene(path);
+    const Curve& c = saved.scene.layers[kRoadsLayer].curves[v.pick.id];
+    EXPECT_EQ(c.vertices, now.vertices);
+    EXPECT_EQ(c.w, now.w + 1.0f);
+    std::size_t changed = 0;
+    for (std::size_t l = 0; l < whole.scene.layers.size(); ++l)
+        for (std::size_t k = 0; k < whole.scene.layers[l].curves.size(); ++k) {
+            const Curve& a = whole.scene.layers[l].curves[k];
+            const Curve& b = saved.scene.layers[l].curves[k];
+            changed += a.vertices != b.vertices || a.w != b.w || a.wf != b.wf;
+        }
+    EXPECT_EQ(changed, 1u);
+    std::filesystem::remove_all(dir);
 }
 
 TEST(EditingController, TheDrawToolMakesOneCurveThroughTheClicksJoiningASnappedNode) {
