@@ -2,15 +2,62 @@
 
 #include <bit>
 #include <cstdio>
+#include <stdexcept>
 #include <string_view>
 
 #include "io/dem_lod.h"
 #include "io/digest.h"
-#include "io/scene_file.h"
 
 namespace lacet {
-SceneChecksum::SceneChecksum(const Scene& scene) {
-    c_.word(kSceneFormatVersion);
+namespace {
+
+// Each element's fields, into `c` (both formats).
+void nodeFields(Digest& c, const Node& n) {
+    c.real(n.p.x);
+    c.real(n.p.y);
+    // The radius's bits above `alive`: a file without roundabouts sums as before they existed.
+    const std::uint32_t radius = n.roundabout == 0.0f ? 0u : std::bit_cast<std::uint32_t>(n.roundabout);
+    c.word(std::uint64_t(radius) << 1 | std::uint64_t(n.alive));
+    c.ids(n.curves);
+}
+
+void curveFields(Digest& c, const Curve& cv) {
+    c.word(cv.start);
+    c.word(cv.end);
+    c.real(cv.w);
+    c.real(cv.wf);
+    c.word(std::uint64_t(cv.cls) << 32 | std::uint64_t(cv.flags) << 1 | std::uint64_t(cv.alive));
+    c.word(cv.vertices.size());
+    for (const Vertex& v : cv.vertices) {
+        c.real(v.p.x);
+        c.real(v.p.y);
+        c.word(std::uint64_t(v.onCurve) | std::uint64_t(v.closing) << 1);
+    }
+    c.ids(cv.areas);
+}
+
+void areaFields(Digest& c, const Area& a) {
+    c.real(a.wf);
+    c.word(std::uint64_t(a.cls) << 33 | std::uint64_t(a.axial) << 1 | std::uint64_t(a.alive));
+    c.word(a.loops.size());
+    for (const auto& loop : a.loops) {
+        c.word(loop.size());
+        for (const AreaEdge& e : loop) c.word(std::uint64_t(e.curve) << 1 | std::uint64_t(e.reversed));
+    }
+}
+
+// Format 2: an element's digest starts with where it is.
+Digest elementStart(LayerId layer, ElementKind kind, ElementId id) {
+    Digest d;
+    d.word(std::uint64_t(layer) << 34 | std::uint64_t(kind) << 32 | std::uint64_t(id));
+    return d;
+}
+
+}  // namespace
+
+SceneChecksum::SceneChecksum(const Scene& scene, int version) : version_(version) {
+    if (version != 1 && version != 2) throw std::invalid_argument("SceneChecksum: no format " + std::to_string(version));
+    c_.word(std::uint64_t(version));
     for (double v : {scene.extent.min.x, scene.extent.min.y, scene.extent.max.x, scene.extent.max.y}) c_.real(v);
     c_.word(scene.layers.size());
 }
@@ -18,42 +65,47 @@ SceneChecksum::SceneChecksum(const Scene& scene) {
 void SceneChecksum::layerHead(const Layer& layer) {
     c_.text(layer.name);
     c_.word(std::uint64_t(layer.kind));
+    ++layer_;
+    kind_ = -1;
 }
 
-void SceneChecksum::count(std::size_t n) { c_.word(n); }
+void SceneChecksum::count(std::size_t n) {
+    c_.word(n);
+    ++kind_;
+    next_ = 0;
+}
 
 void SceneChecksum::node(const Node& n) {
-    c_.real(n.p.x);
-    c_.real(n.p.y);
-    // The radius's bits above `alive`: a file without roundabouts sums as before they existed.
-    const std::uint32_t radius = n.roundabout == 0.0f ? 0u : std::bit_cast<std::uint32_t>(n.roundabout);
-    c_.word(std::uint64_t(radius) << 1 | std::uint64_t(n.alive));
-    c_.ids(n.curves);
+    if (version_ == 1) return nodeFields(c_, n);
+    sum_ += elementDigest(LayerId(layer_), next_++, n);
 }
 
 void SceneChecksum::curve(const Curve& cv) {
-    c_.word(cv.start);
-    c_.word(cv.end);
-    c_.real(cv.w);
-    c_.real(cv.wf);
-    c_.word(std::uint64_t(cv.cls) << 32 | std::uint64_t(cv.flags) << 1 | std::uint64_t(cv.alive));
-    c_.word(cv.vertices.size());
-    for (const Vertex& v : cv.vertices) {
-        c_.real(v.p.x);
-        c_.real(v.p.y);
-        c_.word(std::uint64_t(v.onCurve) | std::uint64_t(v.closing) << 1);
-    }
-    c_.ids(cv.areas);
+    if (version_ == 1) return curveFields(c_, cv);
+    sum_ += elementDigest(LayerId(layer_), next_++, cv);
 }
 
 void SceneChecksum::area(const Area& a) {
-    c_.real(a.wf);
-    c_.word(std::uint64_t(a.cls) << 33 | std::uint64_t(a.axial) << 1 | std::uint64_t(a.alive));
-    c_.word(a.loops.size());
-    for (const auto& loop : a.loops) {
-        c_.word(loop.size());
-        for (const AreaEdge& e : loop) c_.word(std::uint64_t(e.curve) << 1 | std::uint64_t(e.reversed));
-    }
+    if (version_ == 1) return areaFields(c_, a);
+    sum_ += elementDigest(LayerId(layer_), next_++, a);
+}
+
+std::uint64_t SceneChecksum::elementDigest(LayerId layer, ElementId id, const Node& n) {
+    Digest d = elementStart(layer, ElementKind::Node, id);
+    nodeFields(d, n);
+    return d.value();
+}
+
+std::uint64_t SceneChecksum::elementDigest(LayerId layer, ElementId id, const Curve& c) {
+    Digest d = elementStart(layer, ElementKind::Curve, id);
+    curveFields(d, c);
+    return d.value();
+}
+
+std::uint64_t SceneChecksum::elementDigest(LayerId layer, ElementId id, const Area& a) {
+    Digest d = elementStart(layer, ElementKind::Area, id);
+    areaFields(d, a);
+    return d.value();
 }
 
 void SceneChecksum::layer(const Layer& layer) {
@@ -66,7 +118,19 @@ void SceneChecksum::layer(const Layer& layer) {
     for (const Area& a : layer.areas) area(a);
 }
 
-std::string SceneChecksum::finish(const SceneDocument& doc) {
+std::string SceneChecksum::hex(std::uint64_t v) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
+    return buf;
+}
+
+std::string SceneChecksum::combine(std::uint64_t head, std::uint64_t elements) {
+    Digest d;
+    d.word(head).word(elements);
+    return hex(d.value());
+}
+
+SceneChecksumParts SceneChecksum::finish(const SceneDocument& doc) {
     Digest& c = c_;
     c.word(doc.attributes.size());
     for (const ElementAttribute& a : doc.attributes) {
@@ -96,15 +160,16 @@ std::string SceneChecksum::finish(const SceneDocument& doc) {
         c.word(std::uint64_t(doc.dem->width()) << 32 | std::uint64_t(doc.dem->height()));
         for (float z : doc.dem->heights()) c.real(z);
     }
-    char buf[24];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(c.value()));
-    return buf;
+    if (version_ == 1) return {hex(c.value()), 0, 0};
+    return {combine(c.value(), sum_), c.value(), sum_};
 }
 
-std::string sceneChecksumText(const SceneDocument& doc) {
-    SceneChecksum c(doc.scene);
+SceneChecksumParts sceneChecksumParts(const SceneDocument& doc, int version) {
+    SceneChecksum c(doc.scene, version);
     for (const Layer& layer : doc.scene.layers) c.layer(layer);
     return c.finish(doc);
 }
+
+std::string sceneChecksumText(const SceneDocument& doc, int version) { return sceneChecksumParts(doc, version).text; }
 
 }  // namespace lacet

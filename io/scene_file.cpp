@@ -138,7 +138,8 @@ namespace {
 
 // loadSceneParts of the file at `path`, over `connection` (kept open) or a connection of its own.
 std::string loadParts(const std::string& path, SceneFileConnection* connection, SceneDocument& doc,
-                      const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem, bool wholeFileCheck) {
+                      const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem, bool wholeFileCheck,
+                      int* formatVersion) {
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw SceneFileError(path + ": cannot open: " + std::strerror(errno));
     if (S_ISDIR(st.st_mode)) throw SceneFileError(path + ": is a directory, not a Lacet scene");
@@ -157,6 +158,7 @@ std::string loadParts(const std::string& path, SceneFileConnection* connection, 
                                         metaDouble(meta, "georeference_origin_shift_y")};
         doc.georeference.crsWkt = metaValue(meta, "crs_wkt");
         checksum = metaValue(meta, "checksum");
+        if (formatVersion) *formatVersion = int(metaInteger(meta, "format_version", 1, kSceneFormatVersion));
         readElements(db, doc);
         const std::string& dem = readDem ? metaValue(meta, "dem") : std::string("none");
         std::int64_t demWidth = 0, demHeight = 0;
@@ -212,14 +214,14 @@ std::string loadParts(const std::string& path, SceneFileConnection* connection, 
 
 std::string scene_format::loadSceneParts(const std::string& path, SceneDocument& doc,
                                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
-                                          bool wholeFileCheck) {
-    return loadParts(path, nullptr, doc, readElements, readDem, wholeFileCheck);
+                                          bool wholeFileCheck, int* formatVersion) {
+    return loadParts(path, nullptr, doc, readElements, readDem, wholeFileCheck, formatVersion);
 }
 
 std::string scene_format::loadSceneParts(SceneFileConnection& connection, SceneDocument& doc,
                                           const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem,
-                                          bool wholeFileCheck) {
-    return loadParts(connection.path(), &connection, doc, readElements, readDem, wholeFileCheck);
+                                          bool wholeFileCheck, int* formatVersion) {
+    return loadParts(connection.path(), &connection, doc, readElements, readDem, wholeFileCheck, formatVersion);
 }
 
 SceneFileConnection::SceneFileConnection(std::string path) : path_(std::move(path)) {}
@@ -237,8 +239,9 @@ SqliteDb& SceneFileConnection::open(std::uint64_t device, std::uint64_t inode) {
 
 SceneDocument loadScene(const std::string& path) {
     SceneDocument doc;
-    const std::string checksum = scene_format::loadSceneParts(path, doc, readElementTables);
-    if (const std::string sum = sceneChecksumText(doc); sum != checksum)
+    int version = 0;
+    const std::string checksum = scene_format::loadSceneParts(path, doc, readElementTables, true, true, &version);
+    if (const std::string sum = sceneChecksumText(doc, version); sum != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum: " + sum + ", not " +
                              checksum + ")");
     return doc;

@@ -16,7 +16,9 @@
 //                 the checksum covers the tree's layout and digest instead of doc.dem.
 //   lacet_meta    key/value text: format, format_version, the extent, the georeference, crs_wkt and the
 //                 DEM's grid (dem, dem_width, dem_height, dem_extent_*), and a 64-bit checksum of
-//                 the whole document's values (checksum, 16 hex digits). Doubles are C hex floats
+//                 the whole document's values (checksum, 16 hex digits; io/scene_checksum.h, in the
+//                 form of the file's version), with, from version 2, its two parts (checksum_head,
+//                 checksum_elements) that a save in place updates. Doubles are C hex floats
 //                 ("0x1.f4p+9", exact; a NaN as "nan:" and its 16 hex digits of bits).
 //   lacet_layers  id, name, kind (toString(LayerKind)).
 //   lacet_nodes   layer, id, x, y, alive, curves (BLOB, u32 ids), roundabout (REAL, the ring's
@@ -57,7 +59,9 @@ public:
 };
 
 // Current version of the format above; loadScene refuses files of a later version.
-constexpr int kSceneFormatVersion = 1;
+// Files of version 1 load as before (their checksum is format 1's, io/scene_checksum.h); a save
+// in place of edits (io/scene_save_edits.h) makes such a file version 2.
+constexpr int kSceneFormatVersion = 2;
 
 // Saves atomically: writes `path` + ".tmp" (removing a stale one and its SQLite journal), fsyncs
 // it, then renames it over `path` and fsyncs the directory; a crash or an exception at any point

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "io/document.h"
+#include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
 
@@ -57,7 +58,9 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
 // The checksum (io/scene_checksum.h) of `doc` with the layers `fromRows` names summed from their
 // rows in `db` as they are now (decoded and checked as readElementTables does), not from doc's
 // (whose heads, name and kind, still count); doc gives the rest: attributes, georeference, DEM.
-std::string checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows);
+// Writes `checksum` and its parts into lacet_meta (the keys a format-1 file lacks added).
+void writeChecksum(SqliteDb& db, const SceneChecksumParts& checksum);
+SceneChecksumParts checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows);
 
 using Meta = std::map<std::string, std::string>;
 
@@ -185,14 +188,14 @@ std::vector<ElementId> featuresIn(SqliteDb& db, const FeatureTableRef& t, const 
 
 // What loadScene does but the checksum: opens and checks `path`, reads lacet_meta, calls
 // `readElements`, reads the DEM (unless `readDem` is false: the caller has it), validates the
-// model; returns lacet_meta's checksum text. `wholeFileCheck`: openSceneTables'. Throws
-// SceneFileError naming the file.
+// model; returns lacet_meta's checksum text, and in `formatVersion` the file's format version (the
+// checksum's form). `wholeFileCheck`: openSceneTables'. Throws SceneFileError naming the file.
 std::string loadSceneParts(const std::string& path, SceneDocument& doc,
                            const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem = true,
-                           bool wholeFileCheck = true);
+                           bool wholeFileCheck = true, int* formatVersion = nullptr);
 // The same over `connection`'s file, kept open.
 std::string loadSceneParts(SceneFileConnection& connection, SceneDocument& doc,
                            const std::function<void(SqliteDb&, SceneDocument&)>& readElements, bool readDem = true,
-                           bool wholeFileCheck = true);
+                           bool wholeFileCheck = true, int* formatVersion = nullptr);
 
 }  // namespace lacet::scene_format

@@ -495,10 +495,11 @@ SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region
         st.areas = loader.areas;
         st.bytes = loader.bytes;  // what was counted while reading (the test checks it is what is held)
     };
-    const std::string checksum = loadSceneParts(connection, doc, readRegion, filter.dem, filter.wholeFileCheck);
+    int version = 0;
+    const std::string checksum = loadSceneParts(connection, doc, readRegion, filter.dem, filter.wholeFileCheck, &version);
     st.checksum = checksum;
     // Read whole: checked whole, as loadScene checks it.
-    if (!indexed && filter.dem && sceneChecksumText(doc) != checksum)
+    if (!indexed && filter.dem && sceneChecksumText(doc, version) != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum)");
     st.wholeScene = !indexed;
     if (!indexed) st.bytes = memoryBytes(doc.scene);

@@ -1,10 +1,12 @@
 #include "io/scene_save_edits.h"
 
+#include <charconv>
 #include <chrono>
 #include <map>
 #include <optional>
 #include <variant>
 
+#include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "io/scene_format.h"
 
@@ -72,9 +74,29 @@ Layer featureLayer(ElementRows& rows, const ElementRef& r) {
     return local;
 }
 
-std::string storedChecksum(SqliteDb& db) {
-    auto s = db.prepare("SELECT value FROM lacet_meta WHERE key = 'checksum'");
-    return s.step() ? s.text(0) : std::string();
+// lacet_meta's checksum and, from format 2, its parts (none where missing or not 16 hex digits).
+struct StoredChecksum {
+    std::string text;
+    std::optional<std::uint64_t> head, elements;
+};
+
+std::optional<std::uint64_t> hexValue(const std::string& s) {
+    std::uint64_t v = 0;
+    if (s.size() != 16) return std::nullopt;
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v, 16);
+    return r.ec == std::errc() && r.ptr == s.data() + s.size() ? std::optional(v) : std::nullopt;
+}
+
+StoredChecksum storedChecksum(SqliteDb& db) {
+    StoredChecksum out;
+    auto s = db.prepare("SELECT key, value FROM lacet_meta WHERE key IN ('checksum', 'checksum_head', 'checksum_elements')");
+    while (s.step()) {
+        const std::string key = s.text(0), value = s.text(1);
+        if (key == "checksum") out.text = value;
+        else if (key == "checksum_head") out.head = hexValue(value);
+        else out.elements = hexValue(value);
+    }
+    return out;
 }
 
 }  // namespace
@@ -88,28 +110,54 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         return SceneFileError(path + ": not saved: the file changed since its edits began (its stored checksum is " + now + ", was " +
                               expected + "); it is left as it is");
     };
-    // The document but its elements: what the checksum sums beside the rows.
+    // The document but its elements: its layers; for a format-1 file, whose checksum is summed
+    // again whole in format 2, also what the checksum sums beside the rows (attributes, DEM).
     SceneDocument head;
-    const std::string stored = loadSceneParts(
-        path, head,
-        [](SqliteDb& db, SceneDocument& doc) {
-            readLayerTable(db, doc.scene);
-            const std::size_t layers = doc.scene.layers.size();
-            const std::vector<std::size_t> counts[] = {fileIdCounts(db, "lacet_nodes", layers), fileIdCounts(db, "lacet_curves", layers),
-                                                       fileIdCounts(db, "lacet_areas", layers)};
-            readAttributesOf(
-                db, doc, [&](LayerId l, ElementKind k) { return counts[std::size_t(k)][l]; },
-                [](const ElementAttribute& a) { return a.id; });
-        },
-        /*readDem=*/true, /*wholeFileCheck=*/false);
+    int version = 0;
+    std::string stored = loadSceneParts(
+        path, head, [](SqliteDb& db, SceneDocument& doc) { readLayerTable(db, doc.scene); }, /*readDem=*/false,
+        /*wholeFileCheck=*/false, &version);
     if (stored != expected) throw changed(stored);
+    if (version < 2) {
+        head = SceneDocument();
+        stored = loadSceneParts(
+            path, head,
+            [](SqliteDb& db, SceneDocument& doc) {
+                readLayerTable(db, doc.scene);
+                const std::size_t layers = doc.scene.layers.size();
+                const std::vector<std::size_t> counts[] = {fileIdCounts(db, "lacet_nodes", layers), fileIdCounts(db, "lacet_curves", layers),
+                                                           fileIdCounts(db, "lacet_areas", layers)};
+                readAttributesOf(
+                    db, doc, [&](LayerId l, ElementKind k) { return counts[std::size_t(k)][l]; },
+                    [](const ElementAttribute& a) { return a.id; });
+            },
+            /*readDem=*/true, /*wholeFileCheck=*/false);
+        if (stored != expected) throw changed(stored);
+    }
     try {
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);
         db.busyTimeout(10000);
         db.exec("BEGIN IMMEDIATE");
-        if (const std::string now = storedChecksum(db); now != expected) throw changed(now);
+        const StoredChecksum sum = storedChecksum(db);
+        if (sum.text != expected) throw changed(sum.text);
+        // Format 2 with parts that give the checksum: updated by the elements' digests (their
+        // rows' before, the overlay's after); else summed again whole below.
+        std::optional<std::uint64_t> elements;
+        if (version >= 2 && sum.head && sum.elements && SceneChecksum::combine(*sum.head, *sum.elements) == sum.text) elements = sum.elements;
         {
             ElementRows rows(db);
+            if (elements)
+                for (const auto& [ref, e] : overlay.elements) {
+                    if (const Node* n = std::get_if<Node>(&e.value))
+                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, *n) -
+                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.node(ref.layer, ref.id));
+                    else if (const Curve* c = std::get_if<Curve>(&e.value))
+                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, *c) -
+                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.curve(ref.layer, ref.id));
+                    else
+                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, std::get<Area>(e.value)) -
+                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.area(ref.layer, ref.id));
+                }
             // The features to set, with the boxes their rows meet before the edits: the curves and
             // areas changed, and the curves of the loops of an area changed, before and after.
             std::map<ElementRef, std::optional<Box>> features;
@@ -153,13 +201,17 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         }
         out.writeMs = msSince(t0);
         const auto t1 = std::chrono::steady_clock::now();
-        out.checksum = checksumOfRows(db, head, [](LayerId) { return true; });
-        out.checksumMs = msSince(t1);
-        {
-            auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = 'checksum'");
-            s.bindText(1, out.checksum);
-            s.step();
+        SceneChecksumParts now;
+        if (elements) {
+            now = {SceneChecksum::combine(*sum.head, *elements), *sum.head, *elements};
+        } else {
+            now = checksumOfRows(db, head, [](LayerId) { return true; });
+            db.exec("UPDATE lacet_meta SET value = '" + std::to_string(kSceneFormatVersion) + "' WHERE key = 'format_version'");
+            out.summedWhole = true;
         }
+        writeChecksum(db, now);
+        out.checksum = now.text;
+        out.checksumMs = msSince(t1);
         db.exec("COMMIT");
         db.close();
     } catch (const SceneFileError&) {

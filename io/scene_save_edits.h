@@ -9,8 +9,10 @@
 //   - the features of the curves and areas changed, and of the curves of the loops of an area
 //     changed (io/scene_features.h: FeatureTablesEditor), the same geometry and columns saveScene
 //     would write for them;
-//   - lacet_meta's checksum summed again over every row of the element tables (io/scene_checksum.h):
-//     the one cost that grows with the scene, a read of the whole of those tables.
+//   - lacet_meta's checksum (io/scene_checksum.h, format 2) updated by the digests of the rows
+//     replaced, before and after; a file of format 1, or whose stored parts do not give its
+//     checksum, is summed again whole in format 2 (a read of every row of the element tables:
+//     the one cost that grows with the scene) and becomes format 2.
 // The file must be the one the edits were made over: its stored checksum is `expected` (else the
 // save is refused, the file unchanged). Throws SceneFileError naming the file and the reason.
 
@@ -27,7 +29,8 @@ struct SceneEditsSaved {
     std::size_t nodes = 0, curves = 0, areas = 0;  // rows written
     FeatureTablesEditor::Counts features;
     double writeMs = 0.0;     // the rows and features
-    double checksumMs = 0.0;  // summing the element tables again
+    double checksumMs = 0.0;  // the checksum: updated, or summed again whole
+    bool summedWhole = false; // summed again whole (a format-1 file, made format 2)
     double totalMs = 0.0;
 };
 

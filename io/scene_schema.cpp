@@ -127,7 +127,7 @@ void writeStreamedParts(const SceneDocument& doc, const StreamedLayer& streamed,
     });
 }
 
-void writeMeta(SqliteDb& db, const SceneDocument& doc, const std::string& checksum) {
+void writeMeta(SqliteDb& db, const SceneDocument& doc, const SceneChecksumParts& checksum) {
     std::vector<std::pair<std::string, std::string>> meta = {
         {"format", kFormatName},
         {"format_version", std::to_string(kSceneFormatVersion)},
@@ -142,7 +142,9 @@ void writeMeta(SqliteDb& db, const SceneDocument& doc, const std::string& checks
         {"georeference_origin_shift_y", doubleText(doc.georeference.originShift.y)},
         {"crs_wkt", doc.georeference.crsWkt},
         {"dem", doc.demLod ? kDemLodTable : doc.dem ? kDemRasterTable : "none"},
-        {"checksum", checksum},
+        {"checksum", checksum.text},
+        {"checksum_head", SceneChecksum::hex(checksum.head)},
+        {"checksum_elements", SceneChecksum::hex(checksum.elements)},
     };
     if (doc.demLod) {
         // The finest grid of the tree (its layout itself is in kDemLodMetaTable, io/dem_lod.h).
@@ -191,7 +193,7 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
         }
     }
     // A streamed layer's checksum is known once its rows are written: a placeholder until then.
-    writeMeta(db, doc, streamed ? std::string(16, '0') : sceneChecksumText(doc));
+    writeMeta(db, doc, streamed ? SceneChecksumParts{std::string(16, '0'), 0, 0} : sceneChecksumParts(doc));
     {
         // Their statements are finalized at the end of this block, before the connection closes.
         ElementTablesWriter elements(db);
@@ -206,18 +208,32 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
         elements.attributes(doc);
         features.finish();
     }
-    if (streamed) {
-        auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = 'checksum'");
-        s.bindText(1, checksumOfRows(db, doc, [&](LayerId l) { return l == streamed->layer; }));
-        s.step();
-    }
+    if (streamed) writeChecksum(db, checksumOfRows(db, doc, [&](LayerId l) { return l == streamed->layer; }));
     // GDAL writes GPKG 1.2 as asked; set the header anyway, it is what makes the file a GeoPackage.
     db.exec("PRAGMA application_id = 1196444487; PRAGMA user_version = 10200");
     db.exec("COMMIT");
     db.close();
 }
 
-std::string checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows) {
+void writeChecksum(SqliteDb& db, const SceneChecksumParts& checksum) {
+    auto s = db.prepare("UPDATE lacet_meta SET value = ? WHERE key = ?");
+    for (const auto& [key, value] : {std::pair<const char*, std::string>{"checksum", checksum.text},
+                                     {"checksum_head", SceneChecksum::hex(checksum.head)},
+                                     {"checksum_elements", SceneChecksum::hex(checksum.elements)}}) {
+        s.bindText(1, value);
+        s.bindText(2, key);
+        s.step();
+        s.reset();
+        if (db.queryInteger("SELECT changes()") == 0) {  // a key a format-1 file has not
+            auto i = db.prepare("INSERT INTO lacet_meta (key, value) VALUES (?, ?)");
+            i.bindText(1, key);
+            i.bindText(2, value);
+            i.step();
+        }
+    }
+}
+
+SceneChecksumParts checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows) {
     SceneChecksum sum(doc.scene);
     for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
         if (!fromRows(LayerId(l))) {

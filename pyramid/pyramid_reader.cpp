@@ -55,16 +55,26 @@ struct PyramidReader::Impl {
     std::atomic<std::uint64_t> readNs{0}, decodeNs{0};
 };
 
+namespace {
+PyramidError otherState(const std::string& path) {
+    return PyramidError(path + ": the pyramid was made from another state of the scene (edited or imported since): run lacet "
+                               "pyramid update on the scene");
+}
+}  // namespace
+
 PyramidReader::PyramidReader(const std::string& path, const SceneDocument& doc)
-    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string(), sceneChecksumText(doc)) {}
+    : PyramidReader(path, doc.scene.extent, doc.georeference.valid ? doc.georeference.crsWkt : std::string()) {
+    // A pyramid made from a scene file of format 1 records that form of its checksum
+    // (io/scene_checksum.h); the same document either way.
+    const std::string& recorded = impl_->info.sceneChecksum;
+    if (!recorded.empty() && recorded != sceneChecksumText(doc) && recorded != sceneChecksumText(doc, 1)) throw otherState(path);
+}
 
 PyramidReader::PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt, const std::string& sceneChecksum)
     : PyramidReader(path, extent, crsWkt) {
     // Tiles of another state of the scene (edited without updating the pyramid, imported again)
     // would show what is no longer there.
-    if (!impl_->info.sceneChecksum.empty() && impl_->info.sceneChecksum != sceneChecksum)
-        throw PyramidError(path + ": the pyramid was made from another state of the scene (edited or imported since): run lacet "
-                                  "pyramid update on the scene");
+    if (!impl_->info.sceneChecksum.empty() && impl_->info.sceneChecksum != sceneChecksum) throw otherState(path);
 }
 
 PyramidReader::PyramidReader(const std::string& path, const Box& extent, const std::string& crsWkt) : impl_(std::make_unique<Impl>()) {

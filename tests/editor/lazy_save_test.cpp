@@ -190,6 +190,7 @@ TEST_F(LazySaveTest, AFileSavedInPlaceHasTheFeatureTablesOfAWholeSaveAttributesK
     const SceneEditsSaved saved = lazy.saveEdits();
     EXPECT_FALSE(lazy.modified());
     EXPECT_EQ(saved.features.deleted, 4u);
+    EXPECT_FALSE(saved.summedWhole);  // updated by the rows' digests
     EXPECT_GT(saved.features.updated, 5u);
     EXPECT_EQ(saved.checksum, sceneChecksumText(loadScene(path)));  // loadScene checks the stored one too
     expectSameFeatures(dumpFeatures(path), dumpFeatures(savedWhole(path, "features.whole.gpkg")), "edited");
@@ -229,6 +230,56 @@ TEST_F(LazySaveTest, ASaveOverAFileChangedSinceItWasOpenedIsRefusedAndLeavesItAs
     }
     EXPECT_TRUE(lazy.modified());
     EXPECT_EQ(sceneChecksumText(loadScene(path)), before);
+}
+
+// The file at `path` as a format-1 file wrote it: its version and that form of its checksum, without
+// the parts (io/scene_checksum.h).
+void makeFormat1(const std::string& path) {
+    const SceneDocument doc = loadScene(path);
+    SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+    db.exec("UPDATE lacet_meta SET value = '1' WHERE key = 'format_version'");
+    db.exec("UPDATE lacet_meta SET value = '" + sceneChecksumText(doc, 1) + "' WHERE key = 'checksum'");
+    db.exec("DELETE FROM lacet_meta WHERE key IN ('checksum_head', 'checksum_elements')");
+    db.close();
+}
+
+std::string metaValue(const std::string& path, const std::string& key) {
+    SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+    return db.queryText("SELECT value FROM lacet_meta WHERE key = '" + key + "'");
+}
+
+TEST_F(LazySaveTest, AFileOfFormat1LoadsAndItsFirstSaveInPlaceMakesItFormat2) {
+    const std::string path = copy("format1.gpkg");
+    const SceneDocument doc = loadScene(path);
+    makeFormat1(path);
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), sceneChecksumText(doc));  // loads, its format-1 checksum checked
+    EXPECT_NE(sceneChecksumText(doc, 1), sceneChecksumText(doc));
+    {
+        // Damage is still caught in format 1.
+        const std::string damaged = copy("format1.damaged.gpkg");
+        makeFormat1(damaged);
+        SqliteDb db(damaged, SqliteDb::Mode::ReadWrite);
+        db.exec("UPDATE lacet_curves SET w = 7.5 WHERE layer = 0 AND id = 0");
+        db.close();
+        EXPECT_THROW(loadScene(damaged), SceneFileError);
+    }
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Layer& roads = doc.scene.layers[0];
+    const ElementId node = roads.curves[2].start;
+    lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(12.0, -9.0)});
+    const SceneEditsSaved first = lazy.saveEdits();
+    EXPECT_TRUE(first.summedWhole);
+    EXPECT_EQ(metaValue(path, "format_version"), "2");
+    const SceneDocument once = loadScene(path);
+    EXPECT_EQ(first.checksum, sceneChecksumText(once));
+    // From then on the checksum is updated by the rows saved, not summed whole.
+    lazy.execute(SetCurveWidthCmd{0, 2, roads.curves[2].w + 1.0f, roads.curves[2].wf + 1.0f});
+    const SceneEditsSaved second = lazy.saveEdits();
+    EXPECT_FALSE(second.summedWhole);
+    EXPECT_EQ(second.checksum, sceneChecksumText(loadScene(path)));
+    const SceneChecksumParts parts = sceneChecksumParts(loadScene(path));
+    EXPECT_EQ(metaValue(path, "checksum_head"), SceneChecksum::hex(parts.head));
+    EXPECT_EQ(metaValue(path, "checksum_elements"), SceneChecksum::hex(parts.elements));
 }
 
 TEST_F(LazySaveTest, NothingToSaveWritesNothing) {

@@ -666,7 +666,7 @@ TEST_F(SceneFile, DamagedContentsAreRefused) {
     damaged("kind", "UPDATE lacet_layers SET kind = 'glaciers' WHERE id = 1", "unknown layer kind 'glaciers'");
     damaged("no_meta", "DROP TABLE lacet_meta", "not a Lacet scene");
     damaged("no_curves", "DROP TABLE lacet_curves", "no lacet_curves table");
-    damaged("version", "UPDATE lacet_meta SET value = '2' WHERE key = 'format_version'", "format version 2");
+    damaged("version", "UPDATE lacet_meta SET value = '3' WHERE key = 'format_version'", "format version 3");
     damaged("extent", "UPDATE lacet_meta SET value = '12.5' WHERE key = 'extent_max_x'", "is not a hex float");
     damaged("dem_size", "UPDATE lacet_meta SET value = '8' WHERE key = 'dem_width'", "the DEM raster is 7 x 5");
     damaged("dem_tiles", "DELETE FROM dem", "corrupt DEM: raster table 'dem' holds 0 of its 1 tiles");
