@@ -1,6 +1,7 @@
 #include "io/sqlite_db.h"
 
 #include <sqlite3.h>
+#include <sys/stat.h>
 
 namespace lacet {
 namespace {
@@ -70,7 +71,29 @@ std::span<const std::uint8_t> SqliteStatement::blob(int col) const {
     return p ? std::span<const std::uint8_t>(p, std::size_t(n)) : std::span<const std::uint8_t>();
 }
 
+namespace {
+
+// A write interrupted by a crash (a save in place, io/scene_save_edits.h) leaves a hot rollback
+// journal beside the file, which only a connection that may write can roll back: a read-only
+// connection fails ("attempt to write a readonly database"). One is opened for that first, when
+// the journal is there, and SQLite rolls it back on its first read if it is hot (a journal a live
+// writer holds is not hot, and is left to it). Where the file cannot be written, nothing is done:
+// the read-only open reports the problem.
+void rollBackHotJournal(const std::string& path) {
+    struct stat st {};
+    if (::stat((path + "-journal").c_str(), &st) != 0 || st.st_size == 0) return;
+    sqlite3* db = nullptr;
+    if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr) == SQLITE_OK) {
+        sqlite3_busy_timeout(db, 2000);
+        sqlite3_exec(db, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+    }
+    sqlite3_close_v2(db);
+}
+
+}  // namespace
+
 SqliteDb::SqliteDb(const std::string& path, Mode mode) {
+    if (mode == Mode::ReadOnly) rollBackHotJournal(path);
     const int flags = mode == Mode::ReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
     if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
         const std::string reason = db_ ? sqlite3_errmsg(db_) : "out of memory";

@@ -55,7 +55,10 @@ private:
 
 class SqliteDb {
 public:
-    enum class Mode { ReadOnly, ReadWrite };  // ReadWrite does not create a missing file
+    // ReadWrite does not create a missing file. ReadOnly first lets SQLite roll back the hot
+    // journal a crash in the middle of a write left beside the file (a read-only connection cannot),
+    // through a connection that may write, opened for that alone where the file is writable.
+    enum class Mode { ReadOnly, ReadWrite };
     SqliteDb(const std::string& path, Mode mode);  // throws SqliteError
     SqliteDb(const SqliteDb&) = delete;
     SqliteDb& operator=(const SqliteDb&) = delete;

@@ -6,11 +6,15 @@
 #include "io/scene_save_edits.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -280,6 +284,64 @@ TEST_F(LazySaveTest, AFileOfFormat1LoadsAndItsFirstSaveInPlaceMakesItFormat2) {
     const SceneChecksumParts parts = sceneChecksumParts(loadScene(path));
     EXPECT_EQ(metaValue(path, "checksum_head"), SceneChecksum::hex(parts.head));
     EXPECT_EQ(metaValue(path, "checksum_elements"), SceneChecksum::hex(parts.elements));
+}
+
+TEST_F(LazySaveTest, ASaveThatFailsLeavesTheFileAsItWasAndTheEditsToSaveAgain) {
+    const std::string path = copy("failing.gpkg");
+    const std::string before = sceneChecksumText(loadScene(path));
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Layer& roads = loadScene(path).scene.layers[0];
+    const ElementId node = roads.curves[1].start;
+    lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(20.0, 5.0)});
+    {
+        // A failure at the last write of the save (the checksum): everything before it is taken back.
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec("CREATE TRIGGER fail_save BEFORE UPDATE ON lacet_meta BEGIN SELECT RAISE(ABORT, 'injected failure'); END");
+        db.close();
+    }
+    try {
+        lazy.saveEdits();
+        ADD_FAILURE() << "the save went through its injected failure";
+    } catch (const SceneFileError& e) {
+        EXPECT_NE(std::string(e.what()).find("injected failure"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(lazy.modified());
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), before);
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec("DROP TRIGGER fail_save");
+        db.close();
+    }
+    const SceneEditsSaved saved = lazy.saveEdits();  // the same edits, saved now
+    EXPECT_NE(saved.checksum, before);
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), saved.checksum);
+}
+
+TEST_F(LazySaveTest, AWriterKilledInItsTransactionLeavesTheFileAsItWasToTheNextRead) {
+    // A writer killed in the middle of its transaction (a save in place) leaves a hot journal; the
+    // next read, a read-only one, rolls it back (io/sqlite_db.h) and finds the file as it was: here
+    // another process's (`lacet render`), as after a crash. Without that roll back, the read fails
+    // ("attempt to write a readonly database"; checked).
+    const std::string path = copy("killed.gpkg");
+    const std::string before = sceneChecksumText(loadScene(path));
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec("PRAGMA cache_size = 1");  // the changes spill into the file before the commit: the journal is hot
+        db.exec("BEGIN IMMEDIATE");
+        db.exec("UPDATE lacet_curves SET w = w + 1");
+        db.exec("UPDATE lacet_meta SET value = 'torn' WHERE key = 'checksum'");
+        ::_exit(0);  // no commit, no rollback: as if killed
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(std::filesystem::exists(path + "-journal"));
+    const std::string render = std::string(LACET_BINARY) + " render --scene " + path + " --out " + path + ".png > " + path + ".txt 2>&1";
+    EXPECT_EQ(std::system(render.c_str()), 0) << render;
+    EXPECT_FALSE(std::filesystem::exists(path + "-journal"));
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), before);
 }
 
 TEST_F(LazySaveTest, NothingToSaveWritesNothing) {
