@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/progress_bar.h"
 #include "io/scene_file.h"
+#include "io/scene_region.h"
 #include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_check.h"
 
@@ -129,8 +130,9 @@ void addPyramidCommand(CLI::App& app) {
     build->callback([b] {
         const std::string out = b->out.empty() ? defaultPyramidPath(b->scene) : b->out;
         checkOut(*b, out);
-        const PyramidParams params = paramsOf(*b);
+        PyramidParams params = paramsOf(*b);
         const bool region = readsByRegion(*b);
+        if (!region) params.sceneChecksum = loadSceneOutline(b->scene).checksum;  // the file's form of it
         if (b->shards) {
             runShardedPyramidBuild(b->scene, out, params, b->force, b->json, region);
             return;
@@ -154,7 +156,8 @@ void addPyramidCommand(CLI::App& app) {
         TerminalProgress progress;
         if (!(u->vectorBudgetMiB > 0.0)) throw std::invalid_argument("--vector-budget must be > 0 MiB");
         const PyramidStats s = readsByRegion(*u) ? updatePyramid(u->scene, path, &progress, u->demBudgetMiB, u->vectorBudgetMiB)
-                                                 : updatePyramid(loadForPyramid(u->scene), path, &progress, u->demBudgetMiB);
+                                                 : updatePyramid(loadForPyramid(u->scene), path, &progress, u->demBudgetMiB,
+                                                                 loadSceneOutline(u->scene).checksum);
         printPyramidStats(s, "updated", path, u->json);
     });
 

@@ -103,11 +103,19 @@ std::optional<PyramidUpdateResult> PyramidLink::poll(EditSession& session, bool 
             try {
                 // The saved document, which the pyramid now shows (edits made since stay live).
                 const SceneDocument& doc = session.document();
-                session.setPyramid(u->document ? std::make_shared<PyramidReader>(pyramid_, *u->document)
-                                               : std::make_shared<PyramidReader>(pyramid_, doc.scene.extent,
-                                                                                 doc.georeference.valid ? doc.georeference.crsWkt : std::string(),
-                                                                                 u->checksum),
-                                   u->madeAt);
+                const std::string crs = doc.georeference.valid ? doc.georeference.crsWkt : std::string();
+                std::shared_ptr<PyramidReader> reader;
+                if (u->document) {
+                    reader = std::make_shared<PyramidReader>(pyramid_, *u->document);
+                } else {
+                    // The file as the update read it: as saved then, or as a later save made it
+                    // when that save came first (its update is queued).
+                    reader = std::make_shared<PyramidReader>(pyramid_, doc.scene.extent, crs);
+                    const std::string& made = reader->sceneChecksum();
+                    if (made != u->checksum && made != session.storedChecksum())
+                        reader = std::make_shared<PyramidReader>(pyramid_, doc.scene.extent, crs, u->checksum);  // refused, by name
+                }
+                session.setPyramid(reader, u->madeAt);
             } catch (const std::exception& e) {
                 r.error = e.what();
             }

@@ -119,9 +119,10 @@ private:
 // the file's ids. A feature found is updated (geometry and fixed columns; its attribute columns
 // stay, as attributes are never edited), a feature gone is deleted, a new one is inserted with
 // its attributes from lacet_attributes (a column added for a key its table has none for; a key's
-// column is found by the naming rule above, so where two keys of one table made the same name,
-// "name" and "Name", the first is taken), into a table made when its layer has none of that
-// kind (named as above). Its R-tree follows through the GeoPackage triggers, for which the
+// column is found by the naming rule above before its suffix, so where two keys make the same
+// name, "Name" and "name", the first in byte order fills it and the other is left out, where a
+// whole save would give it "name_2"), into a table made when its layer has none of that kind
+// (named as above). Its R-tree follows through the GeoPackage triggers, for which the
 // connection gets the ST_* functions they call; GDAL's counts through its own. finish()
 // enlarges the tables' extents in gpkg_contents and their largest wf in kFeatureIndexTable (an
 // upper bound: never lowered, what io/scene_region.h needs). Throws SqliteError, and

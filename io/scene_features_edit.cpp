@@ -116,7 +116,7 @@ void stFunction(sqlite3_context* ctx, int, sqlite3_value** argv) {
 void registerStFunctions(SqliteDb& db) {
     const char* names[] = {"ST_MinX", "ST_MaxX", "ST_MinY", "ST_MaxY", "ST_IsEmpty"};
     for (std::intptr_t k = 0; k < 5; ++k)
-        if (sqlite3_create_function(db.handle(), names[k], 1, SQLITE_UTF8 | SQLITE_DETERMINISTIC, reinterpret_cast<void*>(k), stFunction,
+        if (sqlite3_create_function(db.handle(), names[k], 1, SQLITE_UTF8 | SQLITE_DETERMINISTIC | SQLITE_INNOCUOUS, reinterpret_cast<void*>(k), stFunction,
                                     nullptr, nullptr) != SQLITE_OK)
             throw SqliteError(std::string("cannot register ") + names[k] + ": " + sqlite3_errmsg(db.handle()));
 }
@@ -320,9 +320,12 @@ void FeatureTablesEditor::insert(Table& t, const ElementRef& ref) {
         params += ", 0";
     }
     std::vector<const std::string*> bound;
+    std::set<std::string> boundColumns;
     const std::set<std::string> fixed = fixedColumnNames();
     for (const auto& [key, value] : values) {
         std::string name = attributeColumnBase(key, fixed);
+        if (boundColumns.contains(name)) continue;  // a key of the same column name before it
+        boundColumns.insert(name);
         if (!t.columns.contains(name)) {
             std::set<std::string> taken = t.columns;
             name = uniqueName(name, taken);

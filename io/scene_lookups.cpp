@@ -92,7 +92,7 @@ Box loadSceneExtent(const std::string& path) {
 SceneOutline loadSceneOutline(const std::string& path) {
     SceneDocument doc;
     SceneOutline o;
-    loadSceneParts(
+    o.checksum = loadSceneParts(
         path, doc,
         [&](SqliteDb& db, SceneDocument& d) {
             readLayerTable(db, d.scene);

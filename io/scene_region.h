@@ -122,6 +122,7 @@ Box loadSceneExtent(const std::string& path);
 struct SceneOutline {
     Box extent;
     std::size_t elements = 0;  // curves and areas
+    std::string checksum;      // the stored checksum (io/scene_checksum.h, in the file's format)
 };
 SceneOutline loadSceneOutline(const std::string& path);
 

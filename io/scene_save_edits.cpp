@@ -78,6 +78,7 @@ Layer featureLayer(ElementRows& rows, const ElementRef& r) {
 struct StoredChecksum {
     std::string text;
     std::optional<std::uint64_t> head, elements;
+    bool giveChecksum() const { return head && elements && SceneChecksum::combine(*head, *elements) == text; }
 };
 
 std::optional<std::uint64_t> hexValue(const std::string& s) {
@@ -114,11 +115,17 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
     // again whole in format 2, also what the checksum sums beside the rows (attributes, DEM).
     SceneDocument head;
     int version = 0;
+    StoredChecksum parts;
     std::string stored = loadSceneParts(
-        path, head, [](SqliteDb& db, SceneDocument& doc) { readLayerTable(db, doc.scene); }, /*readDem=*/false,
-        /*wholeFileCheck=*/false, &version);
+        path, head,
+        [&](SqliteDb& db, SceneDocument& doc) {
+            readLayerTable(db, doc.scene);
+            parts = storedChecksum(db);
+        },
+        /*readDem=*/false, /*wholeFileCheck=*/false, &version);
     if (stored != expected) throw changed(stored);
-    if (version < 2) {
+    const bool summedWhole = version < 2 || !parts.giveChecksum();
+    if (summedWhole) {
         head = SceneDocument();
         stored = loadSceneParts(
             path, head,
@@ -139,11 +146,11 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         db.busyTimeout(10000);
         db.exec("BEGIN IMMEDIATE");
         const StoredChecksum sum = storedChecksum(db);
-        if (sum.text != expected) throw changed(sum.text);
+        if (sum.text != expected || sum.giveChecksum() != parts.giveChecksum()) throw changed(sum.text);
         // Format 2 with parts that give the checksum: updated by the elements' digests (their
-        // rows' before, the overlay's after); else summed again whole below.
+        // rows' before, the overlay's after); else summed again whole below, with the whole head.
         std::optional<std::uint64_t> elements;
-        if (version >= 2 && sum.head && sum.elements && SceneChecksum::combine(*sum.head, *sum.elements) == sum.text) elements = sum.elements;
+        if (!summedWhole) elements = sum.elements;
         {
             ElementRows rows(db);
             if (elements)
@@ -213,7 +220,10 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         out.checksum = now.text;
         out.checksumMs = msSince(t1);
         db.exec("COMMIT");
-        db.close();
+        try {
+            db.close();  // saved already: a failure to close is no failure of the save
+        } catch (const std::exception&) {
+        }
     } catch (const SceneFileError&) {
         throw;
     } catch (const std::exception& e) {

@@ -102,6 +102,7 @@ SqliteDb::SqliteDb(const std::string& path, Mode mode) {
         throw SqliteError("cannot open (SQLite: " + reason + ")");
     }
     sqlite3_extended_result_codes(db_, 1);
+    sqlite3_busy_timeout(db_, kDefaultBusyTimeoutMs);
 }
 
 SqliteDb::~SqliteDb() { sqlite3_close_v2(db_); }

@@ -55,6 +55,7 @@ private:
 
 class SqliteDb {
 public:
+    static constexpr int kDefaultBusyTimeoutMs = 10000;
     // ReadWrite does not create a missing file. ReadOnly first lets SQLite roll back the hot
     // journal a crash in the middle of a write left beside the file (a read-only connection cannot),
     // through a connection that may write, opened for that alone where the file is writable.
@@ -65,7 +66,8 @@ public:
     ~SqliteDb();  // closes quietly; call close() to see errors
 
     // How long a statement waits for a lock another connection holds before failing with
-    // "database is locked" (milliseconds; 0: fail at once, SQLite's default).
+    // "database is locked" (milliseconds; 0: fail at once). kDefaultBusyTimeoutMs from the open:
+    // a read waits for a writer's commit (a save in place of the scene it reads) instead of failing.
     void busyTimeout(int ms);
     // Runs one or more statements that return nothing the caller needs.
     void exec(std::string_view sql);

@@ -158,7 +158,7 @@ struct PyramidJob::Impl {
     // A job over a scene file (not empty): each shard reads its part of it; the levels above read
     // topPart. Otherwise the caller's whole document.
     std::string scenePath;
-    std::string fileChecksum;  // the scene file's stored checksum (a job over a file)
+    std::string fileChecksum;  // the scene file's stored checksum (a job over a file, or PyramidParams::sceneChecksum)
     std::size_t fileElements = 0;  // its curves and areas (the default shard level)
     std::size_t topBytes = 0;      // topPart's vector data (model/graph.h: memoryBytes)
     SceneDocument topPart;
@@ -183,6 +183,7 @@ struct PyramidJob::Impl {
     Impl(const SceneDocument& d, PyramidParams p, QuadDigestMap prev)
         : params(p),
           previous(std::move(prev)),
+          fileChecksum(p.sceneChecksum),
           doc(d),
           demSource(batchDemSource(d, p.demBudgetMiB)),
           top(std::make_unique<SceneModel>(&d, SceneDocument{}, refine, demSource->heights())),

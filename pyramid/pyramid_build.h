@@ -70,6 +70,10 @@ struct PyramidParams {
     // The clipped quads made from a part are not counted (passLevels bounds them). Memory only:
     // not stored with the pyramid, no tile depends on it.
     double vectorBudgetMiB = 2048.0;
+    // The scene checksum the pyramid records (empty: the document's, io/scene_checksum.h). A job
+    // over a document read whole from a scene file gives that file's stored text, whose form
+    // follows the file's format, as a session reading the file lazily compares it. Not stored.
+    std::string sceneChecksum;
     // Checks ranges (and the limits above) and fills the defaults for a scene of `extentSize`
     // metres a side holding `sceneElements` curves and areas; throws std::invalid_argument.
     void resolve(double extentSize, int tileSize, std::size_t sceneElements = 0);
@@ -169,7 +173,7 @@ PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, 
 // `demBudgetMiB`, PyramidParams::demBudgetMiB). Throws PyramidError when there is no
 // pyramid, it is incomplete, or it was made for another extent or CRS.
 PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress,
-                           double demBudgetMiB = PyramidParams{}.demBudgetMiB);
+                           double demBudgetMiB = PyramidParams{}.demBudgetMiB, const std::string& sceneChecksum = {});
 // The same from the scene file at `scenePath`, out of core (PyramidJob above), its vector data
 // within `vectorBudgetMiB` (PyramidParams::vectorBudgetMiB).
 PyramidStats updatePyramid(const std::string& scenePath, const std::string& path, Progress* progress,

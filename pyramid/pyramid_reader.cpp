@@ -108,6 +108,7 @@ int PyramidReader::maxLevel() const { return impl_->info.maxLevel; }
 int PyramidReader::vectorLevel() const { return impl_->info.vectorLevel; }
 int PyramidReader::tileSize() const { return impl_->info.tileSize; }
 const std::string& PyramidReader::encoding() const { return impl_->info.encoding; }
+const std::string& PyramidReader::sceneChecksum() const { return impl_->info.sceneChecksum; }
 
 bool PyramidReader::serves(int level) const {
     const PyramidInfo& i = impl_->info;

@@ -61,6 +61,8 @@ public:
     int vectorLevel() const;
     int tileSize() const;          // appearance texels per tile side
     const std::string& encoding() const;
+    // The scene checksum the pyramid records (PyramidInfo::sceneChecksum; empty: none).
+    const std::string& sceneChecksum() const;
     // Whether the editor reads `level`'s appearance here: minLevel <= level < vectorLevel (and
     // level <= maxLevel).
     bool serves(int level) const;

@@ -125,8 +125,14 @@ PyramidStats buildPyramid(const std::string& scenePath, const std::string& out, 
     return build([&](PyramidParams p) { return std::make_unique<PyramidJob>(scenePath, p); }, out, params, force, progress);
 }
 
-PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB) {
-    return update([&](PyramidParams p, QuadDigestMap d) { return std::make_unique<PyramidJob>(doc, p, std::move(d)); }, path, progress,
+PyramidStats updatePyramid(const SceneDocument& doc, const std::string& path, Progress* progress, double demBudgetMiB,
+                           const std::string& sceneChecksum) {
+    return update(
+        [&](PyramidParams p, QuadDigestMap d) {
+            p.sceneChecksum = sceneChecksum;
+            return std::make_unique<PyramidJob>(doc, p, std::move(d));
+        },
+        path, progress,
                   demBudgetMiB, PyramidParams{}.vectorBudgetMiB);
 }
 

@@ -284,6 +284,18 @@ TEST_F(LazySaveTest, AFileOfFormat1LoadsAndItsFirstSaveInPlaceMakesItFormat2) {
     const SceneChecksumParts parts = sceneChecksumParts(loadScene(path));
     EXPECT_EQ(metaValue(path, "checksum_head"), SceneChecksum::hex(parts.head));
     EXPECT_EQ(metaValue(path, "checksum_elements"), SceneChecksum::hex(parts.elements));
+    // Stored parts that do not give the checksum are not trusted: summed whole again (with the
+    // attributes and the DEM the head holds), the file loads.
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec("UPDATE lacet_meta SET value = '0000000000000001' WHERE key = 'checksum_head'");
+        db.close();
+    }
+    lazy.execute(SetCurveWidthCmd{0, 2, roads.curves[2].w + 2.0f, roads.curves[2].wf + 2.0f});
+    const SceneEditsSaved third = lazy.saveEdits();
+    EXPECT_TRUE(third.summedWhole);
+    EXPECT_EQ(third.checksum, sceneChecksumText(loadScene(path)));
+    EXPECT_EQ(metaValue(path, "checksum_head"), SceneChecksum::hex(sceneChecksumParts(loadScene(path)).head));
 }
 
 TEST_F(LazySaveTest, ASaveThatFailsLeavesTheFileAsItWasAndTheEditsToSaveAgain) {

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "pyramid/pyramid_build.h"
 #include "synth/synthetic_dem.h"
@@ -139,6 +140,48 @@ TEST_F(PyramidLinkTest, APyramidOfAnotherSceneIsRefusedAndForgotten) {
     const PyramidOpened none = link.open(session);
     EXPECT_FALSE(none.levels);
     EXPECT_TRUE(none.error.empty());
+}
+
+}  // namespace
+}  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// A session reading the scene file lazily: its save in place (EditSession::saveEdits) updates the
+// pyramid from the file, which is reopened with the file's stored checksum after the save; two
+// saves in a row, the second while the first's update runs, end with the pyramid of the second.
+TEST_F(PyramidLinkTest, ASceneReadLazilyIsUpdatedFromItsFileAfterEachSaveInPlace) {
+    LazyParams lazy;
+    lazy.partLevel = 1;
+    lazy.vectorBudgetMiB = 256.0;
+    lazy.background = false;
+    lazy.topElevationOnly = true;
+    EditSession session(scene_, lazy, sessionParams());
+    PyramidLink link;
+    link.setDefaultFiles(scene_);
+    link.sessionStarted();
+    ASSERT_TRUE(link.open(session).levels);
+    const SceneDocument whole = loadScene(scene_);
+    const Layer& roads = whole.scene.layers[kRoadsLayer];
+    ElementId c = 0;
+    while (!roads.curves[c].alive) ++c;
+    for (double d : {25.0, 45.0}) {
+        session.execute(MoveVertexCmd{kRoadsLayer, c, 1, roads.curves[c].vertices[1].p + Vec2(d, 0.0)});
+        session.saveEdits();
+        EXPECT_NE(link.afterSave(session, scene_).find("Updating"), std::string::npos);
+    }
+    while (link.updating()) {
+        const std::optional<PyramidUpdateResult> r = link.poll(session, true);
+        ASSERT_TRUE(r);
+        EXPECT_TRUE(r->ok()) << r->error;
+    }
+    ASSERT_NE(session.pyramid(), nullptr);
+    EXPECT_EQ(session.pyramid()->sceneChecksum(), session.storedChecksum());
+    // The pyramid is the one a build of the file saved makes.
+    const SceneDocument saved = loadScene(scene_);
+    EXPECT_EQ(session.storedChecksum(), sceneChecksumText(saved));
+    EXPECT_NO_THROW(PyramidReader(defaultPyramidPath(scene_), saved));
 }
 
 }  // namespace

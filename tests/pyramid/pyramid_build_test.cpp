@@ -16,6 +16,7 @@
 #include "io/dem_lod.h"
 #include "io/dem_stream.h"
 #include "io/gpkg_dem.h"
+#include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
 #include "io/tile_codec.h"
@@ -501,6 +502,24 @@ TEST(PyramidReader, RefusesAPyramidOfAnEarlierStateOfTheScene) {
     }
     updatePyramid(doc, f.path, nullptr);
     EXPECT_NO_THROW(PyramidReader(f.path, doc));
+}
+
+// A pyramid records the document's checksum, or the one given (a scene file's stored text, of a
+// format-1 file: io/scene_checksum.h); the editor takes either form of the document's.
+TEST(PyramidReader, RecordsTheChecksumGivenAndTakesEitherFormOfTheDocuments) {
+    const SceneDocument doc = smallScene();
+    TempFile f("pyramid_checksum.gpkg");
+    PyramidParams params = smallParams();
+    params.sceneChecksum = sceneChecksumText(doc, 1);
+    buildPyramid(doc, f.path, params, false, nullptr);
+    const Box extent = doc.scene.extent;
+    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), sceneChecksumText(doc, 1));
+    EXPECT_NO_THROW(PyramidReader(f.path, doc));
+    updatePyramid(doc, f.path, nullptr);
+    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), sceneChecksumText(doc));
+    updatePyramid(doc, f.path, nullptr, PyramidParams{}.demBudgetMiB, "0123456789abcdef");
+    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), "0123456789abcdef");
+    EXPECT_THROW(PyramidReader(f.path, doc), PyramidError);
 }
 
 // A pyramid added to a GeoPackage that has custom CRSs of its own takes a new id and leaves
