@@ -362,35 +362,35 @@ const Overlay& EditingController::buildOverlay(std::size_t pointBudget) {
     // Each curve once, by its id in the file, from the first document or part that holds it.
     std::vector<std::unordered_set<ElementId>> seen(scene.layers.size());
     session_.forEachHeldDocument([&](const SceneDocument& doc) {
-    for (LayerId li = 0; li < scene.layers.size() && li < doc.scene.layers.size(); ++li) {
-        if (!pointsShown(li)) continue;
-        const bool current = li == current_;
-        const Layer& layer = doc.scene.layers[li];
-        for (ElementId local = 0; local < layer.curves.size() && points < pointBudget; ++local) {
-            const Curve& c = layer.curves[local];
-            const ElementId id = layer.sceneCurveId(local);
-            const bool selected = selected_.kind == Pick::Kind::Curve && selected_.layer == li && selected_.id == id;
-            if (!c.alive || (!selected && !near(c)) || !seen[li].insert(id).second) continue;
-            if (current) overlay_.curves.push_back(id);
-            auto add = [&](const glm::dvec3& world, const Pick& p, OverlayPoint::Style style) {
-                const auto px = project(world);
-                const double m = kOverlayMarginPixels;
-                if (!px || px->x < -m || px->y < -m || px->x > view_.width + m || px->y > view_.height + m) return;
-                overlay_.points.push_back({style, world, current ? p : Pick{}, *px, current, selected});
-                ++points;
-            };
-            glm::dvec3 prev{};
-            for (std::size_t k = 0; k < c.vertices.size(); ++k) {
-                const glm::dvec3 w = groundPoint(c.vertices[k].p) + lift;
-                if (k > 0) overlay_.lines.push_back({selected ? OverlayLine::Style::Selected : OverlayLine::Style::Polygon, prev, w});
-                prev = w;
-                if (k == 0 || k + 1 == c.vertices.size()) continue;  // the nodes, below
-                add(w, {Pick::Kind::Vertex, li, id, k, 0.0}, c.vertices[k].onCurve ? OverlayPoint::Style::OnCurve : OverlayPoint::Style::Control);
+        for (LayerId li = 0; li < scene.layers.size() && li < doc.scene.layers.size(); ++li) {
+            if (!pointsShown(li)) continue;
+            const bool current = li == current_;
+            const Layer& layer = doc.scene.layers[li];
+            for (ElementId local = 0; local < layer.curves.size() && points < pointBudget; ++local) {
+                const Curve& c = layer.curves[local];
+                const ElementId id = layer.sceneCurveId(local);
+                const bool selected = selected_.kind == Pick::Kind::Curve && selected_.layer == li && selected_.id == id;
+                if (!c.alive || (!selected && !near(c)) || !seen[li].insert(id).second) continue;
+                if (current) overlay_.curves.push_back(id);
+                auto add = [&](const glm::dvec3& world, const Pick& p, OverlayPoint::Style style) {
+                    const auto px = project(world);
+                    const double m = kOverlayMarginPixels;
+                    if (!px || px->x < -m || px->y < -m || px->x > view_.width + m || px->y > view_.height + m) return;
+                    overlay_.points.push_back({style, world, current ? p : Pick{}, *px, current, selected});
+                    ++points;
+                };
+                glm::dvec3 prev{};
+                for (std::size_t k = 0; k < c.vertices.size(); ++k) {
+                    const glm::dvec3 w = groundPoint(c.vertices[k].p) + lift;
+                    if (k > 0) overlay_.lines.push_back({selected ? OverlayLine::Style::Selected : OverlayLine::Style::Polygon, prev, w});
+                    prev = w;
+                    if (k == 0 || k + 1 == c.vertices.size()) continue;  // the nodes, below
+                    add(w, {Pick::Kind::Vertex, li, id, k, 0.0}, c.vertices[k].onCurve ? OverlayPoint::Style::OnCurve : OverlayPoint::Style::Control);
+                }
+                for (const ElementId n : {c.start, c.end})
+                    add(groundPoint(layer.nodes[n].p), {Pick::Kind::Node, li, layer.sceneNodeId(n), 0, 0.0}, OverlayPoint::Style::Node);
             }
-            for (const ElementId n : {c.start, c.end})
-                add(groundPoint(layer.nodes[n].p), {Pick::Kind::Node, li, layer.sceneNodeId(n), 0, 0.0}, OverlayPoint::Style::Node);
         }
-    }
     });
     for (std::size_t k = 0; k < drawn_.size(); ++k) {
         const glm::dvec3 w = groundPoint(drawn_[k]) + lift;

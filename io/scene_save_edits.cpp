@@ -111,8 +111,9 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         return SceneFileError(path + ": not saved: the file changed since its edits began (its stored checksum is " + now + ", was " +
                               expected + "); it is left as it is");
     };
-    // The document but its elements: its layers; for a format-1 file, whose checksum is summed
-    // again whole in format 2, also what the checksum sums beside the rows (attributes, DEM).
+    // The document but its elements: its layers; where the checksum is summed again whole (a
+    // format-1 file, or stored parts that do not give it), also what it sums beside the rows
+    // (attributes, DEM).
     SceneDocument head;
     int version = 0;
     StoredChecksum parts;
@@ -142,8 +143,7 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         if (stored != expected) throw changed(stored);
     }
     try {
-        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
-        db.busyTimeout(10000);
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);  // waits for readers: SqliteDb::kDefaultBusyTimeoutMs
         db.exec("BEGIN IMMEDIATE");
         const StoredChecksum sum = storedChecksum(db);
         if (sum.text != expected || sum.giveChecksum() != parts.giveChecksum()) throw changed(sum.text);

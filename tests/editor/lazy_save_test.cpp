@@ -217,7 +217,8 @@ TEST_F(LazySaveTest, AFileSavedInPlaceHasTheFeatureTablesOfAWholeSaveAttributesK
 TEST_F(LazySaveTest, ASaveOverAFileChangedSinceItWasOpenedIsRefusedAndLeavesItAsItIs) {
     const std::string path = copy("changed.gpkg");
     EditSession lazy(path, lazyParams(), sessionParams());
-    const Layer& roads = loadScene(path).scene.layers[0];
+    const SceneDocument opened = loadScene(path);
+    const Layer& roads = opened.scene.layers[0];
     const ElementId node = roads.curves[3].start;
     lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(10.0, 10.0)});
     SceneDocument other;
@@ -302,7 +303,8 @@ TEST_F(LazySaveTest, ASaveThatFailsLeavesTheFileAsItWasAndTheEditsToSaveAgain) {
     const std::string path = copy("failing.gpkg");
     const std::string before = sceneChecksumText(loadScene(path));
     EditSession lazy(path, lazyParams(), sessionParams());
-    const Layer& roads = loadScene(path).scene.layers[0];
+    const SceneDocument opened = loadScene(path);
+    const Layer& roads = opened.scene.layers[0];
     const ElementId node = roads.curves[1].start;
     lazy.execute(MoveNodeCmd{0, node, roads.nodes[node].p + Vec2(20.0, 5.0)});
     {
