@@ -28,7 +28,7 @@ struct SceneEditsSaved {
     std::string checksum;                  // the file's stored checksum now
     std::size_t nodes = 0, curves = 0, areas = 0;  // rows written
     FeatureTablesEditor::Counts features;
-    double writeMs = 0.0;     // the rows and features
+    double writeMs = 0.0;     // from the start to the rows and features written (the file's head read first)
     double checksumMs = 0.0;  // the checksum: updated, or summed again whole
     bool summedWhole = false; // summed again whole (a format-1 file, made format 2)
     double totalMs = 0.0;
