@@ -66,12 +66,10 @@ void SceneChecksum::layerHead(const Layer& layer) {
     c_.text(layer.name);
     c_.word(std::uint64_t(layer.kind));
     ++layer_;
-    kind_ = -1;
 }
 
 void SceneChecksum::count(std::size_t n) {
     c_.word(n);
-    ++kind_;
     next_ = 0;
 }
 

@@ -69,9 +69,8 @@ private:
     int version_;
     Digest c_;  // io/digest.h: format 1's one digest, format 2's head
     std::uint64_t sum_ = 0;
-    // Format 2: the element being summed next (its layer, kind and id).
+    // Format 2: the element being summed next (its layer and id; the kind is the method's).
     std::int64_t layer_ = -1;
-    int kind_ = -1;
     ElementId next_ = 0;
 };
 

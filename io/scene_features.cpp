@@ -60,6 +60,12 @@ bool reservedTableName(const std::string& s) {
 }
 
 // `base`, else `base`_2, _3... : the first not in `taken`, which it joins.
+std::string tableBaseName(const std::string& layerName) {
+    const std::string base = identifierPart(layerName);
+    if (base.empty()) return "layer";
+    return !isAsciiLetter(base[0]) || reservedTableName(base) ? "layer_" + base : base;
+}
+
 std::string uniqueName(const std::string& base, std::set<std::string>& taken) {
     std::string name = base;
     for (int k = 2; taken.contains(name); ++k) name = base + "_" + std::to_string(k);
@@ -411,11 +417,7 @@ std::vector<FeatureTable> planFeatureTables(const SceneDocument& doc, const std:
         for (std::size_t id = 0; id < layer.curves.size(); ++id) {
             if (isLineFeature(layer, layer.curves[id])) lines.elements.push_back(ElementId(id));
         }
-        std::string base = identifierPart(layer.name);
-        if (base.empty())
-            base = "layer";
-        else if (!isAsciiLetter(base[0]) || reservedTableName(base))
-            base = "layer_" + base;
+        const std::string base = tableBaseName(layer.name);
         const bool linesFirst = isLayerOfLines(layer.kind);
         FeatureTable& first = linesFirst ? lines : areas;
         FeatureTable& second = linesFirst ? areas : lines;

@@ -183,11 +183,7 @@ FeatureTablesEditor::Table& FeatureTablesEditor::table(LayerId layer, bool polyg
         auto s = db_.prepare("SELECT lower(name) FROM sqlite_master");
         while (s.step()) taken.insert(s.text(0));
     }
-    std::string base = identifierPart(l.name);
-    if (base.empty())
-        base = "layer";
-    else if (!std::isalpha(static_cast<unsigned char>(base[0])) || reservedTableName(base))
-        base = "layer_" + base;
+    const std::string base = tableBaseName(l.name);
     const bool second = isLayerOfLines(l.kind) == polygons;
     auto t = std::make_unique<Table>();
     t->name = uniqueName(second ? base + (polygons ? "_areas" : "_lines") : base, taken);

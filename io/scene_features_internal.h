@@ -29,6 +29,8 @@ bool isLineFeature(const Layer& layer, const Curve& c);
 // Lowercase ASCII letters and digits; every run of other bytes becomes one '_'; no '_' at the ends.
 std::string identifierPart(std::string_view s);
 bool reservedTableName(const std::string& s);
+// The name of a layer's first feature table before it is made unique (io/scene_features.h).
+std::string tableBaseName(const std::string& layerName);
 // `base`, else `base`_2, _3... : the first not in `taken`, which it joins.
 std::string uniqueName(const std::string& base, std::set<std::string>& taken);
 std::string quoted(const std::string& identifier);

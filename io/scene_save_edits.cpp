@@ -24,27 +24,15 @@ std::optional<Box> unite(const std::optional<Box>& a, const Box& b) {
     return a ? Box{glm::min(a->min, b.min), glm::max(a->max, b.max)} : b;
 }
 
-// A box the feature of element `r` meets as the file holds it now (none: it has none): the hull of
-// a curve's control points, or of an area's loop curves'.
-std::optional<Box> featureSearchBox(ElementRows& rows, const ElementRef& r) {
-    if (r.kind == ElementKind::Curve) {
-        const Curve c = rows.curve(r.layer, r.id);
-        return c.alive ? unite(std::nullopt, hullBox(c)) : std::nullopt;
-    }
-    const Area a = rows.area(r.layer, r.id);
+// A box the feature of curve `c` or area `a` (of `layer`, as the file holds them now) meets (none:
+// it has none): the hull of a curve's control points, or of an area's loop curves'.
+std::optional<Box> featureSearchBox(const Curve& c) { return c.alive ? unite(std::nullopt, hullBox(c)) : std::nullopt; }
+std::optional<Box> featureSearchBox(ElementRows& rows, LayerId layer, const Area& a) {
     if (!a.alive) return std::nullopt;
     std::optional<Box> box;
     for (const auto& loop : a.loops)
-        for (const AreaEdge& e : loop) box = unite(box, hullBox(rows.curve(r.layer, e.curve)));
+        for (const AreaEdge& e : loop) box = unite(box, hullBox(rows.curve(layer, e.curve)));
     return box;
-}
-
-// The loop curves of area `r` as the file holds it now.
-std::vector<ElementId> loopCurves(ElementRows& rows, const ElementRef& r) {
-    std::vector<ElementId> out;
-    for (const auto& loop : rows.area(r.layer, r.id).loops)
-        for (const AreaEdge& e : loop) out.push_back(e.curve);
-    return out;
 }
 
 // What the feature of `r` needs, read as the file holds it now, in ids of the layer returned: the
@@ -153,31 +141,35 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         if (!summedWhole) elements = sum.elements;
         {
             ElementRows rows(db);
-            if (elements)
-                for (const auto& [ref, e] : overlay.elements) {
-                    if (const Node* n = std::get_if<Node>(&e.value))
-                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, *n) -
-                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.node(ref.layer, ref.id));
-                    else if (const Curve* c = std::get_if<Curve>(&e.value))
-                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, *c) -
-                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.curve(ref.layer, ref.id));
-                    else
-                        *elements += SceneChecksum::elementDigest(ref.layer, ref.id, std::get<Area>(e.value)) -
-                                     SceneChecksum::elementDigest(ref.layer, ref.id, rows.area(ref.layer, ref.id));
-                }
-            // The features to set, with the boxes their rows meet before the edits: the curves and
-            // areas changed, and the curves of the loops of an area changed, before and after.
+            // Each changed element's row before the edits, read once: its digest leaves the sum,
+            // the overlay's value's enters it; and the features to set, with the boxes their rows
+            // meet before the edits: the curves and areas changed, and the curves of the loops of
+            // an area changed, before and after.
             std::map<ElementRef, std::optional<Box>> features;
-            const auto add = [&](const ElementRef& r) {
-                if (!features.contains(r)) features.emplace(r, featureSearchBox(rows, r));
+            const auto addLoops = [&](LayerId layer, const Area& a) {
+                for (const auto& loop : a.loops)
+                    for (const AreaEdge& edge : loop)
+                        if (const ElementRef r{layer, ElementKind::Curve, edge.curve}; !features.contains(r))
+                            features.emplace(r, featureSearchBox(rows.curve(layer, edge.curve)));
             };
             for (const auto& [ref, e] : overlay.elements) {
-                if (ref.kind == ElementKind::Node) continue;
-                add(ref);
-                if (ref.kind != ElementKind::Area) continue;
-                for (ElementId c : loopCurves(rows, ref)) add({ref.layer, ElementKind::Curve, c});
-                for (const auto& loop : std::get<Area>(e.value).loops)
-                    for (const AreaEdge& edge : loop) add({ref.layer, ElementKind::Curve, edge.curve});
+                const auto moved = [&, &r = ref](const auto& now, const auto& before) {
+                    if (elements) *elements += SceneChecksum::elementDigest(r.layer, r.id, now) - SceneChecksum::elementDigest(r.layer, r.id, before);
+                };
+                if (const Node* n = std::get_if<Node>(&e.value)) {
+                    moved(*n, rows.node(ref.layer, ref.id));
+                } else if (const Curve* c = std::get_if<Curve>(&e.value)) {
+                    const Curve before = rows.curve(ref.layer, ref.id);
+                    moved(*c, before);
+                    features[ref] = featureSearchBox(before);
+                } else {
+                    const Area& now = std::get<Area>(e.value);
+                    const Area before = rows.area(ref.layer, ref.id);
+                    moved(now, before);
+                    features[ref] = featureSearchBox(rows, ref.layer, before);
+                    addLoops(ref.layer, before);
+                    addLoops(ref.layer, now);
+                }
             }
             if (db.queryInteger("SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'") == 0)
                 db.exec("ALTER TABLE lacet_nodes ADD COLUMN roundabout REAL NOT NULL DEFAULT 0");
