@@ -4,7 +4,7 @@
 // scene. A scene file's pyramid (§7: `lacet pyramid build`, by default beside it as
 // NAME.pyramid.gpkg) gives the appearance of the coarse quads and is updated after each save.
 // With --vector-budget the scene file is read lazily (editor/lazy_forest.h), edited, and saved into
-// itself in place (io/scene_save_edits.h); drawing new curves is not built there yet.
+// itself in place (io/scene_save_edits.h), new curves drawn included.
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -93,7 +93,7 @@ void addEditCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     cmd->add_option("--vector-budget", o->editor.vectorBudgetMiB,
                     "Read the scene file's vector data lazily within this many MiB, as the view needs it (0: load it whole); "
-                    "its edits are saved into the file in place (drawing new curves is not built there yet)")
+                    "its edits, new curves drawn included, are saved into the file in place")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--part-level", o->editor.partLevel,
                     "With --vector-budget: the level of the quads read as one part (-1: quads at most 5 km wide)");

@@ -85,6 +85,12 @@ void EditSession::readTopAgain() {
     graphStep_ = std::move(step);
 }
 
+ElementId EditSession::nextId(LayerId layer, ElementKind kind) const {
+    if (lazyEdits_) return lazyEdits_->nextId(layer, kind);
+    const Layer& l = doc_.scene.layers.at(layer);
+    return ElementId(kind == ElementKind::Node ? l.nodes.size() : kind == ElementKind::Curve ? l.curves.size() : l.areas.size());
+}
+
 bool EditSession::topTouched(const LazyStep& step) const {
     if (!lazy_->topElevationOnly) return true;  // the top holds the whole scene
     if (LazyForest::holdsAny(doc_, step.refs)) return true;

@@ -83,6 +83,11 @@ public:
     std::size_t undoDepth() const { return lazyEdits_ ? lazyEdits_->undoDepth() : history_.undoDepth(); }
     std::size_t redoDepth() const { return lazyEdits_ ? lazyEdits_->redoDepth() : history_.redoDepth(); }
 
+    // The id the next element of `kind` added to `layer` gets (AddNodeCmd, AddCurveCmd): the
+    // layer's slot count; lazily, the file's next id (LazyEdits::nextId). std::out_of_range for
+    // a layer the scene has not; lazily, SceneFileError when the file cannot be read.
+    ElementId nextId(LayerId layer, ElementKind kind) const;
+
     // Unsaved changes: the scene differs from the one last saved (or opened).
     bool modified() const { return lazyEdits_ ? lazyEdits_->modified() : history_.modified(); }
     // Marks the document as saved (by the caller, with io/scene_file.h: the session knows no file

@@ -169,28 +169,33 @@ bool EditingController::finishDrawing() {
     const std::vector<ElementId> nodes = std::move(drawnNodes_);
     drawn_.clear(), drawnNodes_.clear();
     if (points.size() < 2) return false;
-    if (session_.lazyForest()) {
-        message("Refused: drawing new curves on a scene read lazily (a vector budget) is not built yet");
-        return false;
-    }
     if (layerLocked(current_)) {
         message("Refused: the layer is locked");
         return false;
     }
     Curve c = curveThrough(points, newCurve);
-    const Layer& layer = session_.document().scene.layers[current_];
-    const std::size_t curvesBefore = layer.curves.size(), depthBefore = session_.undoDepth();
+    const std::size_t depthBefore = session_.undoDepth();
+    // The ids the session gives (lazily, the file's: EditSession::nextId); kNoElement: refused.
+    const auto nextId = [&](ElementKind kind) {
+        try {
+            return session_.nextId(current_, kind);
+        } catch (const std::exception& e) {
+            message(std::string("Refused: ") + e.what());
+            return kNoElement;
+        }
+    };
     session_.beginGroup();
     auto endpoint = [&](std::size_t k) -> ElementId {
         if (nodes[k] != kNoElement) return nodes[k];  // snapped: the curve joins this node
-        execute(AddNodeCmd{current_, points[k]});
-        return ElementId(session_.document().scene.layers[current_].nodes.size() - 1);
+        const ElementId id = nextId(ElementKind::Node);
+        return id != kNoElement && execute(AddNodeCmd{current_, points[k]}) ? id : kNoElement;
     };
     c.start = endpoint(0);
-    c.end = endpoint(points.size() - 1);
-    execute(AddCurveCmd{current_, c});
+    c.end = c.start != kNoElement ? endpoint(points.size() - 1) : kNoElement;
+    const ElementId curve = c.end != kNoElement ? nextId(ElementKind::Curve) : kNoElement;
+    const bool made = curve != kNoElement && execute(AddCurveCmd{current_, c});
     session_.endGroup();
-    if (session_.document().scene.layers[current_].curves.size() == curvesBefore) {
+    if (!made) {
         // The curve was refused (the message says why): take back the nodes made for it, for good.
         if (session_.undoDepth() > depthBefore) {
             session_.undo(&lastCommand_);
@@ -198,7 +203,7 @@ bool EditingController::finishDrawing() {
         }
         return false;
     }
-    selected_ = {Pick::Kind::Curve, current_, ElementId(curvesBefore), 0, 0.0};
+    selected_ = {Pick::Kind::Curve, current_, curve, 0, 0.0};
     return true;
 }
 

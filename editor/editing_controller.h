@@ -16,7 +16,7 @@
 // lazily (editor/lazy_forest.h) shows the elements of its top document and of the parts it holds
 // (EditSession::forEachHeldDocument), each once; its commands take the file's ids
 // (editor/lazy_edits.h), its edits are saved into the file in place (EditSession::saveEdits).
-// Drawing new curves is refused there (new elements need ids in the file: not built yet).
+// The draw tool's new nodes and curve get the ids the session gives (EditSession::nextId).
 //
 // Lock policy: every command of the controller checks the lock of its layer and is refused on a
 // locked layer (the message says so), whether it comes from a tool, a key, a panel or a script.

@@ -13,8 +13,14 @@ double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The commands of one random edit of curve `c` of layer `l` (empty: none of this kind there).
-std::vector<Command> randomEdit(const Layer& layer, LayerId l, ElementId c, int kind, const LazyEditCheckParams& p, std::mt19937_64& rng) {
+// The kinds of random edits (randomEdit's `kind`, 0..kEditKinds - 1).
+constexpr int kEditKinds = 8;
+constexpr int kDrawKind = 7;  // a new node and a new curve to it from curve c's end: one group
+
+// The commands of one random edit of curve `c` of layer `l` (empty: none of this kind there);
+// `newNode`: the id the next node added to `l` gets.
+std::vector<Command> randomEdit(const Layer& layer, LayerId l, ElementId c, int kind, ElementId newNode, const LazyEditCheckParams& p,
+                                std::mt19937_64& rng) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     const Curve& curve = layer.curves[c];
     const Vec2 shift = (Vec2(u(rng), u(rng)) * 2.0 - 1.0) * p.reach;
@@ -44,6 +50,21 @@ std::vector<Command> randomEdit(const Layer& layer, LayerId l, ElementId c, int 
     case 5:
         commands.push_back(SetRoundaboutCmd{l, curve.end, float(10.0 + 15.0 * u(rng))});
         break;
+    case kDrawKind: {
+        // As the draw tool makes one: a node, then a curve (a quadratic piece) from c's end to it.
+        const Vec2 a = layer.nodes[curve.end].p, b = a + shift;
+        const Vec2 side(-(b - a).y, (b - a).x);
+        Curve drawn;
+        drawn.start = curve.end;
+        drawn.end = newNode;
+        drawn.w = curve.w;
+        drawn.wf = curve.wf;
+        drawn.cls = curve.cls;
+        drawn.vertices = {Vertex{a, true, false}, Vertex{(a + b) * 0.5 + side * (0.5 * (u(rng) - 0.5)), false, false}, Vertex{b, true, false}};
+        commands.push_back(AddNodeCmd{l, b});
+        commands.push_back(AddCurveCmd{l, drawn});
+        break;
+    }
     default:
         commands.push_back(DeleteCurveCmd{l, c});
         break;
@@ -103,7 +124,17 @@ LazyEditCheckReport checkLazyEdits(EditSession& lazy, EditSession& whole, const 
         const ElementId c = ElementId(std::size_t(u(rng) * double(layer.curves.size())) % layer.curves.size());
         if (!layer.curves[c].alive) continue;
         const Vec2 at = layer.curves[c].vertices.front().p;
-        const std::vector<Command> commands = randomEdit(layer, l, c, edit % 7, p, rng);
+        const int kind = edit % kEditKinds;
+        // The id a new node gets: the same in both (the whole scene's slot, the file's next id).
+        const ElementId newNode = whole.nextId(l, ElementKind::Node);
+        if (kind == kDrawKind && lazy.nextId(l, ElementKind::Node) != newNode) {
+            ++r.mismatches;
+            if (r.details.size() < p.maxDetails)
+                r.details.push_back("edit " + std::to_string(edit) + ": a new node's id is " + std::to_string(lazy.nextId(l, ElementKind::Node)) +
+                                    " lazily, " + std::to_string(newNode) + " in the whole scene");
+        }
+        const std::vector<Command> commands = randomEdit(layer, l, c, kind, newNode, p, rng);
+        if (kind == kDrawKind) whole.beginGroup(), lazy.beginGroup();
         bool applied = false;
         for (std::size_t i = 0; i < commands.size(); ++i) {
             bool wholeRefused = false, lazyRefused = false;
@@ -136,6 +167,7 @@ LazyEditCheckReport checkLazyEdits(EditSession& lazy, EditSession& whole, const 
             applied = true;
             ++r.commands;
         }
+        if (kind == kDrawKind) whole.endGroup(), lazy.endGroup();
         r.edits += applied;
         if (lazy.undoDepth() != whole.undoDepth()) {
             ++r.mismatches;

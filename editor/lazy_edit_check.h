@@ -1,7 +1,8 @@
 #pragma once
 // Edits of a scene read lazily equal edits of the whole scene (issue 23: `lacet check incremental
 // --lazy`, and tests/editor/lazy_forest_test.cpp): random commands of every kind a lazy session
-// takes (drags of vertices and nodes, widths, bridge flags, roundabouts, deleted curves), with undo
+// takes (drags of vertices and nodes, widths, bridge flags, roundabouts, deleted curves, new nodes
+// and curves drawn from a curve's end, whose ids must agree), with undo
 // and redo, made in the same order on a session of the whole scene and on one reading the same
 // file lazily (editor/lazy_edits.h); after each, both make the tiles of a viewer at the edit (and,
 // now and then, elsewhere: parts held, read again, dropped and read anew), and every tile both made

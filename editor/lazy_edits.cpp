@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <set>
@@ -28,8 +29,10 @@ std::vector<ElementRef> named(const Command& command) {
             using T = std::decay_t<decltype(c)>;
             if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
                 return {{c.layer, ElementKind::Node, c.node}};
-            else if constexpr (std::is_same_v<T, AddNodeCmd> || std::is_same_v<T, AddCurveCmd>)
-                throw EditError("adding a node or a curve to a scene read lazily (a vector budget) is not built yet");
+            else if constexpr (std::is_same_v<T, AddNodeCmd>)
+                return {};
+            else if constexpr (std::is_same_v<T, AddCurveCmd>)
+                return {{c.layer, ElementKind::Node, c.curve.start}, {c.layer, ElementKind::Node, c.curve.end}};
             else
                 return {{c.layer, ElementKind::Curve, c.curve}};
         },
@@ -51,16 +54,21 @@ Command localized(Command command, const Scene& scene) {
         [&](auto& c) {
             using T = std::decay_t<decltype(c)>;
             if (c.layer >= scene.layers.size()) throw EditError("the scene has no layer " + std::to_string(c.layer));
-            if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>)
+            if constexpr (std::is_same_v<T, MoveNodeCmd> || std::is_same_v<T, SetRoundaboutCmd>) {
                 c.node = localId(scene, {c.layer, ElementKind::Node, c.node});
-            else if constexpr (!std::is_same_v<T, AddNodeCmd> && !std::is_same_v<T, AddCurveCmd>)
+            } else if constexpr (std::is_same_v<T, AddCurveCmd>) {
+                c.curve.start = localId(scene, {c.layer, ElementKind::Node, c.curve.start});
+                c.curve.end = localId(scene, {c.layer, ElementKind::Node, c.curve.end});
+            } else if constexpr (!std::is_same_v<T, AddNodeCmd>) {
                 c.curve = localId(scene, {c.layer, ElementKind::Curve, c.curve});
+            }
         },
         command);
     return command;
 }
 
 std::optional<Box> boxOf(const OverlayElement& e) {
+    if (e.absent) return std::nullopt;
     if (const Node* n = std::get_if<Node>(&e.value)) return Box{n->p, n->p};
     if (const Curve* c = std::get_if<Curve>(&e.value)) {
         const Box b = hullBox(*c);
@@ -81,13 +89,20 @@ LazyEdits::LazyEdits(std::string path, RefineParams refine)
 LazyStep LazyEdits::execute(const Command& command, bool merge) {
     const auto t0 = std::chrono::steady_clock::now();
     Box region{Vec2(std::numeric_limits<double>::infinity()), Vec2(-std::numeric_limits<double>::infinity())};
-    for (const ElementRef& ref : named(command)) {
+    const std::vector<ElementRef> names = named(command);
+    for (const ElementRef& ref : names) {
         const Box b = loadSceneElementBox(connection_, ref, overlay_.get());
         region = {glm::min(region.min, b.min), glm::max(region.max, b.max)};
+    }
+    if (const auto* add = std::get_if<AddNodeCmd>(&command)) {
+        if (!std::isfinite(add->p.x) || !std::isfinite(add->p.y)) throw EditError("a node's position must be finite");
+        region = {add->p, add->p};
     }
     SceneRegionOptions options;
     options.dem = false;
     options.overlay = overlay_.get();
+    for (const ElementRef& ref : names)
+        if (ref.kind == ElementKind::Node) options.nodes.push_back(ref);
     SceneRegionStats stats;
     SceneDocument doc = loadSceneRegion(connection_, region, refine_, kEditLevel, &stats, options);
     if (stats.wholeScene) throw EditError(path_ + " has no feature index, which editing it read lazily needs: save it again");
@@ -112,7 +127,19 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
                     areaBoxes[{c.layer, ElementKind::Area, a}] = featureBox(layer, layer.areas[a], stats.tolerance);
         },
         localCommand);
-    const Applied applied = lacet::apply(scene, localCommand);  // EditError: nothing changed
+    const LayerId commandLayer = std::visit([](const auto& c) { return c.layer; }, localCommand);
+    const std::size_t nodesBefore = scene.layers[commandLayer].nodes.size(), curvesBefore = scene.layers[commandLayer].curves.size(),
+                      areasBefore = scene.layers[commandLayer].areas.size();
+    // The element it adds gets the file's next id (the whole scene's slot), named in the part first.
+    if (std::holds_alternative<AddNodeCmd>(localCommand))
+        scene.layers[commandLayer].sceneIds.nodes.push_back(nextId(commandLayer, ElementKind::Node));
+    if (std::holds_alternative<AddCurveCmd>(localCommand))
+        scene.layers[commandLayer].sceneIds.curves.push_back(nextId(commandLayer, ElementKind::Curve));
+    const Applied applied = lacet::apply(scene, localCommand);  // EditError: nothing changed (the part is dropped)
+    const auto added = [&](const ElementRef& ref) {
+        const std::size_t before = ref.kind == ElementKind::Node ? nodesBefore : ref.kind == ElementKind::Curve ? curvesBefore : areasBefore;
+        return ref.layer == commandLayer && ref.id >= before;
+    };
     // The elements the command changed (the ids of the part read): its snapshot's and changeset's.
     std::set<ElementRef> local;
     for (const auto& [id, n] : applied.before.nodes) local.insert({applied.before.layer, ElementKind::Node, id});
@@ -137,6 +164,7 @@ LazyStep LazyEdits::execute(const Command& command, bool merge) {
             const auto it = areaBoxes.find(ref);
             ch.value.box = it != areaBoxes.end() ? it->second : ch.before ? ch.before->box : std::nullopt;
         }
+        if (added(ref)) ch.value = absentElement(ref.kind);  // none before
         ch.beforeBox = boxOf(ch.value);
         changes.push_back(std::move(ch));
     }
@@ -239,6 +267,16 @@ void LazyEdits::markSaved() {
     ++version_;
     savedSerial_ = topSerial();
     before_.reset();  // what was saved is not taken back
+}
+
+ElementId LazyEdits::nextId(LayerId layer, ElementKind kind) const {
+    std::size_t next = loadSceneIdCounts(connection_, kind).at(layer);
+    overlay_->forEach(layer, kind, [&](ElementId id, const OverlayElement&) { next = std::max(next, std::size_t(id) + 1); });
+    for (; next > 0; --next) {
+        const OverlayElement* e = overlay_->find({layer, kind, ElementId(next - 1)});
+        if (!e || !e->absent) break;
+    }
+    return ElementId(next);
 }
 
 std::optional<LazyStep> LazyEdits::undo() {

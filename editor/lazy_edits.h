@@ -12,10 +12,14 @@
 // The session (editor/edit_session.h) reads again, with the new overlay, the parts and the top tree
 // that a step touches (LazyStep: the elements and where they were and are).
 //
-// Saving: io/scene_save_edits.h writes the overlay into the file, then markSaved().
+// Adding: a new node or curve gets the id the whole scene would give it, nextId(): the file's next
+// id past those it and the edits hold (an id of an element added, saved, then taken back, absent
+// in the overlay, is given again, as the whole scene's undo frees the slot). An added element's
+// value before is `absent` (io/scene_overlay.h): undone before a save it leaves the overlay,
+// after one its row is deleted by the next save. The nodes a command names are read with every
+// curve at them (a node without curves is in no feature's box: SceneRegionOptions::nodes).
 //
-// Not yet: commands that add elements (AddNodeCmd, AddCurveCmd: the file's ids for new elements),
-// refused with EditError.
+// Saving: io/scene_save_edits.h writes the overlay into the file, then markSaved().
 
 #include <cstdint>
 #include <memory>
@@ -65,6 +69,11 @@ public:
     // file after it failed). False when there is none to take back (one rollback per step).
     bool rollback();
 
+    // The id (the file's) the next element of `kind` added to `layer` gets: the file's count of
+    // such ids, past those the edits added, less the absent ones at its end. Throws
+    // SceneFileError naming the file; std::out_of_range for a layer it has not.
+    ElementId nextId(LayerId layer, ElementKind kind) const;
+
     // The edits now (never null; a new object after each step: reads in flight keep theirs).
     const std::shared_ptr<const SceneOverlay>& overlay() const { return overlay_; }
     // Changes with each step (0: no edit yet).
@@ -101,7 +110,7 @@ private:
     std::optional<Before> before_;
 
     std::string path_;
-    SceneFileConnection connection_;  // the file kept open: an edit reads a few rows
+    mutable SceneFileConnection connection_;  // the file kept open: an edit reads a few rows
     RefineParams refine_;
     std::shared_ptr<const SceneOverlay> overlay_;
     std::uint64_t version_ = 0;

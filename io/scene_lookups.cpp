@@ -83,6 +83,20 @@ std::vector<ElementRef> loadSceneFeaturesIn(SceneFileConnection& connection, con
     return found;
 }
 
+std::vector<std::size_t> loadSceneIdCounts(SceneFileConnection& connection, ElementKind kind) {
+    SceneDocument doc;
+    std::vector<std::size_t> counts;
+    loadSceneParts(
+        connection, doc,
+        [&](SqliteDb& db, SceneDocument& d) {
+            readLayerTable(db, d.scene);
+            counts = fileIdCounts(db, kind == ElementKind::Node ? "lacet_nodes" : kind == ElementKind::Curve ? "lacet_curves" : "lacet_areas",
+                                  d.scene.layers.size());
+        },
+        /*readDem=*/false, /*wholeFileCheck=*/false);
+    return counts;
+}
+
 Box loadSceneExtent(const std::string& path) {
     SceneDocument doc;
     loadSceneParts(path, doc, [](SqliteDb&, SceneDocument&) {}, /*readDem=*/false, /*wholeFileCheck=*/false);

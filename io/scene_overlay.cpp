@@ -1,6 +1,7 @@
 #include "io/scene_overlay.h"
 
 #include <algorithm>
+#include <variant>
 
 #include "io/scene_features.h"
 
@@ -41,6 +42,14 @@ OverlayElement overlayValue(const Layer& layer, Area a, double tolerance) {
         for (AreaEdge& edge : loop) edge.curve = layer.sceneCurveId(edge.curve);
     if (a.axial != kNoElement) a.axial = layer.sceneCurveId(a.axial);
     return {std::move(a), box};
+}
+
+OverlayElement absentElement(ElementKind kind) {
+    OverlayElement e{Node{}, std::nullopt, true};
+    if (kind == ElementKind::Curve) e.value = Curve{};
+    if (kind == ElementKind::Area) e.value = Area{};
+    std::visit([](auto& v) { v.alive = false; }, e.value);
+    return e;
 }
 
 OverlayElement overlayElement(const Layer& layer, ElementKind kind, ElementId id, double tolerance) {

@@ -8,8 +8,10 @@
 // R-tree boxes or largest widths are those from before the edit).
 //
 // A value is copied in whole (a node with its whole list of curves, read where every curve at it
-// was loaded). Dead elements stay as dead values (an edit never frees an id). Immutable once
-// shared: an edit makes the next overlay from a copy (reads in flight keep theirs).
+// was loaded). Dead elements stay as dead values (an edit never frees an id). An element the edits
+// added has an id past the file's largest; one added, saved, then taken back is `absent`: the file
+// saved holds no row for it (as the whole scene, whose undo of an add frees the slot). Immutable
+// once shared: an edit makes the next overlay from a copy (reads in flight keep theirs).
 
 #include <cstddef>
 #include <map>
@@ -26,7 +28,13 @@ struct OverlayElement {
     // Its feature's box in the file's R-tree as the feature tables would write it now
     // (io/scene_features.h: featureBox); none for a node, a dead element or a curve of an area's loop.
     std::optional<Box> box;
+    // No such element in the file saved (its row is deleted): `value` is a dead element of its kind,
+    // which reads see as they see a dead one (nothing alive names it).
+    bool absent = false;
 };
+
+// The entry of an element of `kind` the file saved does not hold (above: absent).
+OverlayElement absentElement(ElementKind kind);
 
 struct SceneOverlay {
     std::map<ElementRef, OverlayElement> elements;  // ordered by layer, kind, file id

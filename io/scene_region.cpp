@@ -134,6 +134,16 @@ public:
         return found;
     }
 
+    // Node `ref` (its id in the file) and every curve at it, as a curve found brings them.
+    void loadNamedNode(const ElementRef& ref) {
+        if (ref.kind != ElementKind::Node || ref.layer >= doc_.scene.layers.size())
+            throw FormatError("node " + std::to_string(ref.id) + " of layer " + std::to_string(ref.layer) + " is named but not in the file");
+        const ElementId n = nodeSlot(ref.layer, ref.id);
+        loadNode(ref.layer, n);
+        const std::vector<ElementId> at = doc_.scene.layers[ref.layer].nodes[n].curves;  // loading grows the layer's vectors
+        for (ElementId c : at) loadCurve(ref.layer, c, true);
+    }
+
     // Loads what the loaded elements depend on, until nothing is added.
     void close() {
         while (!pending_.empty()) {
@@ -469,6 +479,7 @@ SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region
         const Box quads{origin + Vec2(cell(region.min.x, origin.x), cell(region.min.y, origin.y)) * quadSize,
                         origin + (Vec2(cell(region.max.x, origin.x), cell(region.max.y, origin.y)) + 1.0) * quadSize};
         st.found = loader.findIn(quads.dilated(st.reach));
+        for (const ElementRef& node : filter.nodes) loader.loadNamedNode(node);
         loader.close();
         loader.closeAxialRivers();
         loader.trimLists();

@@ -88,6 +88,11 @@ struct SceneRegionOptions {
     // Edits not saved (io/scene_overlay.h), read over the file: the region gets what it would get
     // from the file saved with them (or more). Must outlive the call.
     const SceneOverlay* overlay = nullptr;
+    // Nodes (their ids in the file, with the overlay) loaded besides what the region finds, each
+    // with every curve at it as a curve found is: a node without curves lies in no feature's box
+    // (an edit that joins a curve to it reads it so; editor/lazy_edits.h). SceneFileError for a
+    // node the file does not hold.
+    std::vector<ElementRef> nodes{};
 };
 
 // Loads what the tiles of the quads of `level` (or deeper) that meet `region` need, clipped with
@@ -98,6 +103,10 @@ SceneDocument loadSceneRegion(const std::string& path, const Box& region, const 
 // The same over a connection kept open (io/scene_file.h: many reads of one file by one thread).
 SceneDocument loadSceneRegion(SceneFileConnection& connection, const Box& region, const RefineParams& params, int level,
                               SceneRegionStats* stats = nullptr, const SceneRegionOptions& filter = {});
+
+// Each layer's count of ids of `kind` in the scene file of `connection` (its largest id + 1,
+// through the (layer, id) index; deleted elements count). Throws SceneFileError naming the file.
+std::vector<std::size_t> loadSceneIdCounts(SceneFileConnection& connection, ElementKind kind);
 
 // Where element `ref` (its id in the file) of the scene file at `path` lies, read with `overlay`
 // (nullptr: none): a node's point, the box of a curve's vertices, of an area's loops' vertices.

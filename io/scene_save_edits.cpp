@@ -3,6 +3,7 @@
 #include <charconv>
 #include <chrono>
 #include <map>
+#include <memory>
 #include <optional>
 #include <variant>
 
@@ -36,9 +37,15 @@ std::optional<Box> featureSearchBox(ElementRows& rows, LayerId layer, const Area
 }
 
 // What the feature of `r` needs, read as the file holds it now, in ids of the layer returned: the
-// element at 0; a curve's areas, an area's loop curves and axial curve after it.
-Layer featureLayer(ElementRows& rows, const ElementRef& r) {
+// element at 0; a curve's areas, an area's loop curves and axial curve after it. An element whose
+// row was deleted (`gone`): a dead one.
+Layer featureLayer(ElementRows& rows, const ElementRef& r, bool gone) {
     Layer local;
+    if (gone) {
+        if (r.kind == ElementKind::Curve) local.curves.emplace_back().alive = false;
+        else local.areas.emplace_back().alive = false;
+        return local;
+    }
     if (r.kind == ElementKind::Curve) {
         Curve c = rows.curve(r.layer, r.id);
         for (ElementId& a : c.areas) {
@@ -88,6 +95,32 @@ StoredChecksum storedChecksum(SqliteDb& db) {
     return out;
 }
 
+// Each layer's count of ids of each kind (its largest id + 1, through the (layer, id) index).
+struct IdCounts {
+    std::vector<std::size_t> byKind[3];  // by ElementKind, then layer
+    std::size_t of(const ElementRef& r) const { return byKind[std::size_t(r.kind)].at(r.layer); }
+    static const char* table(ElementKind k) {
+        return k == ElementKind::Node ? "lacet_nodes" : k == ElementKind::Curve ? "lacet_curves" : "lacet_areas";
+    }
+};
+
+IdCounts idCounts(SqliteDb& db, std::size_t layers) {
+    IdCounts c;
+    for (ElementKind k : {ElementKind::Node, ElementKind::Curve, ElementKind::Area}) c.byKind[std::size_t(k)] = fileIdCounts(db, IdCounts::table(k), layers);
+    return c;
+}
+
+// Format 2's head digest of `head` (its layers, attributes, georeference and DEM) with the counts
+// `counts`: what SceneChecksum sums beside the elements' digests.
+std::uint64_t headDigestOf(const SceneDocument& head, const IdCounts& counts) {
+    SceneChecksum sum(head.scene);
+    for (LayerId l = 0; l < head.scene.layers.size(); ++l) {
+        sum.layerHead(head.scene.layers[l]);
+        for (ElementKind k : {ElementKind::Node, ElementKind::Curve, ElementKind::Area}) sum.count(counts.of({l, k, 0}));
+    }
+    return sum.finish(head).head;
+}
+
 }  // namespace
 
 SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& overlay, const std::string& expected) {
@@ -100,31 +133,39 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
                               expected + "); it is left as it is");
     };
     // The document but its elements: its layers; where the checksum is summed again whole (a
-    // format-1 file, or stored parts that do not give it), also what it sums beside the rows
-    // (attributes, DEM).
+    // format-1 file, or stored parts that do not give it) or its head is (elements added or taken
+    // away), also what the head sums beside the counts (attributes, DEM).
     SceneDocument head;
     int version = 0;
     StoredChecksum parts;
+    IdCounts counts;
     std::string stored = loadSceneParts(
         path, head,
         [&](SqliteDb& db, SceneDocument& doc) {
             readLayerTable(db, doc.scene);
             parts = storedChecksum(db);
+            counts = idCounts(db, doc.scene.layers.size());
         },
         /*readDem=*/false, /*wholeFileCheck=*/false, &version);
     if (stored != expected) throw changed(stored);
     const bool summedWhole = version < 2 || !parts.giveChecksum();
-    if (summedWhole) {
+    // Elements added or taken away change the head's counts: its digest is summed again.
+    bool countsChange = false;
+    for (const auto& [ref, e] : overlay.elements) {
+        if (ref.layer >= head.scene.layers.size())
+            throw SceneFileError(path + ": not saved: the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
+        countsChange = countsChange || e.absent || ref.id >= counts.of(ref);
+    }
+    if (summedWhole || countsChange) {
         head = SceneDocument();
         stored = loadSceneParts(
             path, head,
             [](SqliteDb& db, SceneDocument& doc) {
                 readLayerTable(db, doc.scene);
                 const std::size_t layers = doc.scene.layers.size();
-                const std::vector<std::size_t> counts[] = {fileIdCounts(db, "lacet_nodes", layers), fileIdCounts(db, "lacet_curves", layers),
-                                                           fileIdCounts(db, "lacet_areas", layers)};
+                const IdCounts ids = idCounts(db, layers);
                 readAttributesOf(
-                    db, doc, [&](LayerId l, ElementKind k) { return counts[std::size_t(k)][l]; },
+                    db, doc, [&](LayerId l, ElementKind k) { return ids.of({l, k, 0}); },
                     [](const ElementAttribute& a) { return a.id; });
             },
             /*readDem=*/true, /*wholeFileCheck=*/false);
@@ -135,6 +176,14 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         db.exec("BEGIN IMMEDIATE");
         const StoredChecksum sum = storedChecksum(db);
         if (sum.text != expected || sum.giveChecksum() != parts.giveChecksum()) throw changed(sum.text);
+        counts = idCounts(db, head.scene.layers.size());  // as read in this transaction
+        // Each layer and kind's ids after the save: the file's, those added, less those taken away.
+        std::map<std::pair<LayerId, ElementKind>, std::int64_t> idsAfter;
+        for (const auto& [ref, e] : overlay.elements) {
+            const bool row = ref.id < counts.of(ref);
+            std::int64_t& n = idsAfter.try_emplace({ref.layer, ref.kind}, std::int64_t(counts.of(ref))).first->second;
+            n += e.absent ? -std::int64_t(row) : std::int64_t(!row);
+        }
         // Format 2 with parts that give the checksum: updated by the elements' digests (their
         // rows' before, the overlay's after); else summed again whole below, with the whole head.
         std::optional<std::uint64_t> elements;
@@ -153,29 +202,50 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
                             features.emplace(r, featureSearchBox(rows.curve(layer, edge.curve)));
             };
             for (const auto& [ref, e] : overlay.elements) {
-                const auto moved = [&, &r = ref](const auto& now, const auto& before) {
-                    if (elements) *elements += SceneChecksum::elementDigest(r.layer, r.id, now) - SceneChecksum::elementDigest(r.layer, r.id, before);
+                // The row before (none: an element added) leaves the sum; the value now enters it,
+                // unless the element is absent.
+                const bool row = ref.id < counts.of(ref);
+                if (e.absent && !row) continue;  // taken back before it was saved: nothing to do
+                const auto moved = [&, &r = ref, &absent = e.absent](const auto& now, const auto* before) {
+                    if (!elements) return;
+                    if (!absent) *elements += SceneChecksum::elementDigest(r.layer, r.id, now);
+                    if (before) *elements -= SceneChecksum::elementDigest(r.layer, r.id, *before);
                 };
                 if (const Node* n = std::get_if<Node>(&e.value)) {
-                    moved(*n, rows.node(ref.layer, ref.id));
+                    const std::optional<Node> before = row ? std::optional(rows.node(ref.layer, ref.id)) : std::nullopt;
+                    moved(*n, before ? &*before : nullptr);
                 } else if (const Curve* c = std::get_if<Curve>(&e.value)) {
-                    const Curve before = rows.curve(ref.layer, ref.id);
-                    moved(*c, before);
-                    features[ref] = featureSearchBox(before);
+                    const std::optional<Curve> before = row ? std::optional(rows.curve(ref.layer, ref.id)) : std::nullopt;
+                    moved(*c, before ? &*before : nullptr);
+                    features[ref] = before ? featureSearchBox(*before) : std::nullopt;
                 } else {
                     const Area& now = std::get<Area>(e.value);
-                    const Area before = rows.area(ref.layer, ref.id);
-                    moved(now, before);
-                    features[ref] = featureSearchBox(rows, ref.layer, before);
-                    addLoops(ref.layer, before);
-                    addLoops(ref.layer, now);
+                    const std::optional<Area> before = row ? std::optional(rows.area(ref.layer, ref.id)) : std::nullopt;
+                    moved(now, before ? &*before : nullptr);
+                    features[ref] = before ? featureSearchBox(rows, ref.layer, *before) : std::nullopt;
+                    if (before) addLoops(ref.layer, *before);
+                    if (!e.absent) addLoops(ref.layer, now);
                 }
             }
             if (db.queryInteger("SELECT COUNT(*) FROM pragma_table_info('lacet_nodes') WHERE name = 'roundabout'") == 0)
                 db.exec("ALTER TABLE lacet_nodes ADD COLUMN roundabout REAL NOT NULL DEFAULT 0");
             {
                 ElementTablesWriter writer(db, /*replace=*/true);
+                std::unique_ptr<SqliteStatement> remove[3];
                 for (const auto& [ref, e] : overlay.elements) {
+                    if (e.absent) {
+                        if (ref.id >= counts.of(ref)) continue;
+                        std::unique_ptr<SqliteStatement>& d = remove[std::size_t(ref.kind)];
+                        if (!d) d = db.prepareKept(std::string("DELETE FROM ") + IdCounts::table(ref.kind) + " WHERE layer = ? AND id = ?");
+                        d->reset();
+                        d->bind(1, std::int64_t(ref.layer));
+                        d->bind(2, std::int64_t(ref.id));
+                        d->step();
+                        d->reset();
+                        ++out.removed;
+                        continue;
+                    }
+                    out.added += ref.id >= counts.of(ref);
                     Layer one;
                     ElementOffsets at;
                     if (const Node* n = std::get_if<Node>(&e.value)) {
@@ -195,21 +265,35 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
                 }
             }
             FeatureTablesEditor editor(db, head);
-            for (const auto& [ref, box] : features) editor.set(ref, box, featureLayer(rows, ref), 0);
+            for (const auto& [ref, box] : features) {
+                const OverlayElement* e = overlay.find(ref);
+                editor.set(ref, box, featureLayer(rows, ref, e && e->absent), 0);
+            }
             out.features = editor.finish();
         }
+        // The ids of each layer and kind are still 0, 1, 2... (loadScene refuses a file with a hole).
+        const IdCounts now = idCounts(db, head.scene.layers.size());
+        for (const auto& [key, n] : idsAfter)
+            if (std::int64_t(now.of({key.first, key.second, 0})) != n)
+                throw SceneFileError(path + ": not saved (the file is as it was): the edits would leave a gap in the ids of the " +
+                                     IdCounts::table(key.second) + " of layer " + std::to_string(key.first));
         out.writeMs = msSince(t0);
         const auto t1 = std::chrono::steady_clock::now();
-        SceneChecksumParts now;
+        SceneChecksumParts sums;
         if (elements) {
-            now = {SceneChecksum::combine(*sum.head, *elements), *sum.head, *elements};
+            std::uint64_t headDigest = *sum.head;
+            if (countsChange) {
+                headDigest = headDigestOf(head, now);
+                out.headSummed = true;
+            }
+            sums = {SceneChecksum::combine(headDigest, *elements), headDigest, *elements};
         } else {
-            now = checksumOfRows(db, head, [](LayerId) { return true; });
+            sums = checksumOfRows(db, head, [](LayerId) { return true; });
             db.exec("UPDATE lacet_meta SET value = '" + std::to_string(kSceneFormatVersion) + "' WHERE key = 'format_version'");
             out.summedWhole = true;
         }
-        writeChecksum(db, now);
-        out.checksum = now.text;
+        writeChecksum(db, sums);
+        out.checksum = sums.text;
         out.checksumMs = msSince(t1);
         db.exec("COMMIT");
         try {

@@ -19,12 +19,13 @@ std::string_view toString(LayerKind kind) {
     return "other";
 }
 
-void Layer::refuseIfPart() const {
-    if (isPart()) throw std::logic_error("layer '" + name + "' is a part of a scene file's layer (a region read): it takes no new element");
+void Layer::refuseIfPart(const std::vector<ElementId>& fileIds, std::size_t count) const {
+    if (isPart() && fileIds.size() != count + 1)
+        throw std::logic_error("layer '" + name + "' is a part of a scene file's layer (a region read): it takes a new element only once its file id is named");
 }
 
 ElementId Layer::addNode(Vec2 p) {
-    refuseIfPart();
+    refuseIfPart(sceneIds.nodes, nodes.size());
     Node n;
     n.p = p;
     nodes.push_back(std::move(n));
@@ -32,7 +33,7 @@ ElementId Layer::addNode(Vec2 p) {
 }
 
 ElementId Layer::addCurve(Curve c) {
-    refuseIfPart();
+    refuseIfPart(sceneIds.curves, curves.size());
     const auto id = ElementId(curves.size());
     nodes.at(c.start).curves.push_back(id);
     nodes.at(c.end).curves.push_back(id);
@@ -41,7 +42,7 @@ ElementId Layer::addCurve(Curve c) {
 }
 
 ElementId Layer::addArea(Area a) {
-    refuseIfPart();
+    refuseIfPart(sceneIds.areas, areas.size());
     const auto id = ElementId(areas.size());
     for (const auto& loop : a.loops)
         for (const auto& e : loop) {

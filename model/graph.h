@@ -90,8 +90,10 @@ struct Layer {
     // each element's id in the file, ascending, one per element. Empty where the layer is whole
     // (its ids are the file's). What is computed from an id's value (a quad's digest, a field's
     // tint) takes the file's id, so that a part gives what the whole scene gives; the order of the
-    // ids is the file's either way. A part takes no new element (add* throw std::logic_error) and
-    // is never saved (io/scene_file.h refuses it: the rest of the layer would be lost).
+    // ids is the file's either way. A part takes a new element only once the element's file id is
+    // named (pushed onto its kind's ids first: editor/lazy_edits.h gives the file's next id; add*
+    // throw std::logic_error otherwise), and is never saved (io/scene_file.h refuses it: the rest
+    // of the layer would be lost).
     struct SceneIds {
         bool part = false;  // the layer is a part; the ids below are its elements' in the file
         std::vector<ElementId> nodes, curves, areas;
@@ -111,7 +113,7 @@ private:
     static ElementId fileId(const std::vector<ElementId>& ids, ElementId id) {
         return id < ids.size() ? ids[id] : id;  // a whole layer's ids are empty; kNoElement stays
     }
-    void refuseIfPart() const;
+    void refuseIfPart(const std::vector<ElementId>& fileIds, std::size_t count) const;
 };
 
 // A layer part: a layer whose elements refer only to each other, by ids from 0 (a patch of fields,

@@ -164,7 +164,7 @@ void EditorApp::resetSession(SceneDocument doc, const std::string& lazyPath) {
     openPyramid();
     if (const LazyForest* f = session_->lazyForest()) {
         std::ostringstream m;
-        m << "Read lazily within " << options_.vectorBudgetMiB << " MiB, parts of level " << f->partLevel() << " (edits saved into the file in place; drawing new curves not built yet)";
+        m << "Read lazily within " << options_.vectorBudgetMiB << " MiB, parts of level " << f->partLevel() << " (edits saved into the file in place)";
         const auto& levels = pyramid_.levels();
         if (f->params().topElevationOnly && (!levels || levels->vectorLevel <= f->partLevel()))
             m << "; levels " << (levels ? levels->vectorLevel : 0) << " to " << f->partLevel()

@@ -72,7 +72,7 @@ struct EditorOptions {
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks (io/dem_stream.h)
     // > 0: a scene file's vector data read lazily within this many MiB (editor/lazy_forest.h; its
     // parts quads of `partLevel`, -1: from LazyParams::partQuadM), edited in the file's ids and
-    // saved into it in place (EditSession::saveEdits); drawing new curves is refused there.
+    // saved into it in place (EditSession::saveEdits).
     double vectorBudgetMiB = 0.0;
     int partLevel = -1;
 };

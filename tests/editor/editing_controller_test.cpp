@@ -312,19 +312,42 @@ TEST(EditingController, OnASceneReadLazilyTheCurvesOfThePartsAreEditedByTheirFil
     EXPECT_NE(now.vertices[v.pick.index].p, file.curves[v.pick.id].vertices[v.pick.index].p);
     // The panel's width goes through the same ids.
     ASSERT_TRUE(f.controller.setSelectedWidth(now.w + 1.0f));
-    // Drawing a new curve is refused with a reason; nothing is added.
+    // A new curve drawn from a node shown to a new node: the file's next ids (those of the whole
+    // scene's slots), its node and curve undone together.
+    f.controller.buildOverlay();
+    const OverlayPoint from = f.isolated(Pick::Kind::Node);
     f.controller.setTool(Tool::Draw);
-    f.controller.press({400.0, 500.0});
-    f.controller.press({600.0, 500.0});
-    EXPECT_FALSE(f.controller.finishDrawing());
+    f.controller.newCurve = {6.0f, 14.0f, 2};
+    f.controller.press(from.pixel);
+    f.controller.press(from.pixel + glm::dvec2(70.0, 30.0));
+    f.controller.press(from.pixel + glm::dvec2(140.0, 15.0));
+    ASSERT_TRUE(f.controller.finishDrawing()) << (f.messages.empty() ? "" : f.messages.back());
+    EXPECT_EQ(f.session.undoDepth(), 4u);  // the drag, the width, the node, the curve
+    const ElementId drawn = ElementId(file.curves.size()), drawnEnd = ElementId(file.nodes.size());
+    EXPECT_EQ(f.controller.selection().id, drawn);
+    ASSERT_NE(f.controller.selectedCurve(), nullptr);  // held, by its file id
+    EXPECT_EQ(f.session.nextId(kRoadsLayer, ElementKind::Curve), drawn + 1);
+    ASSERT_TRUE(f.controller.undo());
     EXPECT_EQ(f.session.undoDepth(), 2u);
-    // Saved into the file in place: it holds the drag and the width, and nothing else changed.
+    EXPECT_EQ(f.session.nextId(kRoadsLayer, ElementKind::Curve), drawn);
+    EXPECT_EQ(f.session.nextId(kRoadsLayer, ElementKind::Node), drawnEnd);
+    ASSERT_TRUE(f.controller.redo());
+    EXPECT_EQ(f.session.undoDepth(), 4u);
+    // Saved into the file in place: it holds the drag, the width and the curve drawn, and nothing
+    // else changed.
     f.session.saveEdits();
     EXPECT_FALSE(f.session.modified());
     const SceneDocument saved = loadScene(path);
     const Curve& c = saved.scene.layers[kRoadsLayer].curves[v.pick.id];
     EXPECT_EQ(c.vertices, now.vertices);
     EXPECT_EQ(c.w, now.w + 1.0f);
+    const Layer& roads = saved.scene.layers[kRoadsLayer];
+    ASSERT_EQ(roads.curves.size(), file.curves.size() + 1);
+    ASSERT_EQ(roads.nodes.size(), file.nodes.size() + 1);
+    EXPECT_EQ(roads.curves[drawn].start, from.pick.id);
+    EXPECT_EQ(roads.curves[drawn].end, drawnEnd);
+    EXPECT_EQ(roads.curves[drawn].w, 6.0f);
+    EXPECT_EQ(roads.nodes[drawnEnd].curves, std::vector<ElementId>{drawn});
     std::size_t changed = 0;
     for (std::size_t l = 0; l < whole.scene.layers.size(); ++l)
         for (std::size_t k = 0; k < whole.scene.layers[l].curves.size(); ++k) {

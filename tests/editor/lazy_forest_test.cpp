@@ -615,7 +615,10 @@ TEST_F(LazyForestTest, AnEditOfAnElementTheFileHasNotIsRefusedAndChangesNothing)
     lazy.frame({e.center().x, e.center().y, 100.0}, 0.0);
     const std::size_t tiles = lazy.tiles().size();
     EXPECT_THROW(lazy.execute(MoveNodeCmd{kRoadsLayer, 99999999, e.center()}), SceneFileError);
-    EXPECT_THROW(lazy.execute(AddNodeCmd{kRoadsLayer, e.center()}), EditError);  // not built yet
+    Curve toNowhere;
+    toNowhere.start = toNowhere.end = 99999999;
+    toNowhere.vertices = {Vertex{e.center(), true, false}, Vertex{e.center() + Vec2(10.0, 0.0), true, false}};
+    EXPECT_THROW(lazy.execute(AddCurveCmd{kRoadsLayer, toNowhere}), SceneFileError);
     EXPECT_FALSE(lazy.undo());
     EXPECT_FALSE(lazy.redo());
     EXPECT_FALSE(lazy.modified());

@@ -48,7 +48,9 @@ LazyParams lazyParams() {
 
 // The feature tables of a scene file as comparable text: per table (kFeatureIndexTable's rows but
 // the largest wf, which an edit only raises), each feature by its element id with every column but
-// fid, its geometry in hex, and its R-tree box; GDAL's count.
+// fid, its geometry in hex, and its R-tree box; GDAL's count. A table without features is left out:
+// a save in place leaves a table it emptied (of curves added, then taken back), a whole save
+// writes none.
 using FeatureDump = std::map<std::string, std::vector<std::string>>;
 
 FeatureDump dumpFeatures(const std::string& path) {
@@ -58,6 +60,7 @@ FeatureDump dumpFeatures(const std::string& path) {
     {
         auto s = db.prepare(std::string("SELECT table_name, layer, polygons, tolerance FROM ") + kFeatureIndexTable + " ORDER BY table_name");
         while (s.step()) {
+            if (db.queryInteger("SELECT COUNT(*) FROM \"" + s.text(0) + "\"") == 0) continue;
             tables.push_back(s.text(0));
             out["index"].push_back(s.text(0) + " " + s.text(1) + " " + s.text(2) + " " + s.text(3));
         }
@@ -356,6 +359,84 @@ TEST_F(LazySaveTest, AWriterKilledInItsTransactionLeavesTheFileAsItWasToTheNextR
     EXPECT_EQ(std::system(render.c_str()), 0) << render;
     EXPECT_FALSE(std::filesystem::exists(path + "-journal"));
     EXPECT_EQ(sceneChecksumText(loadScene(path)), before);
+}
+
+TEST_F(LazySaveTest, CurvesDrawnLazilyTakeTheWholeScenesIdsAndTheirRowsGoWhenTakenBackAfterASave) {
+    // New nodes and curves on a scene read lazily, as the draw tool makes them (a node, a node, a
+    // curve between the two: nodes without curves, which no feature's box finds), and one from a
+    // node the file has; the same commands on the whole scene. Saved, the file sums to the whole
+    // session's document; taken back after the save, their rows and features go, and the ids they
+    // had are given again.
+    const std::string path = copy("drawn.gpkg");
+    const SceneDocument opened = loadScene(path);
+    EditSession whole(loadScene(path), sessionParams());
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Layer& roads = opened.scene.layers[0];
+    const ElementId firstNode = ElementId(roads.nodes.size()), firstCurve = ElementId(roads.curves.size());
+    const auto both = [&](const Command& c) {
+        whole.execute(c);
+        lazy.execute(c);
+    };
+    const auto draw = [&](Vec2 a, Vec2 b, ElementId from) {
+        for (EditSession* s : {&whole, &lazy}) s->beginGroup();
+        ElementId start = from;
+        if (start == kNoElement) {
+            start = lazy.nextId(0, ElementKind::Node);
+            EXPECT_EQ(start, whole.nextId(0, ElementKind::Node));
+            both(AddNodeCmd{0, a});
+        }
+        const ElementId end = lazy.nextId(0, ElementKind::Node);
+        EXPECT_EQ(end, whole.nextId(0, ElementKind::Node));
+        both(AddNodeCmd{0, b});
+        Curve c;
+        c.start = start;
+        c.end = end;
+        c.w = 6.0f;
+        c.wf = 15.0f;
+        c.vertices = {Vertex{a, true, false}, Vertex{(a + b) * 0.5 + Vec2(5.0, -5.0), false, false}, Vertex{b, true, false}};
+        EXPECT_EQ(lazy.nextId(0, ElementKind::Curve), whole.nextId(0, ElementKind::Curve));
+        both(AddCurveCmd{0, c});
+        for (EditSession* s : {&whole, &lazy}) s->endGroup();
+    };
+    const Vec2 mid = opened.scene.extent.center();
+    draw(mid, mid + Vec2(150.0, 40.0), kNoElement);
+    const ElementId joined = roads.curves[5].end;
+    draw(roads.nodes[joined].p, roads.nodes[joined].p + Vec2(-60.0, 90.0), joined);
+    // A curve drawn, then dragged by its new node.
+    both(MoveNodeCmd{0, firstNode + 1, mid + Vec2(160.0, 60.0)});
+    const SceneEditsSaved saved = lazy.saveEdits();
+    EXPECT_EQ(saved.added, 5u);  // 3 nodes, 2 curves
+    EXPECT_TRUE(saved.headSummed);
+    EXPECT_EQ(saved.features.inserted, 2u);
+    EXPECT_EQ(saved.checksum, sceneChecksumText(whole.document()));
+    {
+        const SceneDocument file = loadScene(path);  // its ids 0, 1, 2... and its checksum checked
+        ASSERT_EQ(file.scene.layers[0].curves.size(), roads.curves.size() + 2);
+        EXPECT_EQ(file.scene.layers[0].curves[firstCurve].start, firstNode);
+        EXPECT_EQ(file.scene.layers[0].curves[firstCurve + 1].start, joined);
+    }
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(savedWhole(path, "drawn.whole.gpkg")), "drawn");
+    // The second curve taken back after the save: its rows go, its ids are given again.
+    ASSERT_TRUE(whole.undo() && lazy.undo());  // the drag
+    ASSERT_TRUE(whole.undo() && lazy.undo());  // the second curve and its node
+    EXPECT_EQ(lazy.nextId(0, ElementKind::Curve), firstCurve + 1);
+    EXPECT_EQ(lazy.nextId(0, ElementKind::Node), firstNode + 2);
+    const SceneEditsSaved back = lazy.saveEdits();
+    EXPECT_EQ(back.removed, 2u);
+    EXPECT_EQ(back.checksum, sceneChecksumText(whole.document()));
+    EXPECT_EQ(loadScene(path).scene.layers[0].curves.size(), roads.curves.size() + 1);
+    // Redone over the file saved, then a new curve in the ids given again, everything undone: the
+    // file as it was opened.
+    ASSERT_TRUE(whole.redo() && lazy.redo());
+    ASSERT_TRUE(whole.undo() && lazy.undo());
+    draw(mid + Vec2(-300.0, 0.0), mid + Vec2(-200.0, 50.0), kNoElement);
+    EXPECT_EQ(lazy.nextId(0, ElementKind::Curve), firstCurve + 2);
+    EXPECT_EQ(lazy.saveEdits().checksum, sceneChecksumText(whole.document()));
+    while (whole.undo()) ASSERT_TRUE(lazy.undo());
+    EXPECT_FALSE(lazy.undo());
+    EXPECT_EQ(lazy.saveEdits().checksum, sceneChecksumText(opened));
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), sceneChecksumText(opened));
+    expectSameFeatures(dumpFeatures(path), dumpFeatures(*original_), "all undone");
 }
 
 TEST_F(LazySaveTest, NothingToSaveWritesNothing) {
