@@ -4,11 +4,13 @@
 // dragged in 60 steps, then a field corner node, three times each (undone in between): for each
 // step, the time from the command to every visible dirty tile (in the view frustum) being made
 // again (both producers, TBB worker threads), against the number of tiles made. Dirty tiles outside the frustum are left for when
-// they come into view. Also reported: the same without frustum culling (every leaf of the view).
+// they come into view. Also reported: the same without frustum culling (every leaf of the view),
+// and a new road drawn beside the point (two nodes and a curve, as the draw tool makes them),
+// three times per drag repeat, each timed with its frame and undone.
 // With `--scene F --vector-budget M [--pyramid P]`: a scene file read lazily (issue 23), its edits
 // kept over the file; the drags from the view only (the frustum). With `--save` too, a road and a
 // field node dragged and kept, saved into the file, undone and saved again (the file's content as
-// it was): what a save in place costs (io/scene_save_edits.h).
+// it was), then a new road saved and taken back: what a save in place costs (io/scene_save_edits.h).
 #include <algorithm>
 #include <cmath>
 
@@ -79,7 +81,34 @@ Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible
     return d;
 }
 
-// What the drags move, the file's ids: the road control point nearest the centre, the field node
+// A new road drawn beside `at` as the draw tool makes one: two new nodes and a curve between
+// them, one group (ids from EditSession::nextId: the file's, lazily).
+// Returns the three commands' reports summed.
+CommandReport drawRoad(EditSession& session, Vec2 at) {
+    const Vec2 a = at + Vec2(40.0, -30.0), b = a + Vec2(120.0, 50.0);
+    CommandReport sum;
+    const auto add = [&](const CommandReport& r) {
+        sum.applyMs += r.applyMs;
+        sum.updateMs += r.updateMs;
+        sum.changedQuads += r.changedQuads;
+        sum.dirtyTiles += r.dirtyTiles;
+        sum.topReadAgain = sum.topReadAgain || r.topReadAgain;
+    };
+    session.beginGroup();
+    Curve c;
+    c.start = session.nextId(kRoadsLayer, ElementKind::Node);
+    add(session.execute(AddNodeCmd{kRoadsLayer, a}));
+    c.end = session.nextId(kRoadsLayer, ElementKind::Node);
+    add(session.execute(AddNodeCmd{kRoadsLayer, b}));
+    c.w = 6.0f;
+    c.wf = 14.0f;
+    c.vertices = {Vertex{a, true, false}, Vertex{(a + b) * 0.5 + Vec2(-15.0, 15.0), false, false}, Vertex{b, true, false}};
+    add(session.execute(AddCurveCmd{kRoadsLayer, c}));
+    session.endGroup();
+    return sum;
+}
+
+
 // nearest to it, and (issue 14) the bridge nearest the centre: the road's vertex nearest the
 // bridge's middle dragged 60 m across the road's direction, so that the crossing moves and the
 // graph step re-makes the road's bridge at every step. `s` is the whole scene or a part of the file
@@ -162,6 +191,32 @@ std::pair<QuadVisibility, glm::dvec3> viewOf(Vec2 target, const Dem& dem, double
     return {frustumVisibility(camera, 1280.0 / 800.0, Camera::clipRange(altitude), zRange), glm::dvec3(from.x, from.y, altitude)};
 }
 
+// `times` new roads drawn beside the dragged road point (drawRoad), each timed with the frame that
+// makes the view's dirty tiles, then undone (a frame, not timed).
+Drag drawRun(EditSession& session, const Targets& t, glm::dvec3 viewer, const QuadVisibility& visible, int times) {
+    Drag d;
+    for (int k = 0; k < times; ++k) {
+        std::uint64_t version = 0;
+        for (const auto& [key, tile] : session.tiles()) version = std::max(version, tile.version);
+        const auto t0 = Clock::now();
+        const CommandReport c = drawRoad(session, t.at);
+        const FrameReport f = session.frame(viewer, 0.0, visible);
+        d.ms.push_back(msSince(t0));
+        d.tiles.push_back(double(f.produced));
+        d.applyMs.push_back(c.applyMs);
+        d.updateMs.push_back(c.updateMs);
+        d.topReadAgain += c.topReadAgain;
+        d.produceMs.push_back(f.produceMs);
+        d.dirty.push_back(double(c.dirtyTiles));
+        std::size_t uniform = 0;
+        for (const auto& [key, tile] : session.tiles()) uniform += tile.version > version && tile.appearance.uniform;
+        d.uniform.push_back(double(uniform));
+        session.undo();
+        session.frame(viewer, 0.0, visible);
+    }
+    return d;
+}
+
 // The road and field drags from the view of the road's point (`visible` or every leaf), and, with
 // `river`, the road over the river from the view of its bridge.
 nlohmann::json dragRuns(EditSession& session, const Targets& t, const EditBenchOptions& o, const QuadVisibility& visible,
@@ -175,6 +230,7 @@ nlohmann::json dragRuns(EditSession& session, const Targets& t, const EditBenchO
         return MoveNodeCmd{kFieldsLayer, t.field, t.fieldAt + Vec2(8.0, -6.0) * f};
     });
     nlohmann::json runs = {{"road_control_point", roadDrag.json()}, {"field_border", fieldDrag.json()}};
+    runs["new_road"] = drawRun(session, t, viewer, visible, o.repeats * 3).json();
     if (!river || !t.river) return runs;
     const auto [riverVisible, riverViewer] = viewOf(t.bridgeAt, *session.document().dem, o.altitude);
     session.frame(riverViewer, 0.0, riverVisible);
@@ -244,6 +300,9 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
                            {"features_updated", s.features.updated},
                            {"features_inserted", s.features.inserted},
                            {"features_deleted", s.features.deleted},
+                           {"rows_added", s.added},
+                           {"rows_removed", s.removed},
+                           {"head_summed", s.headSummed},
                            {"write_ms", s.writeMs},
                            {"checksum_ms", s.checksumMs},
                            {"total_ms", s.totalMs}};
@@ -258,6 +317,11 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
         saved("edits");
         session.undo();
         saved("undone");
+        // A new road (rows inserted, the checksum's head summed again), then taken back (deleted).
+        drawRoad(session, targets.at);
+        saved("drawn");
+        session.undo();
+        saved("drawn_undone");
     }
     const LazyStats& st = session.lazyForest()->stats();
     return {{"scene", o.scene},
@@ -314,7 +378,8 @@ nlohmann::json benchEdit(const EditBenchOptions& o) {
         if (cull) firstMs = msSince(t0), viewQuads = first.viewQuads + first.culled, visibleQuads = first.viewQuads;
         const std::size_t bridges = session.quadtree().proceduralCount(kBridge);
         const nlohmann::json r = dragRuns(session, targets, o, cull ? visible : QuadVisibility{}, viewer, cull);
-        runs[cull ? "frustum_culled" : "every_leaf"] = {{"road_control_point", r["road_control_point"]}, {"field_border", r["field_border"]}};
+        runs[cull ? "frustum_culled" : "every_leaf"] = {
+            {"road_control_point", r["road_control_point"]}, {"field_border", r["field_border"]}, {"new_road", r["new_road"]}};
         if (r.contains("road_over_river")) {
             runs["road_over_river"] = r["road_over_river"];
             runs["road_over_river"]["bridges_in_scene"] = bridges;

@@ -151,24 +151,37 @@ void LazyForest::warmCurveData(const Part& part) {
 
 namespace {
 
-// Whether two parts read hold the same elements (the same file ids, layer by layer).
-bool sameElements(const Scene& a, const Scene& b) {
+// Whether two parts read hold the same elements (the same file ids, layer by layer) but for
+// elements at the end of a kind's ids that one holds and the other not: the elements a step
+// added (ids past the file's, the largest) or took back.
+bool sameButTails(const Scene& a, const Scene& b) {
     if (a.layers.size() != b.layers.size()) return false;
+    const auto prefix = [](const std::vector<ElementId>& x, const std::vector<ElementId>& y) {
+        const std::size_t n = std::min(x.size(), y.size());
+        return std::equal(x.begin(), x.begin() + std::ptrdiff_t(n), y.begin());
+    };
     for (std::size_t l = 0; l < a.layers.size(); ++l) {
         const Layer::SceneIds &x = a.layers[l].sceneIds, &y = b.layers[l].sceneIds;
-        if (x.nodes != y.nodes || x.curves != y.curves || x.areas != y.areas) return false;
+        if (!prefix(x.nodes, y.nodes) || !prefix(x.curves, y.curves) || !prefix(x.areas, y.areas)) return false;
     }
     return true;
 }
 
-// Sets each element of `into` that differs from `from`'s (the same ids) and names it modified.
+// Makes `into` `from` (the same ids but for a tail one has): sets each element of the ids both
+// hold that differs and names it modified; the elements `from` holds past `into`'s are added,
+// those `into` holds past `from`'s removed (as the whole scene's add and its undo).
 template <class T>
-void copyChanged(std::vector<T>& into, const std::vector<T>& from, LayerId l, ElementKind kind, Changeset& cs) {
-    for (std::size_t id = 0; id < into.size(); ++id)
+void copyChanged(std::vector<T>& into, std::vector<T>& from, LayerId l, ElementKind kind, Changeset& cs) {
+    const std::size_t common = std::min(into.size(), from.size());
+    for (std::size_t id = 0; id < common; ++id)
         if (!(into[id] == from[id])) {
             into[id] = from[id];
             cs.modify({l, kind, ElementId(id)});
         }
+    for (std::size_t id = common; id < from.size(); ++id) cs.added.push_back({l, kind, ElementId(id)});
+    for (std::size_t id = common; id < into.size(); ++id) cs.removed.push_back({l, kind, ElementId(id)});
+    into.resize(common);
+    for (std::size_t id = common; id < from.size(); ++id) into.push_back(std::move(from[id]));
 }
 
 }  // namespace
@@ -177,16 +190,20 @@ void LazyForest::update(Part& part, SceneDocument doc, const LazyStep& step, std
     Changeset cs;
     Scene& scene = part.doc.scene;
     // What the edit named changed besides the values that differ: the areas whose loops a moved
-    // curve is in, the nodes whose curves' widths changed (model/edits.h).
+    // curve is in, the nodes whose curves' widths changed (model/edits.h); those held before and
+    // after (an element added or taken back is in the tails below).
     for (const ElementRef& r : step.refs)
         if (r.layer < scene.layers.size())
-            if (const ElementId id = localIdOf(scene.layers[r.layer], r.kind, r.id); id != kNoElement) cs.modify({r.layer, r.kind, id});
+            if (const ElementId id = localIdOf(scene.layers[r.layer], r.kind, r.id);
+                id != kNoElement && localIdOf(doc.scene.layers[r.layer], r.kind, r.id) == id)
+                cs.modify({r.layer, r.kind, id});
     for (std::size_t l = 0; l < scene.layers.size(); ++l) {
         Layer& into = scene.layers[l];
-        const Layer& from = doc.scene.layers[l];
+        Layer& from = doc.scene.layers[l];
         copyChanged(into.nodes, from.nodes, LayerId(l), ElementKind::Node, cs);
         copyChanged(into.curves, from.curves, LayerId(l), ElementKind::Curve, cs);
         copyChanged(into.areas, from.areas, LayerId(l), ElementKind::Area, cs);
+        into.sceneIds = std::move(from.sceneIds);
     }
     part.doc.attributes = std::move(doc.attributes);
     applyChangeset(part, std::move(cs), changed);
@@ -418,8 +435,12 @@ bool LazyForest::moveInPlace(Part& part, const LazyStep& step, StepRivers& river
         const ElementRef& r = step.refs[k];
         if (r.layer >= scene.layers.size()) return false;
         const Layer& layer = scene.layers[r.layer];
-        if (layer.kind == LayerKind::Rivers) return false;  // upstream walks, axial rivers, bridges over them
         const OverlayElement &was = step.before[k], &is = step.after[k];
+        // A node without curves before and after (added, or taken back, apart from its curves): no
+        // read finds it, no element held names it.
+        if (const Node* a = std::get_if<Node>(&was.value))
+            if (a->curves.empty() && std::get<Node>(is.value).curves.empty() && localIdOf(layer, r.kind, r.id) == kNoElement) continue;
+        if (layer.kind == LayerKind::Rivers) return false;  // upstream walks, axial rivers, bridges over them
         // Geometry alone: the reach, the filters and the lists stay.
         if (const Node* a = std::get_if<Node>(&was.value)) {
             Node b = std::get<Node>(is.value);
@@ -506,7 +527,7 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
             // Room for it beside the others wanted now.
             SceneDocument doc = readPart(part.quad->bounds, budgetLeft() + (part.wanted == clock_ ? toMiB(part.bytes) : 0.0), overlay_.get(), st,
                                          &connection_);
-            if (sameElements(part.doc.scene, doc.scene)) {
+            if (sameButTails(part.doc.scene, doc.scene)) {
                 update(part, std::move(doc), step, out.changed);
                 held_ = held_ - part.bytes + st.bytes;
                 part.bytes = st.bytes;

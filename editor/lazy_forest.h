@@ -189,8 +189,9 @@ private:
     // The vector data of the part of quad `bounds` (what read() makes a part of).
     SceneDocument readPart(const Box& bounds, double budgetMiB, const SceneOverlay* overlay, SceneRegionStats& stats,
                            SceneFileConnection* connection) const;
-    // Updates `part` in place to `doc`, read again with the same elements after `step`; adds the
-    // keys of its quads whose tiles change to `changed`.
+    // Updates `part` in place to `doc`, read again with the same elements after `step` but for the
+    // elements it added or took back (the largest ids); adds the keys of its quads whose tiles
+    // change to `changed`.
     void update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed);
     // Whether `step` touches `part` (renew()).
     static bool touches(const Part& part, const LazyStep& step, double margin);

@@ -609,6 +609,59 @@ TEST_F(LazyForestTest, ARoadLongerThanItsPartsIsMovedInMemoryWhereTheRiversItsHu
     expectSameTiles(lazy, whole, kLevel);
 }
 
+// A road drawn (two new nodes and a curve between them, as the draw tool makes it) and taken
+// back: each part that holds it is updated in place, its tiles made again only where the road
+// is, as in the whole scene; the tiles stay the whole scene's.
+TEST_F(LazyForestTest, ARoadDrawnAndTakenBackUpdatesThePartsHoldingItInPlace) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    LazyParams lp = lazyParams(1024.0);
+    lp.topElevationOnly = true;  // the top holds the wide roads only: this one is not among them
+    EditSession lazy(*path_, lp, sessionParams());
+    const Box e = whole.document().scene.extent;
+    const Vec2 a = e.center() + Vec2(35.0, -20.0), b = a + Vec2(140.0, 60.0);
+    const glm::dvec3 viewer{a.x, a.y, 150.0};
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    const LazyStats before = lazy.lazyForest()->stats();
+    std::size_t wholeDirty = 0, lazyDirty = 0;
+    const auto both = [&](const Command& c) {
+        wholeDirty += whole.execute(c).dirtyTiles;
+        const CommandReport r = lazy.execute(c);
+        lazyDirty += r.dirtyTiles;
+        EXPECT_FALSE(r.topReadAgain);
+    };
+    for (EditSession* s : {&whole, &lazy}) s->beginGroup();
+    Curve road;
+    road.start = lazy.nextId(kRoadsLayer, ElementKind::Node);
+    road.end = road.start + 1;
+    ASSERT_EQ(road.start, whole.nextId(kRoadsLayer, ElementKind::Node));
+    both(AddNodeCmd{kRoadsLayer, a});
+    both(AddNodeCmd{kRoadsLayer, b});
+    road.w = 4.0f;
+    road.wf = 10.0f;
+    road.vertices = {Vertex{a, true, false}, Vertex{(a + b) * 0.5 + Vec2(-10.0, 12.0), false, false}, Vertex{b, true, false}};
+    both(AddCurveCmd{kRoadsLayer, road});
+    for (EditSession* s : {&whole, &lazy}) s->endGroup();
+    const LazyStats& drawn = lazy.lazyForest()->stats();
+    ASSERT_GT(drawn.partsRenewed, before.partsRenewed);
+    // Every part renewed was updated in place or moved in memory: none was made anew.
+    EXPECT_EQ(drawn.partsRenewed - before.partsRenewed,
+              (drawn.partsUpdated - before.partsUpdated) + (drawn.partsMoved - before.partsMoved));
+    EXPECT_LE(lazyDirty, wholeDirty + 8) << "the lazy session made dirty far more tiles than the whole one";
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    expectSameTiles(lazy, whole);
+    const LazyStats undoneBefore = lazy.lazyForest()->stats();
+    ASSERT_TRUE(whole.undo());
+    ASSERT_TRUE(lazy.undo());
+    const LazyStats& undone = lazy.lazyForest()->stats();
+    EXPECT_EQ(undone.partsRenewed - undoneBefore.partsRenewed,
+              (undone.partsUpdated - undoneBefore.partsUpdated) + (undone.partsMoved - undoneBefore.partsMoved));
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    expectSameTiles(lazy, whole);
+}
+
 TEST_F(LazyForestTest, AnEditOfAnElementTheFileHasNotIsRefusedAndChangesNothing) {
     EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
     const Box e = lazy.document().scene.extent;
