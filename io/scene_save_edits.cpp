@@ -7,6 +7,7 @@
 #include <optional>
 #include <variant>
 
+#include "io/dem_lod.h"
 #include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "io/scene_format.h"
@@ -139,12 +140,14 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
     int version = 0;
     StoredChecksum parts;
     IdCounts counts;
+    bool streamedDem = false;  // a DEM LOD tree: the head sums its layout and stored digest, no sample
     std::string stored = loadSceneParts(
         path, head,
         [&](SqliteDb& db, SceneDocument& doc) {
             readLayerTable(db, doc.scene);
             parts = storedChecksum(db);
             counts = idCounts(db, doc.scene.layers.size());
+            streamedDem = db.queryText("SELECT value FROM lacet_meta WHERE key = 'dem'") == kDemLodTable;
         },
         /*readDem=*/false, /*wholeFileCheck=*/false, &version);
     if (stored != expected) throw changed(stored);
@@ -158,6 +161,8 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
     }
     if (summedWhole || countsChange) {
         head = SceneDocument();
+        // A streamed DEM's tree opened alone (its layout and digest), not a level of it read.
+        const bool readDem = summedWhole || !streamedDem;
         stored = loadSceneParts(
             path, head,
             [](SqliteDb& db, SceneDocument& doc) {
@@ -168,8 +173,13 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
                     db, doc, [&](LayerId l, ElementKind k) { return ids.of({l, k, 0}); },
                     [](const ElementAttribute& a) { return a.id; });
             },
-            /*readDem=*/true, /*wholeFileCheck=*/false);
+            readDem, /*wholeFileCheck=*/false);
         if (stored != expected) throw changed(stored);
+        try {
+            if (!readDem) head.demLod = std::make_shared<const DemLodFile>(path);
+        } catch (const DemLodError& e) {
+            throw SceneFileError(std::string("not saved: ") + e.what());
+        }
     }
     try {
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);  // waits for readers: SqliteDb::kDefaultBusyTimeoutMs

@@ -20,6 +20,8 @@
 
 #include "editor/edit_session.h"
 #include "editor/lazy_edit_check.h"
+#include "io/dem_lod.h"
+#include "io/gpkg_dem.h"
 #include "io/scene_checksum.h"
 #include "io/scene_features.h"
 #include "io/scene_file.h"
@@ -437,6 +439,44 @@ TEST_F(LazySaveTest, CurvesDrawnLazilyTakeTheWholeScenesIdsAndTheirRowsGoWhenTak
     EXPECT_EQ(lazy.saveEdits().checksum, sceneChecksumText(opened));
     EXPECT_EQ(sceneChecksumText(loadScene(path)), sceneChecksumText(opened));
     expectSameFeatures(dumpFeatures(path), dumpFeatures(*original_), "all undone");
+}
+
+TEST_F(LazySaveTest, ACurveDrawnOverAStreamedDemSumsTheHeadFromTheTreesLayoutAndDigest) {
+    // A scene whose DEM is a LOD tree (io/dem_lod.h): a save that adds rows sums the checksum's
+    // head again from the tree's layout and stored digest (no level of it read), and the file
+    // loads, its checksum checked.
+    const std::string tree = (*dir_ / "tree.gpkg").string();
+    SceneDocument doc = loadScene(*original_);
+    {
+        createEmptyGpkg(tree);
+        SqliteDb db(tree, SqliteDb::Mode::ReadWrite);
+        writeDemLod(db, *doc.dem, 64, 0);
+        db.close();
+    }
+    doc.demLod = std::make_shared<const DemLodFile>(tree);
+    const std::string path = (*dir_ / "streamed.gpkg").string();
+    saveScene(path, doc);
+    ASSERT_TRUE(loadScene(path).demLod);
+    EditSession lazy(path, lazyParams(), sessionParams());
+    const Vec2 a = doc.scene.extent.center(), b = a + Vec2(90.0, 30.0);
+    Curve c;
+    c.start = lazy.nextId(0, ElementKind::Node);
+    lazy.execute(AddNodeCmd{0, a});
+    c.end = lazy.nextId(0, ElementKind::Node);
+    lazy.execute(AddNodeCmd{0, b});
+    c.w = 5.0f;
+    c.wf = 12.0f;
+    c.vertices = {Vertex{a, true, false}, Vertex{b, true, false}};
+    lazy.execute(AddCurveCmd{0, c});
+    const SceneEditsSaved saved = lazy.saveEdits();
+    EXPECT_TRUE(saved.headSummed);
+    EXPECT_FALSE(saved.summedWhole);
+    const SceneDocument file = loadScene(path);  // checks the checksum
+    EXPECT_EQ(saved.checksum, sceneChecksumText(file));
+    EXPECT_EQ(file.scene.layers[0].curves.size(), doc.scene.layers[0].curves.size() + 1);
+    ASSERT_TRUE(lazy.undo() && lazy.undo() && lazy.undo());
+    EXPECT_EQ(lazy.saveEdits().checksum, sceneChecksumText(doc));
+    EXPECT_EQ(sceneChecksumText(loadScene(path)), sceneChecksumText(doc));
 }
 
 TEST_F(LazySaveTest, NothingToSaveWritesNothing) {
