@@ -2,8 +2,13 @@
 // synthetic scene) and writes them as one mosaic image (the appearance colour, elevation as a
 // hillshade, or the footprint). The mosaic's size is known from the scene's extent, the region
 // and the level before anything is clipped, so a mosaic over --max-pixels is refused up front
-// instead of running out of memory half-way.
+// instead of running out of memory half-way. A scene file is read by parts (--vectors region, issue
+// 23): each block of at most --part-tiles tiles a side reads from the file only what its tiles need
+// (io/scene_region.h), within --vector-budget MiB, so memory follows the block and the mosaic, not
+// the scene; the image is the one the scene read whole gives (--vectors whole).
+#include <bit>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <iostream>
 #include <limits>
@@ -39,7 +44,11 @@ struct RenderOptions {
     std::string scene;  // a scene file instead of the synthetic scene
     std::int64_t maxPixels = std::int64_t(1) << 28;  // 16384 x 16384: 768 MiB of RGB; signed, so that -1 is refused
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
-    double vectorBudgetMiB = SceneRegionOptions{}.budgetMiB;  // --region: the vector data read (io/scene_region.h)
+    // --scene: "region", each block of at most partTiles tiles a side read from the file alone
+    // (io/scene_region.h) within vectorBudgetMiB; "whole", the scene read into memory once.
+    std::string vectors = "region";
+    int partTiles = 16;
+    double vectorBudgetMiB = 2048.0;  // MiB of one part's vector data (io/scene_region.h)
 };
 
 // Tiles go to the producers in batches of this many, so that progress moves and only one
@@ -127,23 +136,67 @@ void checkMosaicSize(const MosaicPlan& plan, const Box& extent, const Box& regio
     throw std::invalid_argument(m.str());
 }
 
-// Subdivides every quad meeting `region` down to `level`; collects the quads of that level.
-void refineRegion(Quadtree& qt, Quad& q, const Box& region, int level, std::vector<const Quad*>& out, Progress& progress) {
-    if (!q.bounds.intersects(region)) return;
-    if (q.level == level) {
+// Subdivides the quads holding tiles of `level` in columns `cols` and rows `rows` down to that
+// level; collects those tiles' quads.
+void refineTiles(Quadtree& qt, Quad& q, int level, const CellRange& cols, const CellRange& rows, std::vector<const Quad*>& out) {
+    const int below = level - q.level;
+    const auto overlaps = [&](std::uint32_t t, const CellRange& r) {
+        const std::uint64_t first = std::uint64_t(t) << below, last = ((std::uint64_t(t) + 1) << below) - 1;
+        return first <= r.last && r.first <= last;
+    };
+    if (!overlaps(std::uint32_t(q.tx), cols) || !overlaps(std::uint32_t(q.ty), rows)) return;
+    if (below == 0) {
         out.push_back(&q);
-        progress.advance();
         return;
     }
     qt.subdivide(q);
-    for (auto& c : q.children) refineRegion(qt, *c, region, level, out, progress);
+    for (auto& c : q.children) refineTiles(qt, *c, level, cols, rows, out);
 }
+
+// What the graph steps and curve data of the quadtrees made (one, or one per part) counted.
+struct RenderSums {
+    std::size_t zProfiles = 0, arcLengthTables = 0;
+    std::size_t crossingsTested = 0, crossingsFound = 0, flaggedCrossings = 0, flaggedRoadCrossings = 0, bridgedCrossings = 0,
+                culverts = 0, bridgesMade = 0, importedBridges = 0, importedBridgesOverRivers = 0, roundaboutRoads = 0;
+    void add(const GraphStepCounters& g, const CurveDataCounters& d) {
+        zProfiles += d.zProfiles;
+        arcLengthTables += d.arcLengthTables;
+        crossingsTested += g.crossingsTested;
+        crossingsFound += g.crossingsFound;
+        flaggedCrossings += g.flaggedCrossings;
+        flaggedRoadCrossings += g.flaggedRoadCrossings;
+        bridgedCrossings += g.bridgedCrossings;
+        culverts += g.culverts;
+        bridgesMade += g.bridgesMade;
+        importedBridges += g.importedBridges;
+        importedBridgesOverRivers += g.importedBridgesOverRivers;
+        roundaboutRoads += g.roundaboutRoads;
+    }
+};
+
+// The reads of the parts of a render by parts (--vectors region).
+struct PartReads {
+    std::size_t reads = 0, nodes = 0, curves = 0, areas = 0, largestBytes = 0;
+    std::size_t sceneNodes = 0, sceneCurves = 0, sceneAreas = 0;
+    bool wholeScene = false;
+    double readMs = 0.0;
+    void add(const SceneRegionStats& st, double ms) {
+        ++reads;
+        nodes += st.nodes;
+        curves += st.curves;
+        areas += st.areas;
+        largestBytes = std::max(largestBytes, st.bytes);
+        sceneNodes = st.sceneNodes;
+        sceneCurves = st.sceneCurves;
+        sceneAreas = st.sceneAreas;
+        wholeScene = wholeScene || st.wholeScene;
+        readMs += ms;
+    }
+};
 
 void run(const RenderOptions& o) {
     using namespace lacet::bench;
     if (!(o.vectorBudgetMiB > 0.0)) throw std::invalid_argument("--vector-budget must be > 0 MiB");
-    if (std::isfinite(o.vectorBudgetMiB) && (o.region.empty() || o.scene.empty()))
-        throw std::invalid_argument("--vector-budget bounds the read of --region from --scene; without both there is no such read");
     Box region;
     if (!o.region.empty()) {
         const auto& r = o.region;
@@ -153,8 +206,8 @@ void run(const RenderOptions& o) {
         region = {{r[0], r[1]}, {r[2], r[3]}};
     }
     const bool appearance = o.layer == "appearance";
-    const RefineParams refine;
-    const int n = appearance ? refine.resolution : refine.elevationResolution;
+    const RefineParams refineParams;
+    const int n = appearance ? refineParams.resolution : refineParams.elevationResolution;
     // Refuses a region or a mosaic of a scene of this extent before any work on it.
     const auto check = [&](const Box& extent) {
         if (o.region.empty()) region = extent;
@@ -171,20 +224,14 @@ void run(const RenderOptions& o) {
     };
 
     auto t0 = Clock::now();
+    // The document: the whole scene (a synthetic one, or --vectors whole), or, read by parts, the
+    // DEM and georeference alone (each part's vector data is read for its tiles, below).
     SceneDocument doc;
-    std::optional<SceneRegionStats> regionStats;
-    if (!o.scene.empty()) {
-        // A region reads only the vector data its tiles need, found through the feature tables'
-        // R-trees (io/scene_region.h): the same tiles as the whole scene, in memory that follows
-        // the region.
-        if (o.region.empty()) {
-            doc = loadScene(o.scene);
-        } else {
-            regionStats.emplace();
-            SceneRegionOptions read;
-            read.budgetMiB = o.vectorBudgetMiB;
-            doc = loadSceneRegion(o.scene, region, refine, o.level, &*regionStats, read);
-        }
+    const bool byParts = !o.scene.empty() && o.vectors == "region";
+    if (byParts) {
+        doc.scene.extent = loadSceneExtent(o.scene);
+    } else if (!o.scene.empty()) {
+        doc = loadScene(o.scene);
         if (!doc.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
     } else {
         const double side = syntheticExtentSide(o.curves);
@@ -192,32 +239,15 @@ void run(const RenderOptions& o) {
         doc.scene = makeSyntheticScene({o.seed, o.curves});
         doc.dem = makeSyntheticDem(doc.scene, {o.seed, o.demResolution});
     }
-    const Scene& scene = doc.scene;
-    const MosaicPlan plan = check(scene.extent);
-    const double prepareMs = msSince(t0);
+    const Box extent = doc.scene.extent;
+    const MosaicPlan plan = check(extent);
+    double prepareMs = msSince(t0);
 
     TerminalProgress progress;
-    GraphStep graphStep(scene);  // bridges and roundabouts (§4.3)
-    Quadtree qt(scene, refine, &graphStep);
-    std::vector<const Quad*> quads;
-    quads.reserve(std::size_t(plan.tiles()));
-    t0 = Clock::now();
-    progress.begin("clipping", std::size_t(plan.tiles()), "quads");
-    refineRegion(qt, qt.root(), region, o.level, quads, progress);
-    progress.end();
-    const double clipMs = msSince(t0);
-    if (quads.size() != plan.tiles())
-        throw std::logic_error("render: clipping made " + std::to_string(quads.size()) + " quads of the region where " +
-                               std::to_string(plan.tiles()) + " were planned");
-
-    // A streamed DEM (the scene's LOD tree): each tile reads its window at the level its quad needs
-    // and the z-profiles their fixed level, as the editor and the pyramid do; never the coarse
-    // level held in memory.
-    const std::unique_ptr<DemSource> demSource = batchDemSource(doc, o.demBudgetMiB);
-    const HeightField& heights = demSource->heights();
-    CurveDataCache data(qt, heights);
+    std::unique_ptr<DemSource> demSource;
     ElevationCounters counters;
     AppearanceCounters appearanceCounters;
+    RenderSums sums;
     const std::size_t width = std::size_t(plan.width()), height = std::size_t(plan.height());
     std::vector<std::uint8_t> mosaic(width * height * 3, 0);
     std::vector<std::uint8_t> image;
@@ -229,56 +259,117 @@ void run(const RenderOptions& o) {
             std::copy_n(image.begin() + std::ptrdiff_t(r * std::size_t(n) * 3), n * 3,
                         mosaic.begin() + std::ptrdiff_t(((oy + r) * width + ox) * 3));
     };
-    t0 = Clock::now();
-    progress.begin("producing " + o.layer + " tiles", quads.size(), "tiles");
-    for (std::size_t begin = 0; begin < quads.size(); begin += kBatchTiles) {
-        const std::span<const Quad* const> batch(quads.data() + begin, std::min(kBatchTiles, quads.size() - begin));
-        if (appearance) {
-            const auto tiles = produceAppearanceTiles(batch, qt, data, *demSource, {}, &appearanceCounters);
-            for (std::size_t k = 0; k < batch.size(); ++k) {
-                appearanceImage(tiles[k], image);
-                place(*batch[k]);
+    // The tiles of `quads` (of `qt`'s scene) into the mosaic, a batch at a time.
+    double clipMs = 0.0, produceMs = 0.0;
+    std::size_t made = 0;
+    const auto produce = [&](const Scene& scene, const std::function<void(Quadtree&, std::vector<const Quad*>&)>& refine) {
+        auto t1 = Clock::now();
+        GraphStep graphStep(scene);  // bridges and roundabouts (§4.3)
+        Quadtree qt(scene, refineParams, &graphStep);
+        std::vector<const Quad*> quads;
+        refine(qt, quads);
+        clipMs += msSince(t1);
+        t1 = Clock::now();
+        // A streamed DEM (the scene's LOD tree): each tile reads its window at the level its quad
+        // needs and the z-profiles their fixed level, as the editor and the pyramid do; never the
+        // coarse level held in memory.
+        CurveDataCache data(qt, demSource->heights());
+        for (std::size_t begin = 0; begin < quads.size(); begin += kBatchTiles) {
+            const std::span<const Quad* const> batch(quads.data() + begin, std::min(kBatchTiles, quads.size() - begin));
+            if (appearance) {
+                const auto tiles = produceAppearanceTiles(batch, qt, data, *demSource, {}, &appearanceCounters);
+                for (std::size_t k = 0; k < batch.size(); ++k) {
+                    appearanceImage(tiles[k], image);
+                    place(*batch[k]);
+                }
+            } else {
+                const auto tiles = produceElevationTiles(batch, qt, data, *demSource, {}, &counters);
+                for (std::size_t k = 0; k < batch.size(); ++k) {
+                    if (o.layer == "footprint") footprintImage(tiles[k], image);
+                    else hillshade(tiles[k], image);
+                    place(*batch[k]);
+                }
             }
-        } else {
-            const auto tiles = produceElevationTiles(batch, qt, data, *demSource, {}, &counters);
-            for (std::size_t k = 0; k < batch.size(); ++k) {
-                if (o.layer == "footprint") footprintImage(tiles[k], image);
-                else hillshade(tiles[k], image);
-                place(*batch[k]);
-            }
+            progress.advance(batch.size());
         }
-        progress.advance(batch.size());
+        made += quads.size();
+        sums.add(graphStep.counters(), data.counters());
+        produceMs += msSince(t1);
+    };
+
+    std::optional<PartReads> parts;
+    progress.begin("producing " + o.layer + " tiles", std::size_t(plan.tiles()), "tiles");
+    if (!byParts) {
+        demSource = batchDemSource(doc, o.demBudgetMiB);
+        produce(doc.scene, [&](Quadtree& qt, std::vector<const Quad*>& quads) {
+            quads.reserve(std::size_t(plan.tiles()));
+            refineTiles(qt, qt.root(), o.level, plan.columns, plan.rows, quads);
+        });
+    } else {
+        // Blocks of at most --part-tiles tiles a side, each read from the file alone (the curves
+        // and areas its tiles need, io/scene_region.h: the same tiles as the whole scene).
+        parts.emplace();
+        const int shift = std::min(o.level, int(std::bit_width(unsigned(o.partTiles))) - 1);
+        const Vec2 tileSide = extent.size() / double(std::uint64_t(1) << o.level);
+        for (std::uint32_t by = plan.rows.first >> shift; by <= plan.rows.last >> shift; ++by)
+            for (std::uint32_t bx = plan.columns.first >> shift; bx <= plan.columns.last >> shift; ++bx) {
+                const CellRange cols{std::max(plan.columns.first, bx << shift), std::min(plan.columns.last, ((bx + 1) << shift) - 1)};
+                const CellRange rows{std::max(plan.rows.first, by << shift), std::min(plan.rows.last, ((by + 1) << shift) - 1)};
+                const Box box{extent.min + Vec2(double(cols.first), double(rows.first)) * tileSide,
+                              extent.min + Vec2(double(cols.last + 1), double(rows.last + 1)) * tileSide};
+                auto t1 = Clock::now();
+                SceneRegionStats st;
+                SceneRegionOptions read;
+                read.budgetMiB = o.vectorBudgetMiB;
+                read.dem = !demSource;  // the DEM opened with the first part, kept for the others
+                SceneDocument part = loadSceneRegion(o.scene, box, refineParams, o.level, &st, read);
+                if (!demSource) {
+                    if (!part.dem) throw std::invalid_argument(o.scene + ": the scene file holds no DEM");
+                    doc.dem = std::move(part.dem);
+                    doc.demLod = std::move(part.demLod);
+                    doc.georeference = part.georeference;
+                    demSource = batchDemSource(doc, o.demBudgetMiB);
+                }
+                parts->add(st, msSince(t1));
+                produce(part.scene, [&](Quadtree& qt, std::vector<const Quad*>& quads) {
+                    refineTiles(qt, qt.root(), o.level, cols, rows, quads);
+                });
+            }
+        prepareMs += parts->readMs;
     }
     progress.end();
-    const double produceMs = msSince(t0);
+    if (made != plan.tiles())
+        throw std::logic_error("render: clipping made " + std::to_string(made) + " quads of the region where " +
+                               std::to_string(plan.tiles()) + " were planned");
 
     t0 = Clock::now();
     writeImage8(o.out, int(width), int(height), 3, mosaic);
     const double writeMs = msSince(t0);
-    std::cout << "Wrote " << o.out << " (" << width << "x" << height << "): " << quads.size() << " tiles of level "
+    std::cout << "Wrote " << o.out << " (" << width << "x" << height << "): " << made << " tiles of level "
               << o.level << ", " << o.layer << "; scene and DEM " << prepareMs << " ms, clipping " << clipMs
               << " ms, producing " << produceMs << " ms, writing " << writeMs << " ms; elevation curves drawn " << counters.curvesDrawn << ", skipped as thin "
               << counters.curvesSkippedThin << ", lakes " << counters.lakesDrawn << ", z-profiles computed "
-              << data.counters().zProfiles << "; appearance tiles " << appearanceCounters.tiles << " (uniform "
+              << sums.zProfiles << "; appearance tiles " << appearanceCounters.tiles << " (uniform "
               << appearanceCounters.uniformTiles << "), curves drawn " << appearanceCounters.curvesDrawn << ", with markings "
               << appearanceCounters.curvesWithMarkings << ", markings below a texel " << appearanceCounters.markingsBelowTexel
               << ", area pieces " << appearanceCounters.areaPieces << ", triangles " << appearanceCounters.triangles
               << ", water texels " << appearanceCounters.waterTexels << ", u tables computed "
-              << data.counters().arcLengthTables << "; graph step: crossings tested " << graphStep.counters().crossingsTested
-              << ", found " << graphStep.counters().crossingsFound << " (imported bridges over rivers "
-              << graphStep.counters().flaggedCrossings << " and over roads " << graphStep.counters().flaggedRoadCrossings
-              << ", unflagged bridged " << graphStep.counters().bridgedCrossings << ", culverts " << graphStep.counters().culverts
-              << "), bridges made " << graphStep.counters().bridgesMade << ", imported bridges " << graphStep.counters().importedBridges
-              << " (" << graphStep.counters().importedBridgesOverRivers << " over a river), roads at roundabouts "
-              << graphStep.counters().roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
-              << counters.curvesOnStructures << "\n";
-    if (regionStats) {
-        const SceneRegionStats& r = *regionStats;
-        std::cout << "Vector data of the region: " << r.curves << " of " << r.sceneCurves << " curves, " << r.areas << " of "
-                  << r.sceneAreas << " areas, " << r.nodes << " of " << r.sceneNodes << " nodes read, "
-                  << toMiB(r.bytes) << " MiB ("
-                  << r.found << " found within " << r.reach << " m of its quads through the R-trees, the rest what they depend on)"
-                  << (r.wholeScene ? "; the file has no feature index (saved before it): the whole scene was read" : "")
+              << sums.arcLengthTables << "; graph step: crossings tested " << sums.crossingsTested
+              << ", found " << sums.crossingsFound << " (imported bridges over rivers "
+              << sums.flaggedCrossings << " and over roads " << sums.flaggedRoadCrossings
+              << ", unflagged bridged " << sums.bridgedCrossings << ", culverts " << sums.culverts
+              << "), bridges made " << sums.bridgesMade << ", imported bridges " << sums.importedBridges
+              << " (" << sums.importedBridgesOverRivers << " over a river), roads at roundabouts "
+              << sums.roundaboutRoads << ", curves on bridges or tunnels (no footprint) "
+              << counters.curvesOnStructures << (parts && parts->reads > 1 ? " (summed over the parts: what several read counts in each)" : "")
+              << "\n";
+    if (parts) {
+        const PartReads& r = *parts;
+        std::cout << "Vector data read by parts (--vectors region) of at most " << o.partTiles << " tiles a side: " << r.reads
+                  << " reads, " << r.readMs << " ms; " << r.curves << " curves, " << r.areas << " areas, " << r.nodes
+                  << " nodes read in all, of the file's " << r.sceneCurves << " curves, " << r.sceneAreas << " areas, "
+                  << r.sceneNodes << " nodes; the largest part " << toMiB(r.largestBytes) << " MiB (budget "
+                  << o.vectorBudgetMiB << " MiB)" << (r.wholeScene ? "; the file has no feature index (saved before it): each read was the whole scene" : "")
                   << "\n";
     }
     if (const auto* streamed = dynamic_cast<const StreamedDem*>(demSource.get())) {
@@ -302,8 +393,14 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--layer", o->layer, "appearance (colour), elevation (hillshade of z_m) or footprint (b)")->check(CLI::IsMember({"appearance", "elevation", "footprint"}));
     cmd->add_option("--out", o->out, "Output image (PNG, TIFF...)");
     cmd->add_option("--dem-budget", o->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
+    cmd->add_option("--vectors", o->vectors,
+                    "With --scene: region (default), each block of --part-tiles tiles read from the file alone (memory follows the "
+                    "block); whole, the scene read into memory once. The same image")
+        ->check(CLI::IsMember({"region", "whole"}));
+    cmd->add_option("--part-tiles", o->partTiles, "With --vectors region: tiles a side of each block read (a power of two; 16)")
+        ->check(CLI::Range(1, 1 << 20));
     cmd->add_option("--vector-budget", o->vectorBudgetMiB,
-                    "With --region: MiB of vector data the read may hold (> 0; default: no bound); past it, refused with the figure");
+                    "With --vectors region: MiB of vector data one block's read may hold (> 0; 2048); past it, refused with the figure");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
     cmd->add_option("--max-pixels", o->maxPixels, "Refuse a mosaic of more pixels than this (default 2^28 = 16384 x 16384, 768 MiB of RGB)")
         ->check(CLI::Range(std::int64_t(1), std::numeric_limits<std::int64_t>::max()));

@@ -1,6 +1,7 @@
 // `lacet render` refuses, before any work, an image it cannot hold (issue 12: a whole scene at a
 // deep level died of std::bad_alloc after 30 s), saying how large it would be; a region that misses
-// the scene is refused too; a small render still works.
+// the scene is refused too; a small render still works. A scene file rendered by parts gives the
+// image of the scene read whole.
 #include <sys/wait.h>
 
 #include <chrono>
@@ -51,6 +52,51 @@ TEST(RenderCli, RefusesAnImageItCannotHoldBeforeAnyWork) {
     const RenderRun small = render("--seed 1 --curves 1000 --level 1 --layer appearance --out " + png, dir / "log");
     EXPECT_EQ(small.code, 0) << small.said;
     EXPECT_TRUE(std::filesystem::exists(png));
+    std::filesystem::remove_all(dir);
+}
+
+std::string fileBytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// A scene file rendered by parts (--vectors region: each block of --part-tiles tiles read from the
+// file alone, io/scene_region.h) gives the image of the scene read whole, byte for byte, over the
+// whole scene and over a region whose blocks are cut by its border; a part over its budget is
+// refused with the figure and no image is written.
+TEST(RenderCli, AScenesPartsReadAloneGiveTheImageOfTheWholeScene) {
+    const auto dir = std::filesystem::temp_directory_path() / ("lacet_render_parts_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string scene = (dir / "scene.gpkg").string();
+    ASSERT_EQ(std::system((std::string(LACET_BINARY) + " synth --seed 5 --curves 3000 --out " + scene + " > " + (dir / "synth.log").string() +
+                           " 2>&1")
+                              .c_str()),
+              0);
+    const auto image = [&](const std::string& args, const std::string& name) {
+        const std::string png = (dir / name).string();
+        const RenderRun r = render("--scene " + scene + " " + args + " --out " + png, dir / (name + ".log"));
+        EXPECT_EQ(r.code, 0) << r.said;
+        return std::make_pair(fileBytes(png), r.said);
+    };
+    const auto whole = image("--level 4 --layer appearance --vectors whole", "whole.png");
+    const auto parts = image("--level 4 --layer appearance --part-tiles 2", "parts.png");
+    ASSERT_FALSE(whole.first.empty());
+    EXPECT_TRUE(whole.first == parts.first) << "the image read by parts differs from the whole scene's";
+    EXPECT_NE(parts.second.find("by parts (--vectors region) of at most 2 tiles a side: 64 reads"), std::string::npos) << parts.second;
+    const std::string region = " --region 1500,2500,9000,7000";
+    const auto wholeRegion = image("--level 5 --layer elevation --vectors whole" + region, "whole_region.png");
+    const auto partsRegion = image("--level 5 --layer elevation --part-tiles 4" + region, "parts_region.png");
+    ASSERT_FALSE(wholeRegion.first.empty());
+    EXPECT_TRUE(wholeRegion.first == partsRegion.first) << "the region read by parts differs from the whole scene's";
+
+    const std::string refusedPng = (dir / "refused.png").string();
+    const RenderRun refused = render("--scene " + scene + " --level 4 --vector-budget 0.01 --out " + refusedPng, dir / "refused.log");
+    EXPECT_EQ(refused.code, 1) << refused.said;
+    EXPECT_NE(refused.said.find("budget of 0.01 MiB"), std::string::npos) << refused.said;
+    EXPECT_NE(refused.said.find(scene), std::string::npos) << refused.said;
+    EXPECT_FALSE(std::filesystem::exists(refusedPng));
     std::filesystem::remove_all(dir);
 }
 
