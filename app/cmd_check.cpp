@@ -10,9 +10,15 @@
 // the tolerance.
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +30,7 @@
 #include "io/fit_check.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
+#include "io/scene_parts.h"
 #include "model/validate.h"
 #include "raster/bridge_check.h"
 #include "raster/river_check.h"
@@ -216,6 +223,11 @@ int runBridges(const BridgesOptions& o) {
 struct RiversOptions {
     std::string scene;
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
+    // "region": the scene read a square of at most partQuad metres at a time (io/scene_region.h),
+    // within vectorBudgetMiB; "whole": read into memory once. The same report.
+    std::string vectors = "region";
+    double partQuad = 5000.0;
+    double vectorBudgetMiB = 2048.0;
     bool json = false;
 };
 
@@ -225,15 +237,30 @@ nlohmann::json quantilesJson(const Quantiles& q, double over) {
 }
 
 int runRivers(const RiversOptions& o) {
-    const SceneDocument doc = loadScene(o.scene);
-    if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: rivers cannot be checked against the terrain");
-    const RiverCheckReport r = checkRivers(doc.scene, *batchDemSource(doc, o.demBudgetMiB));
-    const nlohmann::json out = {{"scene", o.scene},
-                                {"river_curves", r.curves},
-                                {"profile_above_dem", quantilesJson(r.profileAboveDem, r.over)},
-                                {"nodes_above_dem", quantilesJson(r.nodesAboveDem, r.over)},
-                                {"rising_samples", r.risingSamples},
-                                {"ms", r.ms}};
+    RiverCheckReport r;
+    std::optional<ScenePartsRead> parts;
+    if (o.vectors == "whole") {
+        const SceneDocument doc = loadScene(o.scene);
+        if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: rivers cannot be checked against the terrain");
+        r = checkRivers(doc.scene, *batchDemSource(doc, o.demBudgetMiB));
+    } else {
+        RiverCheck check;
+        parts = forEachScenePart(o.scene, o.partQuad, o.vectorBudgetMiB, o.demBudgetMiB,
+                            [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
+                                check.add(part.scene, dem, owns);
+                            });
+        r = check.finish();
+    }
+    nlohmann::json out = {{"scene", o.scene},
+                          {"river_curves", r.curves},
+                          {"profile_above_dem", quantilesJson(r.profileAboveDem, r.over)},
+                          {"nodes_above_dem", quantilesJson(r.nodesAboveDem, r.over)},
+                          {"rising_samples", r.risingSamples},
+                          {"vectors", o.vectors},
+                          {"ms", r.ms}};
+    if (parts)
+        out["parts"] = {{"reads", parts->reads}, {"part_level", parts->level}, {"largest_part_mib", toMiB(parts->largestBytes)},
+                        {"read_ms", parts->ms}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
         std::cout << r.curves << " river curves: profile above the DEM median " << r.profileAboveDem.median << " m, p95 "
@@ -285,6 +312,13 @@ void addCheckCommand(CLI::App& app) {
     CLI::App* rivers = check->add_subcommand("rivers", "River profiles and node heights against the DEM, and whether a river rises");
     rivers->add_option("scene", rv->scene, "Scene file (from lacet import or the editor)")->required();
     rivers->add_option("--dem-budget", rv->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
+    rivers->add_option("--vectors", rv->vectors,
+                       "region (default): the scene read a square of at most --part-quad metres at a time (memory follows the part); "
+                       "whole: read into memory once. The same report")
+        ->check(CLI::IsMember({"region", "whole"}));
+    rivers->add_option("--part-quad", rv->partQuad, "With --vectors region: the widest part read (m; 5000)")->check(CLI::PositiveNumber);
+    rivers->add_option("--vector-budget", rv->vectorBudgetMiB, "With --vectors region: MiB of vector data one part may hold (2048)")
+        ->check(CLI::PositiveNumber);
     rivers->add_flag("--json", rv->json, "Print JSON");
     rivers->callback([rv] {
         if (const int rc = runRivers(*rv); rc != 0) throw CLI::RuntimeError(rc);

@@ -315,8 +315,10 @@ void run(const RenderOptions& o) {
             for (std::uint32_t bx = plan.columns.first >> shift; bx <= plan.columns.last >> shift; ++bx) {
                 const CellRange cols{std::max(plan.columns.first, bx << shift), std::min(plan.columns.last, ((bx + 1) << shift) - 1)};
                 const CellRange rows{std::max(plan.rows.first, by << shift), std::min(plan.rows.last, ((by + 1) << shift) - 1)};
-                const Box box{extent.min + Vec2(double(cols.first), double(rows.first)) * tileSide,
-                              extent.min + Vec2(double(cols.last + 1), double(rows.last + 1)) * tileSide};
+                // The block's tiles inward by a hair: the quads of the level that meet it are its
+                // own alone (io/scene_region.h takes closed boxes), read with the reach around them.
+                const Box box{extent.min + (Vec2(double(cols.first), double(rows.first)) + 1e-6) * tileSide,
+                              extent.min + (Vec2(double(cols.last + 1), double(rows.last + 1)) - 1e-6) * tileSide};
                 auto t1 = Clock::now();
                 SceneRegionStats st;
                 SceneRegionOptions read;

@@ -34,38 +34,49 @@ RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileP
 }
 
 RiverCheckReport checkRivers(const Scene& scene, const DemSource& dem, const ZProfileParams& profiles) {
-    const auto t0 = std::chrono::steady_clock::now();
-    RiverCheckReport r;
+    RiverCheck check(profiles);
+    check.add(scene, dem, [](Vec2) { return true; });
+    return check.finish();
+}
+
+RiverCheck::RiverCheck(ZProfileParams profiles) : profiles_(profiles), t0_(std::chrono::steady_clock::now()) {}
+
+void RiverCheck::add(const Scene& scene, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
     const HeightField& heights = dem.heights();
     GraphStep step(scene);
     Quadtree qt(scene, {}, &step);
-    CurveDataCache data(qt, heights, profiles);
-    std::vector<double> above, nodes;
+    CurveDataCache data(qt, heights, profiles_);
     for (LayerId l = 0; l < scene.layers.size(); ++l) {
         const Layer& layer = scene.layers[l];
         if (layer.kind != LayerKind::Rivers) continue;
         for (ElementId c = 0; c < layer.curves.size(); ++c) {
             const Curve& cv = layer.curves[c];
-            if (!cv.alive || !cv.areas.empty()) continue;
-            ++r.curves;
+            if (!cv.alive || !cv.areas.empty() || cv.vertices.empty() || !owns(cv.vertices.front().p)) continue;
+            ++r_.curves;
             const ZProfile& z = data.zProfile(l, c);
             const std::vector<Vec2> points = data.samplePoints(l, c);
             for (std::size_t i = 0; i < z.z.size() && i < points.size(); ++i) {
-                above.push_back(z.z[i] - heights.height(points[i]));
-                r.risingSamples += i > 0 && z.z[i] > z.z[i - 1];
+                above_.push_back(z.z[i] - heights.height(points[i]));
+                r_.risingSamples += i > 0 && z.z[i] > z.z[i - 1];
             }
         }
         for (ElementId id = 0; id < layer.nodes.size(); ++id) {
             const Node& nd = layer.nodes[id];
-            if (!nd.alive || nd.curves.empty()) continue;
+            if (!nd.alive || nd.curves.empty() || !owns(nd.p)) continue;
             if (std::all_of(nd.curves.begin(), nd.curves.end(), [&](ElementId c) { return !layer.curves[c].areas.empty(); }))
                 continue;  // a river area's ring node
-            nodes.push_back(data.nodeHeight(l, id) - heights.height(nd.p));
+            nodes_.push_back(data.nodeHeight(l, id) - heights.height(nd.p));
         }
     }
-    r.profileAboveDem = quantiles(std::move(above), r.over);
-    r.nodesAboveDem = quantiles(std::move(nodes), r.over);
-    r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+RiverCheckReport RiverCheck::finish() {
+    RiverCheckReport r = r_;
+    r.profileAboveDem = quantiles(std::move(above_), r.over);
+    r.nodesAboveDem = quantiles(std::move(nodes_), r.over);
+    above_.clear();
+    nodes_.clear();
+    r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
     return r;
 }
 

@@ -4,8 +4,15 @@
 // z-profile samples (CurveDataCache) less the DEM under them, and every river node's height less
 // the DEM at it, as quantiles; and the samples where a profile rises downstream. `lacet check
 // rivers` prints the report.
+//
+// By parts (RiverCheck): a scene larger than memory read a piece at a time (io/scene_region.h),
+// each piece giving the curves whose first vertex, and the nodes whose point, it owns; the report
+// is the whole scene's, exact (the samples kept, 16 bytes each, for the quantiles).
 
+#include <chrono>
 #include <cstddef>
+#include <functional>
+#include <vector>
 
 #include "model/curve_data.h"
 #include "raster/dem.h"
@@ -29,6 +36,23 @@ struct RiverCheckReport {
 };
 
 RiverCheckReport checkRivers(const Scene& scene, const Dem& dem, const ZProfileParams& profiles = {});
+
+// The same summed over parts of a scene: add() each part (a scene read for a region) with `owns`,
+// which must hold for each point of the whole scene in exactly one part, and only where that part
+// holds what a river there depends on (its curves, their areas, the rivers upstream: a region read
+// of a box holds them for the points inside the box); then finish().
+class RiverCheck {
+public:
+    explicit RiverCheck(ZProfileParams profiles = {});
+    void add(const Scene& part, const DemSource& dem, const std::function<bool(Vec2)>& owns);
+    RiverCheckReport finish();
+
+private:
+    ZProfileParams profiles_;
+    RiverCheckReport r_;
+    std::vector<double> above_, nodes_;
+    std::chrono::steady_clock::time_point t0_;
+};
 // The same on any DEM source: the profiles and the ground both from its heights (a streamed DEM's
 // fixed profile level).
 RiverCheckReport checkRivers(const Scene& scene, const DemSource& dem, const ZProfileParams& profiles = {});

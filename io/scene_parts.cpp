@@ -1,0 +1,54 @@
+#include "io/scene_parts.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include "io/dem_stream.h"
+#include "io/scene_file.h"
+#include "io/scene_region.h"
+
+namespace lacet {
+
+ScenePartsRead forEachScenePart(const std::string& path, double partQuad, double budgetMiB, double demBudgetMiB, const ScenePartFn& f) {
+    if (!(partQuad > 0.0)) throw std::invalid_argument("forEachScenePart: the part quad must be > 0 m");
+    const Box extent = loadSceneExtent(path);
+    ScenePartsRead out;
+    while (out.level < 20 && extent.size().x / double(std::int64_t(1) << out.level) > partQuad) ++out.level;
+    const std::int64_t n = std::int64_t(1) << out.level;
+    const Vec2 side = extent.size() / double(n);
+    const auto cellOf = [&](double v, double origin, double s) {
+        return std::clamp(std::int64_t(std::floor((v - origin) / s)), std::int64_t(0), n - 1);
+    };
+    SceneDocument demDoc;
+    demDoc.scene.extent = extent;
+    std::unique_ptr<DemSource> dem;
+    for (std::int64_t j = 0; j < n; ++j)
+        for (std::int64_t i = 0; i < n; ++i) {
+            // The quad inward by a hair: the quads of the level that meet it are this one alone
+            // (io/scene_region.h takes closed boxes), read with the reach around it.
+            const Box cell{extent.min + Vec2(double(i), double(j)) * side, extent.min + Vec2(double(i + 1), double(j + 1)) * side};
+            const Box inside{cell.min + side * 1e-6, cell.max - side * 1e-6};
+            const auto t0 = std::chrono::steady_clock::now();
+            SceneRegionOptions read;
+            read.budgetMiB = budgetMiB;
+            read.dem = !dem;
+            SceneRegionStats st;
+            SceneDocument part = loadSceneRegion(path, inside, RefineParams{}, out.level, &st, read);
+            out.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+            ++out.reads;
+            out.largestBytes = std::max(out.largestBytes, st.bytes);
+            if (!dem) {
+                if (!part.dem) throw SceneFileError(path + ": the scene has no DEM: nothing to check against the terrain");
+                demDoc.dem = std::move(part.dem);
+                demDoc.demLod = std::move(part.demLod);
+                dem = batchDemSource(demDoc, demBudgetMiB);
+            }
+            f(part, *dem, [&](Vec2 p) { return cellOf(p.x, extent.min.x, side.x) == i && cellOf(p.y, extent.min.y, side.y) == j; });
+        }
+    return out;
+}
+
+}  // namespace lacet

@@ -1,0 +1,79 @@
+// A scene file read a part at a time (io/scene_parts.h) gives the river check of the scene read
+// whole, exactly: each river curve and node counted once, in the part that owns it, with what its
+// profile depends on (the rivers upstream) read there; a part over its budget is refused by name.
+#include "io/scene_parts.h"
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "io/dem_stream.h"
+#include "io/scene_file.h"
+#include "io/scene_region.h"
+#include "raster/river_check.h"
+#include "synth/synthetic_dem.h"
+#include "synth/synthetic_scene.h"
+#include "tests/io/gis_fixtures.h"
+
+namespace lacet {
+namespace {
+
+void expectSameQuantiles(const Quantiles& a, const Quantiles& b, const char* what) {
+    EXPECT_EQ(a.count, b.count) << what;
+    for (const auto& [x, y] : {std::pair{a.min, b.min}, {a.p01, b.p01}, {a.p05, b.p05}, {a.median, b.median}, {a.p95, b.p95},
+                               {a.p99, b.p99}, {a.max, b.max}, {a.fractionOver, b.fractionOver}})
+        EXPECT_EQ(x, y) << what;
+}
+
+TEST(SceneParts, TheRiverCheckByPartsIsTheWholeScenesAndEachRiverCountsOnce) {
+    const std::filesystem::path dir = test::scratchDir("scene_parts");
+    const std::string path = (dir / "scene.gpkg").string();
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({.seed = 9, .curves = 12000});
+    doc.dem = makeSyntheticDem(doc.scene, {.seed = 9, .resolution = 1000});
+    saveScene(path, doc);
+    const SceneDocument loaded = loadScene(path);
+    const RiverCheckReport whole = checkRivers(loaded.scene, *batchDemSource(loaded, 512.0));
+    ASSERT_GT(whole.curves, 20u);
+    ASSERT_GT(whole.nodesAboveDem.count, 20u);
+    for (const double parts : {2.0, 8.0}) {
+        RiverCheck check;
+        const ScenePartsRead read = forEachScenePart(path, doc.scene.extent.size().x / parts, 1024.0, 512.0,
+                                                     [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
+                                                         check.add(part.scene, dem, owns);
+                                                     });
+        EXPECT_EQ(read.reads, std::size_t(parts * parts));
+        const RiverCheckReport r = check.finish();
+        EXPECT_EQ(r.curves, whole.curves) << parts;
+        EXPECT_EQ(r.risingSamples, whole.risingSamples) << parts;
+        expectSameQuantiles(r.profileAboveDem, whole.profileAboveDem, "profiles");
+        expectSameQuantiles(r.nodesAboveDem, whole.nodesAboveDem, "nodes");
+    }
+    EXPECT_THROW(forEachScenePart(path, 1000.0, 0.001, 512.0, [](const SceneDocument&, const DemSource&, const std::function<bool(Vec2)>&) {}),
+                 SceneBudgetError);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(SceneParts, EachPointIsOnePartsTheExtentsBordersAndBeyondIncluded) {
+    const std::filesystem::path dir = test::scratchDir("scene_parts_owns");
+    const std::string path = (dir / "scene.gpkg").string();
+    SceneDocument doc;
+    doc.scene = makeSyntheticScene({.seed = 4, .curves = 300});
+    doc.dem = makeSyntheticDem(doc.scene, {.seed = 4, .resolution = 500});
+    saveScene(path, doc);
+    const Box e = doc.scene.extent;
+    const Vec2 s = e.size();
+    const std::vector<Vec2> points = {e.min, e.max, {e.max.x, e.min.y}, e.center(), e.min + s * 0.25, e.min + s * 0.5,
+                                      e.min - Vec2(50.0), e.max + Vec2(50.0), {e.min.x + s.x * 0.75, e.max.y + 1.0}};
+    std::vector<int> owners(points.size(), 0);
+    forEachScenePart(path, s.x / 4.0, 1024.0, 512.0, [&](const SceneDocument&, const DemSource&, const std::function<bool(Vec2)>& owns) {
+        for (std::size_t k = 0; k < points.size(); ++k) owners[k] += owns(points[k]);
+    });
+    for (std::size_t k = 0; k < points.size(); ++k) EXPECT_EQ(owners[k], 1) << points[k].x << "," << points[k].y;
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lacet
