@@ -179,33 +179,74 @@ int runFit(const FitOptions& o) {
     return r.passed() ? 0 : 2;
 }
 
+// How a check read the scene: whole, or by parts (io/scene_parts.h).
+struct VectorsOptions {
+    // "region": the scene read a square of at most partQuad metres at a time, within
+    // vectorBudgetMiB; "whole": read into memory once. The same report.
+    std::string vectors = "region";
+    double partQuad = 5000.0;
+    double vectorBudgetMiB = 2048.0;
+
+    void add(CLI::App* cmd) {
+        cmd->add_option("--vectors", vectors,
+                        "region (default): the scene read a square of at most --part-quad metres at a time (memory follows the "
+                        "part); whole: read into memory once. The same report")
+            ->check(CLI::IsMember({"region", "whole"}));
+        cmd->add_option("--part-quad", partQuad, "With --vectors region: the widest part read (m; 5000)")->check(CLI::PositiveNumber);
+        cmd->add_option("--vector-budget", vectorBudgetMiB, "With --vectors region: MiB of vector data one part may hold (2048)")
+            ->check(CLI::PositiveNumber);
+    }
+};
+
+nlohmann::json partsJson(const ScenePartsRead& p) {
+    return {{"reads", p.reads}, {"part_level", p.level}, {"largest_part_mib", toMiB(p.largestBytes)}, {"read_ms", p.ms}};
+}
+
 struct BridgesOptions {
     std::string scene;
     BridgeCheckParams params;
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
+    VectorsOptions read;
     bool json = false;
 };
 
 int runBridges(const BridgesOptions& o) {
-    const SceneDocument doc = loadScene(o.scene);
-    if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: bridges cannot be checked against the terrain");
-    const BridgeCheckReport r = checkBridges(doc.scene, *batchDemSource(doc, o.demBudgetMiB), o.params);
-    const nlohmann::json out = {
+    BridgeCheckReport r;
+    std::optional<ScenePartsRead> parts;
+    if (o.read.vectors == "whole") {
+        const SceneDocument doc = loadScene(o.scene);
+        if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: bridges cannot be checked against the terrain");
+        r = checkBridges(doc.scene, *batchDemSource(doc, o.demBudgetMiB), o.params);
+    } else {
+        // Parts no smaller than the tiles compared (a tile holding a point is the part's).
+        const Box extent = loadSceneExtent(o.scene);
+        const double tile = extent.size().x / double(std::int64_t(1) << o.params.level);
+        BridgeCheck check(o.params);
+        parts = forEachScenePart(o.scene, std::max(o.read.partQuad, tile), o.read.vectorBudgetMiB, o.demBudgetMiB,
+                                 [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
+                                     check.add(part.scene, dem, owns);
+                                 });
+        r = check.finish();
+    }
+    const auto counter = [&](std::size_t v) { return r.graphCounters ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    nlohmann::json out = {
         {"scene", o.scene},
         {"level", o.params.level},
         {"bridges", r.bridges},
         {"imported_bridges", r.importedBridges},
         {"procedural_bridges", r.proceduralBridges},
-        {"crossings", {{"found", r.crossingsFound}, {"imported_bridges_over_rivers", r.flaggedRiverCrossings},
-                       {"unflagged_bridged", r.bridgedCrossings}, {"culverts", r.culverts}}},
+        {"crossings", {{"found", counter(r.crossingsFound)}, {"imported_bridges_over_rivers", counter(r.flaggedRiverCrossings)},
+                       {"unflagged_bridged", counter(r.bridgedCrossings)}, {"culverts", counter(r.culverts)}}},
         {"river_spans", r.riverSpans},
         {"clearance", {{"knob_m", o.params.graph.clearance}, {"deck_samples", r.deckSamples},
                        {"samples_below", r.deckSamplesBelowClearance},
                        {"least_m", r.deckSamples ? nlohmann::json(r.leastClearance) : nlohmann::json(nullptr)}}},
         {"river_bed", {{"points_under_decks", r.bedPoints}, {"points_differing", r.bedPointsDiffering},
                        {"largest_difference_m", r.largestBedDifference}, {"tiles", r.tilesCompared}}},
+        {"vectors", o.read.vectors},
         {"ms", r.ms},
         {"passed", r.passed()}};
+    if (parts) out["parts"] = partsJson(*parts);
     if (o.json) std::cout << out.dump(2) << "\n";
     else
         std::cout << r.bridges << " bridges (" << r.importedBridges << " imported, " << r.proceduralBridges << " made), " << r.riverSpans
@@ -223,11 +264,7 @@ int runBridges(const BridgesOptions& o) {
 struct RiversOptions {
     std::string scene;
     double demBudgetMiB = DemStreamParams{}.budgetMiB;  // a streamed DEM's blocks held at once
-    // "region": the scene read a square of at most partQuad metres at a time (io/scene_region.h),
-    // within vectorBudgetMiB; "whole": read into memory once. The same report.
-    std::string vectors = "region";
-    double partQuad = 5000.0;
-    double vectorBudgetMiB = 2048.0;
+    VectorsOptions read;
     bool json = false;
 };
 
@@ -239,13 +276,13 @@ nlohmann::json quantilesJson(const Quantiles& q, double over) {
 int runRivers(const RiversOptions& o) {
     RiverCheckReport r;
     std::optional<ScenePartsRead> parts;
-    if (o.vectors == "whole") {
+    if (o.read.vectors == "whole") {
         const SceneDocument doc = loadScene(o.scene);
         if (!doc.dem) throw std::runtime_error(o.scene + ": the scene has no DEM: rivers cannot be checked against the terrain");
         r = checkRivers(doc.scene, *batchDemSource(doc, o.demBudgetMiB));
     } else {
         RiverCheck check;
-        parts = forEachScenePart(o.scene, o.partQuad, o.vectorBudgetMiB, o.demBudgetMiB,
+        parts = forEachScenePart(o.scene, o.read.partQuad, o.read.vectorBudgetMiB, o.demBudgetMiB,
                             [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
                                 check.add(part.scene, dem, owns);
                             });
@@ -256,11 +293,9 @@ int runRivers(const RiversOptions& o) {
                           {"profile_above_dem", quantilesJson(r.profileAboveDem, r.over)},
                           {"nodes_above_dem", quantilesJson(r.nodesAboveDem, r.over)},
                           {"rising_samples", r.risingSamples},
-                          {"vectors", o.vectors},
+                          {"vectors", o.read.vectors},
                           {"ms", r.ms}};
-    if (parts)
-        out["parts"] = {{"reads", parts->reads}, {"part_level", parts->level}, {"largest_part_mib", toMiB(parts->largestBytes)},
-                        {"read_ms", parts->ms}};
+    if (parts) out["parts"] = partsJson(*parts);
     if (o.json) std::cout << out.dump(2) << "\n";
     else
         std::cout << r.curves << " river curves: profile above the DEM median " << r.profileAboveDem.median << " m, p95 "
@@ -303,6 +338,7 @@ void addCheckCommand(CLI::App& app) {
     bridges->add_option("--level", b->params.level, "Quadtree level of the elevation tiles compared")->check(CLI::Range(0, 20));
     bridges->add_option("--step", b->params.step, "Metres between the points sampled along a deck")->check(CLI::Range(0.05, 100.0));
     bridges->add_option("--dem-budget", b->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
+    b->read.add(bridges);
     bridges->add_flag("--json", b->json, "Print JSON");
     bridges->callback([b] {
         if (const int rc = runBridges(*b); rc != 0) throw CLI::RuntimeError(rc);
@@ -312,13 +348,7 @@ void addCheckCommand(CLI::App& app) {
     CLI::App* rivers = check->add_subcommand("rivers", "River profiles and node heights against the DEM, and whether a river rises");
     rivers->add_option("scene", rv->scene, "Scene file (from lacet import or the editor)")->required();
     rivers->add_option("--dem-budget", rv->demBudgetMiB, "MiB of a streamed DEM's blocks held at once (a scene with a DEM LOD tree)");
-    rivers->add_option("--vectors", rv->vectors,
-                       "region (default): the scene read a square of at most --part-quad metres at a time (memory follows the part); "
-                       "whole: read into memory once. The same report")
-        ->check(CLI::IsMember({"region", "whole"}));
-    rivers->add_option("--part-quad", rv->partQuad, "With --vectors region: the widest part read (m; 5000)")->check(CLI::PositiveNumber);
-    rivers->add_option("--vector-budget", rv->vectorBudgetMiB, "With --vectors region: MiB of vector data one part may hold (2048)")
-        ->check(CLI::PositiveNumber);
+    rv->read.add(rivers);
     rivers->add_flag("--json", rv->json, "Print JSON");
     rivers->callback([rv] {
         if (const int rc = runRivers(*rv); rc != 0) throw CLI::RuntimeError(rc);

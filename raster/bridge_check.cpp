@@ -87,51 +87,67 @@ BridgeCheckReport checkBridges(const Scene& scene, const Dem& dem, const BridgeC
 }
 
 BridgeCheckReport checkBridges(const Scene& scene, const DemSource& dem, const BridgeCheckParams& params) {
+    BridgeCheck check(params);
+    check.add(scene, dem, [](Vec2) { return true; });
+    return check.finish();
+}
+
+BridgeCheck::BridgeCheck(BridgeCheckParams params) : params_(params), t0_(std::chrono::steady_clock::now()) {
     if (params.level < 0 || !(params.step > 0.0)) throw std::invalid_argument("checkBridges: level >= 0 and step > 0 required");
-    const auto t0 = std::chrono::steady_clock::now();
-    BridgeCheckReport r;
-    r.leastClearance = INFINITY;
+    r_.leastClearance = INFINITY;
+}
+
+void BridgeCheck::add(const Scene& scene, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
+    BridgeCheckReport& r = r_;
+    const BridgeCheckParams& params = params_;
+    ++parts_;
     Terrain with(scene, dem, params);
     const GraphStepCounters& gc = with.step.counters();
-    r.crossingsFound = gc.crossingsFound;
-    r.flaggedRiverCrossings = gc.flaggedCrossings;
-    r.bridgedCrossings = gc.bridgedCrossings;
-    r.culverts = gc.culverts;
-    r.proceduralBridges = gc.bridgesMade;
-    r.importedBridges = gc.importedBridges;
+    r.crossingsFound += gc.crossingsFound;
+    r.flaggedRiverCrossings += gc.flaggedCrossings;
+    r.bridgedCrossings += gc.bridgedCrossings;
+    r.culverts += gc.culverts;
 
-    // The points under the decks over the water, and the roads that carry a bridge.
+    // The points under the decks over the water, and the roads that carry a bridge (every one the
+    // part holds leaves the scene without them: the terrain at a point is the whole scene's).
     std::vector<Vec2> bed;
     Scene without = scene;
     for (LayerId l = 0; l < scene.layers.size(); ++l) {
         if (scene.layers[l].kind != LayerKind::Roads) continue;
         for (ElementId id = 0; id < scene.layers[l].curves.size(); ++id) {
+            const Curve& road = scene.layers[l].curves[id];
+            const bool counted = road.alive && !road.vertices.empty() && owns(road.vertices.front().p);
             bool bridged = false;
             for (AncestorId a : with.qt.expansionOf(l, id)) {
                 const ProceduralCurve* pc = with.qt.proceduralCurve(l, a);
                 if (!(pc->curve.flags & kBridge)) continue;
                 bridged = true;
-                ++r.bridges;
+                if (counted) {
+                    ++r.bridges;
+                    ++((road.flags & kBridge) ? r.importedBridges : r.proceduralBridges);
+                }
                 const ZProfile& deck = with.data.zProfile(l, a);
                 const std::vector<Station> st = stations(pc->curve, params.step);
                 for (const BridgeSpan& s : pc->spans) {
                     const Curve& over = scene.layers[s.layer].curves[ElementId(s.over)];
                     if (scene.layers[s.layer].kind != LayerKind::Rivers || (s.over & kProceduralBit) || !over.areas.empty()) continue;
-                    ++r.riverSpans;
-                    const double water = with.data.spanWater(s);
-                    for (std::size_t i = 0; i < deck.z.size(); ++i) {
-                        if (std::abs(deck.spacing * double(i) - s.u) > s.halfLength) continue;
-                        const double c = deck.z[i] - params.graph.deckThickness - water;
-                        ++r.deckSamples;
-                        r.deckSamplesBelowClearance += c < params.graph.clearance - 1e-9;
-                        r.leastClearance = std::min(r.leastClearance, c);
+                    if (counted) {
+                        ++r.riverSpans;
+                        const double water = with.data.spanWater(s);
+                        for (std::size_t i = 0; i < deck.z.size(); ++i) {
+                            if (std::abs(deck.spacing * double(i) - s.u) > s.halfLength) continue;
+                            const double c = deck.z[i] - params.graph.deckThickness - water;
+                            ++r.deckSamples;
+                            r.deckSamplesBelowClearance += c < params.graph.clearance - 1e-9;
+                            r.leastClearance = std::min(r.leastClearance, c);
+                        }
                     }
                     const double half = 0.5 * double(over.w), quarter = 0.25 * double(pc->curve.w);
                     for (const Station& x : st) {
                         if (std::abs(x.u - s.u) > s.halfLength) continue;
                         for (double side : {-quarter, 0.0, quarter}) {
                             const Vec2 p = x.p + side * x.left;
-                            if (distanceToCurve(over, p) <= half) bed.push_back(p);
+                            if (owns(p) && distanceToCurve(over, p) <= half) bed.push_back(p);
                         }
                     }
                 }
@@ -146,8 +162,14 @@ BridgeCheckReport checkBridges(const Scene& scene, const DemSource& dem, const B
         r.bedPointsDiffering += d > 0.0;
         r.largestBedDifference = std::max(r.largestBedDifference, d);
     }
-    r.tilesCompared = with.tiles.size();
-    r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    r.tilesCompared += with.tiles.size();
+}
+
+BridgeCheckReport BridgeCheck::finish() {
+    BridgeCheckReport r = r_;
+    r.graphCounters = parts_ <= 1;
+    if (!r.graphCounters) r.crossingsFound = r.flaggedRiverCrossings = r.bridgedCrossings = r.culverts = 0;
+    r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
     return r;
 }
 

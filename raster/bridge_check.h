@@ -8,9 +8,11 @@
 //   that river's footprint.
 // The points under a deck are sampled every `step` metres along it, on its axis and a quarter of
 // its width to each side, where they lie within the river's half width of its axis. `lacet check
-// bridges` prints the report.
+// bridges` prints the report, of the scene read whole or by parts (BridgeCheck).
 
+#include <chrono>
 #include <cstddef>
+#include <functional>
 
 #include "model/graph.h"
 #include "model/graph_step.h"
@@ -27,6 +29,9 @@ struct BridgeCheckParams {
 
 struct BridgeCheckReport {
     std::size_t bridges = 0, importedBridges = 0, riverSpans = 0;
+    // The graph step's counters; by parts (BridgeCheck below) none: a crossing near a part's
+    // border is found in each part that reads it.
+    bool graphCounters = true;
     std::size_t crossingsFound = 0, flaggedRiverCrossings = 0, bridgedCrossings = 0, culverts = 0, proceduralBridges = 0;
     // Clearance over the water, at the deck's z-profile samples over each river span's footprint.
     std::size_t deckSamples = 0, deckSamplesBelowClearance = 0;
@@ -41,5 +46,22 @@ struct BridgeCheckReport {
 BridgeCheckReport checkBridges(const Scene& scene, const Dem& dem, const BridgeCheckParams& params = {});
 // The same on any DEM source (a streamed DEM's windows at the level each tile needs).
 BridgeCheckReport checkBridges(const Scene& scene, const DemSource& dem, const BridgeCheckParams& params = {});
+
+// The same summed over parts of a scene (io/scene_parts.h): add() each part (a scene read for a
+// quad of level params.level or coarser) with `owns`, which holds for each point of the scene in
+// exactly one part; a bridge counts (its spans and deck samples) in the part owning its road's
+// first vertex, a point under a deck in the part owning the point. Then finish().
+class BridgeCheck {
+public:
+    explicit BridgeCheck(BridgeCheckParams params = {});
+    void add(const Scene& part, const DemSource& dem, const std::function<bool(Vec2)>& owns);
+    BridgeCheckReport finish();
+
+private:
+    BridgeCheckParams params_;
+    BridgeCheckReport r_;
+    std::size_t parts_ = 0;
+    std::chrono::steady_clock::time_point t0_;
+};
 
 }  // namespace lacet

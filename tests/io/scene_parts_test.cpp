@@ -1,6 +1,7 @@
-// A scene file read a part at a time (io/scene_parts.h) gives the river check of the scene read
-// whole, exactly: each river curve and node counted once, in the part that owns it, with what its
-// profile depends on (the rivers upstream) read there; a part over its budget is refused by name.
+// A scene file read a part at a time (io/scene_parts.h) gives the river and bridge checks of the
+// scene read whole, exactly: each river curve, node, bridge and point under a deck counted once, in
+// the part that owns it, with what it depends on (the rivers upstream, the rivers a road crosses)
+// read there; a part over its budget is refused by name.
 #include "io/scene_parts.h"
 
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "io/dem_stream.h"
 #include "io/scene_file.h"
 #include "io/scene_region.h"
+#include "raster/bridge_check.h"
 #include "raster/river_check.h"
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
@@ -27,7 +29,7 @@ void expectSameQuantiles(const Quantiles& a, const Quantiles& b, const char* wha
         EXPECT_EQ(x, y) << what;
 }
 
-TEST(SceneParts, TheRiverCheckByPartsIsTheWholeScenesAndEachRiverCountsOnce) {
+TEST(SceneParts, TheRiverAndBridgeChecksByPartsAreTheWholeScenesEachElementCountedOnce) {
     const std::filesystem::path dir = test::scratchDir("scene_parts");
     const std::string path = (dir / "scene.gpkg").string();
     SceneDocument doc;
@@ -36,13 +38,18 @@ TEST(SceneParts, TheRiverCheckByPartsIsTheWholeScenesAndEachRiverCountsOnce) {
     saveScene(path, doc);
     const SceneDocument loaded = loadScene(path);
     const RiverCheckReport whole = checkRivers(loaded.scene, *batchDemSource(loaded, 512.0));
+    const BridgeCheckReport wholeBridges = checkBridges(loaded.scene, *batchDemSource(loaded, 512.0));
     ASSERT_GT(whole.curves, 20u);
     ASSERT_GT(whole.nodesAboveDem.count, 20u);
+    ASSERT_GT(wholeBridges.riverSpans, 5u);
+    ASSERT_GT(wholeBridges.bedPoints, 100u);
     for (const double parts : {2.0, 8.0}) {
         RiverCheck check;
+        BridgeCheck bridges;
         const ScenePartsRead read = forEachScenePart(path, doc.scene.extent.size().x / parts, 1024.0, 512.0,
                                                      [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
                                                          check.add(part.scene, dem, owns);
+                                                         bridges.add(part.scene, dem, owns);
                                                      });
         EXPECT_EQ(read.reads, std::size_t(parts * parts));
         const RiverCheckReport r = check.finish();
@@ -50,6 +57,18 @@ TEST(SceneParts, TheRiverCheckByPartsIsTheWholeScenesAndEachRiverCountsOnce) {
         EXPECT_EQ(r.risingSamples, whole.risingSamples) << parts;
         expectSameQuantiles(r.profileAboveDem, whole.profileAboveDem, "profiles");
         expectSameQuantiles(r.nodesAboveDem, whole.nodesAboveDem, "nodes");
+        const BridgeCheckReport b = bridges.finish();
+        EXPECT_FALSE(b.graphCounters);
+        EXPECT_EQ(b.bridges, wholeBridges.bridges) << parts;
+        EXPECT_EQ(b.importedBridges, wholeBridges.importedBridges) << parts;
+        EXPECT_EQ(b.proceduralBridges, wholeBridges.proceduralBridges) << parts;
+        EXPECT_EQ(b.riverSpans, wholeBridges.riverSpans) << parts;
+        EXPECT_EQ(b.deckSamples, wholeBridges.deckSamples) << parts;
+        EXPECT_EQ(b.deckSamplesBelowClearance, wholeBridges.deckSamplesBelowClearance) << parts;
+        EXPECT_EQ(b.leastClearance, wholeBridges.leastClearance) << parts;
+        EXPECT_EQ(b.bedPoints, wholeBridges.bedPoints) << parts;
+        EXPECT_EQ(b.bedPointsDiffering, wholeBridges.bedPointsDiffering) << parts;
+        EXPECT_EQ(b.largestBedDifference, wholeBridges.largestBedDifference) << parts;
     }
     EXPECT_THROW(forEachScenePart(path, 1000.0, 0.001, 512.0, [](const SceneDocument&, const DemSource&, const std::function<bool(Vec2)>&) {}),
                  SceneBudgetError);
