@@ -50,6 +50,27 @@ struct Drag {
     }
 };
 
+// Times `step` (commands, returning their reports summed) with the frame that makes every dirty
+// tile of the view, into `d`.
+template <class F>
+void timeStep(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, Drag& d, F&& step) {
+    std::uint64_t version = 0;
+    for (const auto& [key, t] : session.tiles()) version = std::max(version, t.version);
+    const auto t0 = Clock::now();
+    const CommandReport c = step();
+    const FrameReport f = session.frame(viewer, 0.0, visible);
+    d.ms.push_back(msSince(t0));
+    d.tiles.push_back(double(f.produced));
+    d.applyMs.push_back(c.applyMs);
+    d.updateMs.push_back(c.updateMs);
+    d.topReadAgain += c.topReadAgain;
+    d.produceMs.push_back(f.produceMs);
+    d.dirty.push_back(double(c.dirtyTiles));
+    std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
+    for (const auto& [key, t] : session.tiles()) uniform += t.version > version && t.appearance.uniform;
+    d.uniform.push_back(double(uniform));
+}
+
 // `repeats` drags of `steps` commands made by `command(i)`, each command followed by a frame
 // that makes every dirty tile of the view; after each drag, undo and a frame (not timed) bring
 // the scene and the tiles back, so every drag starts from the same state. The steps of all the
@@ -58,23 +79,7 @@ template <class F>
 Drag drag(EditSession& session, glm::dvec3 viewer, const QuadVisibility& visible, int steps, int repeats, F&& command) {
     Drag d;
     for (int rep = 0; rep < repeats; ++rep) {
-        for (int i = 0; i < steps; ++i) {
-            std::uint64_t version = 0;
-            for (const auto& [key, t] : session.tiles()) version = std::max(version, t.version);
-            const auto t0 = Clock::now();
-            const CommandReport c = session.execute(command(i), true);
-            const FrameReport f = session.frame(viewer, 0.0, visible);
-            d.ms.push_back(msSince(t0));
-            d.tiles.push_back(double(f.produced));
-            d.applyMs.push_back(c.applyMs);
-            d.updateMs.push_back(c.updateMs);
-            d.topReadAgain += c.topReadAgain;
-            d.produceMs.push_back(f.produceMs);
-            d.dirty.push_back(double(c.dirtyTiles));
-            std::size_t uniform = 0;  // of the tiles made: those a single area or river covers
-            for (const auto& [key, t] : session.tiles()) uniform += t.version > version && t.appearance.uniform;
-            d.uniform.push_back(double(uniform));
-        }
+        for (int i = 0; i < steps; ++i) timeStep(session, viewer, visible, d, [&] { return session.execute(command(i), true); });
         session.undo();  // the drag is one undo step
         session.frame(viewer, 0.0, visible);
     }
@@ -196,21 +201,7 @@ std::pair<QuadVisibility, glm::dvec3> viewOf(Vec2 target, const Dem& dem, double
 Drag drawRun(EditSession& session, const Targets& t, glm::dvec3 viewer, const QuadVisibility& visible, int times) {
     Drag d;
     for (int k = 0; k < times; ++k) {
-        std::uint64_t version = 0;
-        for (const auto& [key, tile] : session.tiles()) version = std::max(version, tile.version);
-        const auto t0 = Clock::now();
-        const CommandReport c = drawRoad(session, t.at);
-        const FrameReport f = session.frame(viewer, 0.0, visible);
-        d.ms.push_back(msSince(t0));
-        d.tiles.push_back(double(f.produced));
-        d.applyMs.push_back(c.applyMs);
-        d.updateMs.push_back(c.updateMs);
-        d.topReadAgain += c.topReadAgain;
-        d.produceMs.push_back(f.produceMs);
-        d.dirty.push_back(double(c.dirtyTiles));
-        std::size_t uniform = 0;
-        for (const auto& [key, tile] : session.tiles()) uniform += tile.version > version && tile.appearance.uniform;
-        d.uniform.push_back(double(uniform));
+        timeStep(session, viewer, visible, d, [&] { return drawRoad(session, t.at); });
         session.undo();
         session.frame(viewer, 0.0, visible);
     }
