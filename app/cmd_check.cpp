@@ -199,7 +199,11 @@ struct VectorsOptions {
 };
 
 nlohmann::json partsJson(const ScenePartsRead& p) {
-    return {{"reads", p.reads}, {"part_level", p.level}, {"largest_part_mib", toMiB(p.largestBytes)}, {"read_ms", p.ms}};
+    return {{"reads", p.reads},
+            {"part_level", p.level},
+            {"largest_part_mib", toMiB(p.largestBytes)},
+            {"read_ms", p.ms},
+            {"whole_scene_no_feature_index", p.wholeScene}};
 }
 
 struct BridgesOptions {

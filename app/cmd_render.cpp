@@ -49,6 +49,7 @@ struct RenderOptions {
     std::string vectors = "region";
     int partTiles = 16;
     double vectorBudgetMiB = 2048.0;  // MiB of one part's vector data (io/scene_region.h)
+    bool partsOptionsGiven = false;   // --vector-budget or --part-tiles on the command line
 };
 
 // Tiles go to the producers in batches of this many, so that progress moves and only one
@@ -197,6 +198,9 @@ struct PartReads {
 void run(const RenderOptions& o) {
     using namespace lacet::bench;
     if (!(o.vectorBudgetMiB > 0.0)) throw std::invalid_argument("--vector-budget must be > 0 MiB");
+    if (std::popcount(unsigned(o.partTiles)) != 1) throw std::invalid_argument("--part-tiles must be a power of two");
+    if (o.partsOptionsGiven && (o.scene.empty() || o.vectors == "whole"))
+        throw std::invalid_argument("--vector-budget and --part-tiles bound the reads of --scene by parts (--vectors region); there is none here");
     Box region;
     if (!o.region.empty()) {
         const auto& r = o.region;
@@ -311,8 +315,9 @@ void run(const RenderOptions& o) {
         parts.emplace();
         const int shift = std::min(o.level, int(std::bit_width(unsigned(o.partTiles))) - 1);
         const Vec2 tileSide = extent.size() / double(std::uint64_t(1) << o.level);
-        for (std::uint32_t by = plan.rows.first >> shift; by <= plan.rows.last >> shift; ++by)
-            for (std::uint32_t bx = plan.columns.first >> shift; bx <= plan.columns.last >> shift; ++bx) {
+        bool readWhole = false;  // a file without the feature index: its first read was the whole scene
+        for (std::uint32_t by = plan.rows.first >> shift; by <= plan.rows.last >> shift && !readWhole; ++by)
+            for (std::uint32_t bx = plan.columns.first >> shift; bx <= plan.columns.last >> shift && !readWhole; ++bx) {
                 const CellRange cols{std::max(plan.columns.first, bx << shift), std::min(plan.columns.last, ((bx + 1) << shift) - 1)};
                 const CellRange rows{std::max(plan.rows.first, by << shift), std::min(plan.rows.last, ((by + 1) << shift) - 1)};
                 // The block's tiles inward by a hair: the quads of the level that meet it are its
@@ -333,8 +338,10 @@ void run(const RenderOptions& o) {
                     demSource = batchDemSource(doc, o.demBudgetMiB);
                 }
                 parts->add(st, msSince(t1));
+                readWhole = st.wholeScene;
                 produce(part.scene, [&](Quadtree& qt, std::vector<const Quad*>& quads) {
-                    refineTiles(qt, qt.root(), o.level, cols, rows, quads);
+                    if (readWhole) refineTiles(qt, qt.root(), o.level, plan.columns, plan.rows, quads);  // every tile from it
+                    else refineTiles(qt, qt.root(), o.level, cols, rows, quads);
                 });
             }
         prepareMs += parts->readMs;
@@ -371,7 +378,7 @@ void run(const RenderOptions& o) {
                   << " reads, " << r.readMs << " ms; " << r.curves << " curves, " << r.areas << " areas, " << r.nodes
                   << " nodes read in all, of the file's " << r.sceneCurves << " curves, " << r.sceneAreas << " areas, "
                   << r.sceneNodes << " nodes; the largest part " << toMiB(r.largestBytes) << " MiB (budget "
-                  << o.vectorBudgetMiB << " MiB)" << (r.wholeScene ? "; the file has no feature index (saved before it): each read was the whole scene" : "")
+                  << o.vectorBudgetMiB << " MiB)" << (r.wholeScene ? "; the file has no feature index (saved before it): it was read whole, once" : "")
                   << "\n";
     }
     if (const auto* streamed = dynamic_cast<const StreamedDem*>(demSource.get())) {
@@ -399,14 +406,18 @@ void addRenderCommand(CLI::App& app) {
                     "With --scene: region (default), each block of --part-tiles tiles read from the file alone (memory follows the "
                     "block); whole, the scene read into memory once. The same image")
         ->check(CLI::IsMember({"region", "whole"}));
-    cmd->add_option("--part-tiles", o->partTiles, "With --vectors region: tiles a side of each block read (a power of two; 16)")
-        ->check(CLI::Range(1, 1 << 20));
-    cmd->add_option("--vector-budget", o->vectorBudgetMiB,
-                    "With --vectors region: MiB of vector data one block's read may hold (> 0; 2048); past it, refused with the figure");
+    CLI::Option* partTiles = cmd->add_option("--part-tiles", o->partTiles, "With --vectors region: tiles a side of each block read (a power of two; 16)")
+                                 ->check(CLI::Range(1, 1 << 20));
+    CLI::Option* vectorBudget =
+        cmd->add_option("--vector-budget", o->vectorBudgetMiB,
+                        "With --vectors region: MiB of vector data one block's read may hold (> 0; 2048); past it, refused with the figure");
     cmd->add_option("--dem-resolution", o->demResolution, "Synthetic DEM samples per 100 km (the paper: 5000)");
     cmd->add_option("--max-pixels", o->maxPixels, "Refuse a mosaic of more pixels than this (default 2^28 = 16384 x 16384, 768 MiB of RGB)")
         ->check(CLI::Range(std::int64_t(1), std::numeric_limits<std::int64_t>::max()));
-    cmd->callback([o] { run(*o); });
+    cmd->callback([o, partTiles, vectorBudget] {
+        o->partsOptionsGiven = partTiles->count() > 0 || vectorBudget->count() > 0;
+        run(*o);
+    });
 }
 
 }  // namespace lacet::app

@@ -153,7 +153,8 @@ namespace {
 
 // Whether two parts read hold the same elements (the same file ids, layer by layer) but for
 // elements at the end of a kind's ids that one holds and the other not: the elements a step
-// added (ids past the file's, the largest) or took back.
+// added (ids past the file's, the largest) or took back, or an element of the part's largest id
+// that moved in or out (either way the part becomes the new read, with the changeset to match).
 bool sameButTails(const Scene& a, const Scene& b) {
     if (a.layers.size() != b.layers.size()) return false;
     const auto prefix = [](const std::vector<ElementId>& x, const std::vector<ElementId>& y) {

@@ -19,14 +19,19 @@ namespace lacet {
 struct ScenePartsRead {
     int level = 0;             // the parts' quadtree level
     std::size_t reads = 0;     // parts read
+    // The file has no feature index (saved before it): its first read was the whole scene, given
+    // to `f` once as the one part (not read again per part).
+    bool wholeScene = false;
     std::size_t largestBytes = 0;  // the largest part's vector data (SceneRegionStats::bytes)
     double ms = 0.0;           // reading
 };
 
 // Calls `f(part, dem, owns)` for each part of the scene file at `path`: `owns(p)` whether point p is
-// the part's. partQuad > 0 (m); a part over `budgetMiB` throws SceneBudgetError naming the file; a
-// file without a DEM throws SceneFileError (there is nothing to check against the terrain); a
-// streamed DEM's blocks are held within `demBudgetMiB`.
+// the part's. partQuad > 0 (m), the parts no more than kMaxSceneParts (std::invalid_argument with
+// the smallest partQuad allowed otherwise); a part over `budgetMiB` throws SceneBudgetError naming
+// the file; a file without a DEM throws SceneFileError (there is nothing to check against the
+// terrain); a streamed DEM's blocks are held within `demBudgetMiB`.
+inline constexpr std::size_t kMaxSceneParts = std::size_t(1) << 20;
 using ScenePartFn = std::function<void(const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns)>;
 ScenePartsRead forEachScenePart(const std::string& path, double partQuad, double budgetMiB, double demBudgetMiB, const ScenePartFn& f);
 

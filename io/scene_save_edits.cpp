@@ -157,7 +157,7 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
     for (const auto& [ref, e] : overlay.elements) {
         if (ref.layer >= head.scene.layers.size())
             throw SceneFileError(path + ": not saved: the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
-        countsChange = countsChange || e.absent || ref.id >= counts.of(ref);
+        countsChange = countsChange || (e.absent ? ref.id < counts.of(ref) : ref.id >= counts.of(ref));  // a row goes or comes
     }
     if (summedWhole || countsChange) {
         head = SceneDocument();

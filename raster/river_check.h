@@ -7,7 +7,7 @@
 //
 // By parts (RiverCheck): a scene larger than memory read a piece at a time (io/scene_region.h),
 // each piece giving the curves whose first vertex, and the nodes whose point, it owns; the report
-// is the whole scene's, exact (the samples kept, 16 bytes each, for the quantiles).
+// is the whole scene's, exact (the samples kept, 8 bytes each, for the quantiles).
 
 #include <chrono>
 #include <cstddef>

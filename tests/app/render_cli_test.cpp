@@ -13,6 +13,9 @@
 
 #include <gtest/gtest.h>
 
+#include "io/scene_features.h"
+#include "io/sqlite_db.h"
+
 namespace lacet {
 namespace {
 
@@ -97,6 +100,20 @@ TEST(RenderCli, AScenesPartsReadAloneGiveTheImageOfTheWholeScene) {
     EXPECT_NE(refused.said.find("budget of 0.01 MiB"), std::string::npos) << refused.said;
     EXPECT_NE(refused.said.find(scene), std::string::npos) << refused.said;
     EXPECT_FALSE(std::filesystem::exists(refusedPng));
+    // Options of the reads by parts where there are none: refused.
+    EXPECT_EQ(render("--scene " + scene + " --level 2 --vectors whole --part-tiles 4 --out " + refusedPng, dir / "whole.log").code, 1);
+    EXPECT_EQ(render("--scene " + scene + " --level 2 --part-tiles 3 --out " + refusedPng, dir / "three.log").code, 1);
+
+    // A file saved before the feature index: read whole, once, the same image.
+    {
+        SqliteDb db(scene, SqliteDb::Mode::ReadWrite);
+        db.exec(std::string("DROP TABLE ") + kFeatureIndexTable);
+        db.close();
+    }
+    const auto old = image("--level 4 --layer appearance --part-tiles 2", "old.png");
+    EXPECT_TRUE(old.first == whole.first) << "the file without its feature index renders otherwise";
+    EXPECT_NE(old.second.find("1 reads"), std::string::npos) << old.second;
+    EXPECT_NE(old.second.find("it was read whole, once"), std::string::npos) << old.second;
     std::filesystem::remove_all(dir);
 }
 

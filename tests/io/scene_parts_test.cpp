@@ -11,8 +11,10 @@
 #include <gtest/gtest.h>
 
 #include "io/dem_stream.h"
+#include "io/scene_features.h"
 #include "io/scene_file.h"
 #include "io/scene_region.h"
+#include "io/sqlite_db.h"
 #include "raster/bridge_check.h"
 #include "raster/river_check.h"
 #include "synth/synthetic_dem.h"
@@ -72,6 +74,25 @@ TEST(SceneParts, TheRiverAndBridgeChecksByPartsAreTheWholeScenesEachElementCount
     }
     EXPECT_THROW(forEachScenePart(path, 1000.0, 0.001, 512.0, [](const SceneDocument&, const DemSource&, const std::function<bool(Vec2)>&) {}),
                  SceneBudgetError);
+    // Parts so small that there would be more than kMaxSceneParts: refused before any read.
+    EXPECT_THROW(forEachScenePart(path, 1e-3, 1024.0, 512.0, [](const SceneDocument&, const DemSource&, const std::function<bool(Vec2)>&) {}),
+                 std::invalid_argument);
+    // A file saved before the feature index: its first read is the whole scene, the one part.
+    {
+        SqliteDb db(path, SqliteDb::Mode::ReadWrite);
+        db.exec(std::string("DROP TABLE ") + kFeatureIndexTable);
+        db.close();
+    }
+    RiverCheck check;
+    const ScenePartsRead read = forEachScenePart(path, doc.scene.extent.size().x / 8.0, 1024.0, 512.0,
+                                                 [&](const SceneDocument& part, const DemSource& dem, const std::function<bool(Vec2)>& owns) {
+                                                     check.add(part.scene, dem, owns);
+                                                 });
+    EXPECT_TRUE(read.wholeScene);
+    EXPECT_EQ(read.reads, 1u);
+    const RiverCheckReport once = check.finish();
+    EXPECT_EQ(once.curves, whole.curves);
+    expectSameQuantiles(once.profileAboveDem, whole.profileAboveDem, "profiles read whole");
     std::filesystem::remove_all(dir);
 }
 
