@@ -5,6 +5,9 @@
 // (raster/bridge_check.h); exits non-zero when they do not, or when no bridge spans a river.
 // `lacet check rivers`: river profiles and nodes against the DEM (raster/river_check.h); exits
 // non-zero when a river rises downstream, or when the scene has no river.
+// `lacet check heights`: a pyramid's elevation tiles against the DEM level their quads need
+// (pyramid/pyramid_height_check.h); exits non-zero when a tile agrees best with another level, or
+// when no tile decided.
 // `lacet check fit`: the Hausdorff distance between a scene's curves and the GIS sources they
 // were imported from, per layer (io/fit_check.h). Exits non-zero when anything is farther than
 // the tolerance.
@@ -32,6 +35,8 @@
 #include "io/scene_import.h"
 #include "io/scene_parts.h"
 #include "model/validate.h"
+#include "pyramid/pyramid_build.h"
+#include "pyramid/pyramid_height_check.h"
 #include "raster/bridge_check.h"
 #include "raster/river_check.h"
 #include "synth/incremental_check.h"
@@ -312,6 +317,37 @@ int runRivers(const RiversOptions& o) {
     return r.risingSamples == 0 ? 0 : 2;
 }
 
+struct HeightsOptions {
+    std::string scene, pyramid;
+    PyramidHeightCheckParams params;
+    bool json = false;
+};
+
+int runHeights(const HeightsOptions& o) {
+    const std::string path = o.pyramid.empty() ? defaultPyramidPath(o.scene) : o.pyramid;
+    const PyramidHeightCheck c = checkPyramidHeights(o.scene, path, o.params);
+    nlohmann::json out = c.json();
+    out["scene"] = o.scene;
+    out["pyramid"] = path;
+    if (o.json) std::cout << out.dump(2) << "\n";
+    else {
+        std::cout << "level " << c.level << ": " << c.tilesChecked << " elevation tiles (" << c.cells << " cells) against "
+                  << (c.streamed ? "the DEM tree's levels" : "the DEM in memory") << "; the quads need level " << c.neededLevel
+                  << (c.neededLevel == c.demLevels - 1 ? " (the finest)" : "") << "\n";
+        for (const HeightLevelMatch& l : c.levels)
+            std::cout << "  DEM level " << l.demLevel << " (" << l.cellM << " m): " << l.cellsWithin << " cells within "
+                      << c.toleranceM << " m, median " << l.medianM << " m, p90 " << l.p90M << " m; best for " << l.tilesBest
+                      << " tiles\n";
+        std::cout << "  " << c.tilesUndecided << " tiles undecided, " << c.tilesMissing << " missing\n";
+    }
+    if (c.tilesElsewhere() > 0)
+        std::cerr << path << ": " << c.tilesElsewhere() << " elevation tile(s) of level " << c.level
+                  << " agree best with another DEM level than the " << c.neededLevel << " their quads need\n";
+    else if (!c.passed())
+        std::cerr << path << ": no tile of level " << c.level << " told the DEM levels apart: nothing was proven\n";
+    return c.passed() ? 0 : 2;
+}
+
 }  // namespace
 
 void addCheckCommand(CLI::App& app) {
@@ -356,6 +392,22 @@ void addCheckCommand(CLI::App& app) {
     rivers->add_flag("--json", rv->json, "Print JSON");
     rivers->callback([rv] {
         if (const int rc = runRivers(*rv); rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto h = std::make_shared<HeightsOptions>();
+    CLI::App* heights = check->add_subcommand(
+        "heights", "A pyramid's elevation tiles were made from the DEM level their quads need (the finest for deep quads)");
+    heights->add_option("scene", h->scene, "Scene file the pyramid was built from")->required();
+    heights->add_option("--pyramid", h->pyramid, "Pyramid file (default: SCENE.pyramid.gpkg)");
+    heights->add_option("--level", h->params.level, "Pyramid level checked (default: its deepest)")->check(CLI::Range(0, 30));
+    heights->add_option("--tiles", h->params.tiles, "Tiles of the level checked, spread evenly (64)")->check(CLI::Range(1, 1 << 20));
+    heights->add_option("--tolerance", h->params.toleranceM, "A cell agrees with a DEM level within this (m; 0.001)")
+        ->check(CLI::Range(1e-9, 1000.0));
+    heights->add_option("--dem-budget", h->params.demBudgetMiB, "MiB of a streamed DEM's blocks held at once")
+        ->check(CLI::PositiveNumber);
+    heights->add_flag("--json", h->json, "Print JSON");
+    heights->callback([h] {
+        if (const int rc = runHeights(*h); rc != 0) throw CLI::RuntimeError(rc);
     });
 
     auto f = std::make_shared<FitOptions>();
