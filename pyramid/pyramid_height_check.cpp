@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -113,11 +112,10 @@ PyramidHeightCheck checkPyramidHeights(const std::string& scenePath, const std::
                            std::to_string(info->maxLevel) + ", not " + std::to_string(c.level));
     c.toleranceM = params.toleranceM;
 
-    // The DEM as the build read it: the tree when there is one, else the DEM in memory.
-    SceneRegionOptions read;
-    read.budgetMiB = std::numeric_limits<double>::infinity();
+    // The DEM as the build read it: the tree when there is one, else the DEM in memory. Read with
+    // the curves near a corner at the deepest level (a handful), never the scene's vector data.
     const Box corner{outline.extent.min, outline.extent.min + outline.extent.size() * 1e-9};
-    const SceneDocument head = loadSceneRegion(scenePath, corner, RefineParams{}, 0, nullptr, read);
+    const SceneDocument head = loadSceneRegion(scenePath, corner, RefineParams{}, 30);
     if (!head.dem && !head.demLod) throw SceneFileError(scenePath + ": the scene has no DEM: its heights are 0 m, nothing to check");
     std::unique_ptr<DemStream> stream;
     if (head.demLod) {
