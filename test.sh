@@ -23,3 +23,8 @@ echo "lacet check incremental: 0 mismatches"
 ./build/lacet check incremental --lazy --seed 3 --curves 5000 --edits 24 --json > build/check-incremental-lazy.json
 grep -q '"mismatches": 0' build/check-incremental-lazy.json
 echo "lacet check incremental --lazy: 0 mismatches"
+# The same with parts of level 3 (64 in all): edits whose parts are far from what they change (a
+# river under a long road held by a part far away; roads drawn in memory across many parts).
+./build/lacet check incremental --lazy --seed 21 --curves 3000 --edits 60 --save-every 7 --part-level 3 --json > build/check-incremental-lazy-parts.json
+grep -q '"mismatches": 0' build/check-incremental-lazy-parts.json
+echo "lacet check incremental --lazy --part-level 3: 0 mismatches"

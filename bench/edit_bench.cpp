@@ -324,6 +324,7 @@ nlohmann::json benchEditLazy(const EditBenchOptions& o) {
               {"parts_renewed", st.partsRenewed},
               {"parts_updated_in_place", st.partsUpdated},
               {"parts_moved_in_memory", st.partsMoved},
+              {"parts_grown_in_memory", st.partsGrown},
               {"parts_held_peak", st.partsHeldPeak},
               {"held_mib_peak", st.peakMiB},
               {"pyramid", o.pyramid}}},

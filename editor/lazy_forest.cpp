@@ -1,4 +1,5 @@
 #include "editor/lazy_forest.h"
+#include "editor/lazy_forest_part.h"
 
 #include <algorithm>
 #include <chrono>
@@ -25,23 +26,6 @@ void LazyParams::validate() const {
     if (!(partQuadM > 0.0) || !std::isfinite(partQuadM)) throw std::invalid_argument("LazyParams: partQuadM must be > 0 m");
     if (!(vectorBudgetMiB > 0.0)) throw std::invalid_argument("LazyParams: the vector budget must be > 0 MiB");
 }
-
-// One quad's part: its vector data, graph step, quadtree (down to the quad) and curve data.
-struct LazyForest::Part {
-    SceneDocument doc;
-    GraphStep graphStep;
-    Quadtree tree;
-    CurveDataCache data;
-    Quad* quad = nullptr;
-    std::size_t bytes = 0;
-    double reach = 0.0;        // m around the quad its read searched
-    double tolerance = 0.0;    // of the file's feature boxes (io/scene_features.h)
-    std::uint64_t wanted = 0;  // the clock of the last refine that wanted it
-    double readMs = 0.0;       // its reading and clipping
-    Part(SceneDocument d, const GraphStepParams& graph, const RefineParams& refine, const ZProfileParams& profiles,
-         const HeightField& heights)
-        : doc(std::move(d)), graphStep(doc.scene, graph), tree(doc.scene, refine, &graphStep), data(tree, heights, profiles) {}
-};
 
 LazyForest::LazyForest(std::string path, std::string storedChecksum, Quadtree& top, const CurveDataCache& topData, const HeightField& heights,
                        const SessionParams& params, LazyParams lazy)
@@ -406,14 +390,6 @@ void LazyForest::setTop(Quadtree& top, const CurveDataCache& topData) {
     evict(0);
 }
 
-namespace {
-
-// Whether `scene` (a part read) holds element `r` (its file id).
-bool holdsElement(const Scene& scene, const ElementRef& r) {
-    return r.layer < scene.layers.size() && localIdOf(scene.layers[r.layer], r.kind, r.id) != kNoElement;
-}
-
-}  // namespace
 
 bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef>& refs) {
     return std::any_of(refs.begin(), refs.end(), [&](const ElementRef& r) { return holdsElement(doc.scene, r); });
@@ -421,81 +397,33 @@ bool LazyForest::holdsAny(const SceneDocument& doc, const std::vector<ElementRef
 
 bool LazyForest::touches(const Part& part, const LazyStep& step, double margin) {
     const Box region = part.quad->bounds.dilated(part.reach + margin);
-    return holdsAny(part.doc, step.refs) ||
-           std::any_of(step.boxes.begin(), step.boxes.end(), [&](const Box& b) { return b.intersects(region); });
-}
-
-bool LazyForest::moveInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed) {
-    Scene& scene = part.doc.scene;
-    // What the part's read searched: its quad, dilated by its reach (io/scene_region.cpp).
-    const Box searched = part.quad->bounds.dilated(part.reach);
-    const auto meets = [&](const std::optional<Box>& b) { return b && b->intersects(searched); };
-    if (step.before.size() != step.refs.size() || step.after.size() != step.refs.size()) return false;
-    std::vector<std::pair<std::size_t, ElementId>> held;  // (index in the step, id in the part)
+    if (holdsAny(part.doc, step.refs) || std::any_of(step.boxes.begin(), step.boxes.end(), [&](const Box& b) { return b.intersects(region); }))
+        return true;
+    // A held road's read brought the rivers its hull meets, a bridge road's the roads too
+    // (io/scene_region.cpp: closeCurve), wherever they are: a river of the step (or a road, for a
+    // held bridge) whose box meets such a hull is one the part's read holds now, or would.
+    std::vector<Box> rivers, roads;
     for (std::size_t k = 0; k < step.refs.size(); ++k) {
         const ElementRef& r = step.refs[k];
-        if (r.layer >= scene.layers.size()) return false;
-        const Layer& layer = scene.layers[r.layer];
-        const OverlayElement &was = step.before[k], &is = step.after[k];
-        // A node without curves before and after (added, or taken back, apart from its curves): no
-        // read finds it, no element held names it.
-        if (const Node* a = std::get_if<Node>(&was.value))
-            if (a->curves.empty() && std::get<Node>(is.value).curves.empty() && localIdOf(layer, r.kind, r.id) == kNoElement) continue;
-        if (layer.kind == LayerKind::Rivers) return false;  // upstream walks, axial rivers, bridges over them
-        // Geometry alone: the reach, the filters and the lists stay.
-        if (const Node* a = std::get_if<Node>(&was.value)) {
-            Node b = std::get<Node>(is.value);
-            b.p = a->p;
-            if (!(b == *a)) return false;
-        } else if (const Curve* c = std::get_if<Curve>(&was.value)) {
-            Curve d = std::get<Curve>(is.value);
-            if ((c->flags | d.flags) & kBridge) return false;  // a bridge road brings the roads it crosses
-            d.vertices = c->vertices;
-            if (!(d == *c)) return false;
-        } else if (!(std::get<Area>(was.value) == std::get<Area>(is.value))) {
-            return false;
-        }
-        const ElementId id = localIdOf(layer, r.kind, r.id);
-        // Found by the region's R-tree search now: held, and found before (else the curves at its
-        // nodes, or its loops, would be read now).
-        if (meets(is.box) && (id == kNoElement || !meets(was.box))) return false;
-        if (id == kNoElement) continue;  // not found now, not held: what it brought stays as it was
-        // A road's rivers (the graph step's bridges) are those whose boxes meet its hull: within
-        // the region searched, every one is held; beyond it, each one the file's R-trees find
-        // there (with the edits) must be held (a river held brought what it depends on).
-        if (const Curve* c = std::get_if<Curve>(&is.value); c && layer.kind == LayerKind::Roads) {
-            const Box hull = hullBox(*c).dilated(part.tolerance);
-            if (!searched.contains(hull)) {
-                auto found = rivers.find(k);
-                if (found == rivers.end()) {
-                    try {
-                        found = rivers.emplace(k, loadSceneFeaturesIn(connection_, hull, LayerKind::Rivers, overlay_.get())).first;
-                    } catch (const std::exception&) {
-                        return false;  // the read that follows says why
-                    }
-                }
-                if (!std::all_of(found->second.begin(), found->second.end(), [&](const ElementRef& river) { return holdsElement(scene, river); }))
-                    return false;
-            }
-        }
-        held.emplace_back(k, id);
+        if (r.kind == ElementKind::Node || r.layer >= part.doc.scene.layers.size()) continue;
+        const LayerKind kind = part.doc.scene.layers[r.layer].kind;
+        if (kind != LayerKind::Rivers && kind != LayerKind::Roads) continue;
+        for (const std::vector<OverlayElement>* side : {&step.before, &step.after})
+            if (k < side->size() && (*side)[k].box) (kind == LayerKind::Rivers ? rivers : roads).push_back(*(*side)[k].box);
     }
-    Changeset cs;
-    for (const auto& [k, id] : held) {
-        const ElementRef& r = step.refs[k];
-        Layer& layer = scene.layers[r.layer];
-        if (r.kind == ElementKind::Node) {
-            layer.nodes[id].p = std::get<Node>(step.after[k].value).p;
-        } else if (r.kind == ElementKind::Curve) {
-            Curve& c = layer.curves[id];
-            part.bytes -= memoryBytes(c);
-            c.vertices = std::get<Curve>(step.after[k].value).vertices;
-            part.bytes += memoryBytes(c);
+    if (rivers.empty() && roads.empty()) return false;
+    const auto meets = [](const std::vector<Box>& boxes, const Box& hull) {
+        return std::any_of(boxes.begin(), boxes.end(), [&](const Box& b) { return b.intersects(hull); });
+    };
+    for (const Layer& layer : part.doc.scene.layers) {
+        if (layer.kind != LayerKind::Roads) continue;
+        for (const Curve& c : layer.curves) {
+            if (!c.alive || c.vertices.empty() || (rivers.empty() && !(c.flags & kBridge))) continue;
+            const Box hull = hullBox(c).dilated(part.tolerance);
+            if (meets(rivers, hull) || ((c.flags & kBridge) && meets(roads, hull))) return true;
         }
-        cs.modify({r.layer, r.kind, id});
     }
-    applyChangeset(part, std::move(cs), changed);
-    return true;
+    return false;
 }
 
 LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
@@ -516,9 +444,10 @@ LazyForest::Renewal LazyForest::renew(const LazyStep& step, double margin) {
         out.parts.push_back(key);
         ++stats_.partsRenewed;
         const std::size_t bytes = part.bytes;
-        if (moveInPlace(part, step, rivers, out.changed)) {
+        const bool grows = addsOrTakesCurves(step);
+        if (grows ? growInPlace(part, step, rivers, out.changed) : moveInPlace(part, step, rivers, out.changed)) {
             held_ = held_ - bytes + part.bytes;
-            ++stats_.partsMoved;
+            ++(grows ? stats_.partsGrown : stats_.partsMoved);
             ++it;
             continue;
         }

@@ -87,6 +87,7 @@ struct LazyStats {
     std::size_t partsRenewed = 0;   // read again after an edit (renew)
     std::size_t partsUpdated = 0;   // of those, updated in place (the same elements)
     std::size_t partsMoved = 0;     // of those, updated in memory (no read: moveInPlace)
+    std::size_t partsGrown = 0;     // of those, curves added or taken back in memory (no read: growInPlace)
     std::size_t partsHeld = 0;      // now
     std::size_t partsHeldPeak = 0;
     double heldMiB = 0.0, peakMiB = 0.0, largestPartMiB = 0.0;
@@ -193,7 +194,8 @@ private:
     // elements it added or took back (the largest ids); adds the keys of its quads whose tiles
     // change to `changed`.
     void update(Part& part, SceneDocument doc, const LazyStep& step, std::set<QuadKey>& changed);
-    // Whether `step` touches `part` (renew()).
+    // Whether `step` touches `part` (renew()): it names an element the part holds, meets the
+    // region its read searched, or puts a river (a road) where a held road's (bridge's) read finds it.
     static bool touches(const Part& part, const LazyStep& step, double margin);
     // The rivers (curves and areas, the file's ids) whose feature boxes meet the hull of a road of
     // a step (by its index in the step), read from the file with the edits once for the step.
@@ -204,6 +206,16 @@ private:
     // the region, or else found through the file's R-trees, in `rivers`); false, changing nothing,
     // otherwise.
     bool moveInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed);
+    // Whether `step` adds a curve or takes one back (a draw, its undo or redo).
+    static bool addsOrTakesCurves(const LazyStep& step);
+    // The same as moveInPlace for such a step, of roads only (no bridge): a curve the part's region
+    // search finds now is added with its end nodes when every curve at them is held or comes with
+    // it, it is no wider than a held road (the region's reach stays) and its rivers are held; one
+    // taken back goes with its end nodes when no other held curve ends there; each the last ids of
+    // their kinds, as the read after the step gives them. False, changing nothing, otherwise.
+    bool growInPlace(Part& part, const LazyStep& step, StepRivers& rivers, std::set<QuadKey>& changed);
+    // Whether the rivers road `road` (step index `k`) bridges are held by `part` (moveInPlace).
+    bool riversHeld(const Part& part, const Curve& road, std::size_t k, StepRivers& rivers);
     // Applies `cs` (the part's ids; its scene already changed) through the curve data and UPDATE;
     // adds the keys of its quads whose tiles change to `changed`.
     void applyChangeset(Part& part, Changeset cs, std::set<QuadKey>& changed);

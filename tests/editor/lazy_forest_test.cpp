@@ -610,8 +610,8 @@ TEST_F(LazyForestTest, ARoadLongerThanItsPartsIsMovedInMemoryWhereTheRiversItsHu
 }
 
 // A road drawn (two new nodes and a curve between them, as the draw tool makes it) and taken
-// back: each part that holds it is updated in place, its tiles made again only where the road
-// is, as in the whole scene; the tiles stay the whole scene's.
+// back: each part that holds it takes it in memory, without a read, its tiles made again only
+// where the road is, as in the whole scene; the tiles stay the whole scene's.
 TEST_F(LazyForestTest, ARoadDrawnAndTakenBackUpdatesThePartsHoldingItInPlace) {
     EditSession whole(loadScene(*path_), sessionParams());
     LazyParams lp = lazyParams(1024.0);
@@ -644,9 +644,11 @@ TEST_F(LazyForestTest, ARoadDrawnAndTakenBackUpdatesThePartsHoldingItInPlace) {
     for (EditSession* s : {&whole, &lazy}) s->endGroup();
     const LazyStats& drawn = lazy.lazyForest()->stats();
     ASSERT_GT(drawn.partsRenewed, before.partsRenewed);
-    // Every part renewed was updated in place or moved in memory: none was made anew.
+    // Every part renewed took the road in memory: none was read again.
     EXPECT_EQ(drawn.partsRenewed - before.partsRenewed,
-              (drawn.partsUpdated - before.partsUpdated) + (drawn.partsMoved - before.partsMoved));
+              (drawn.partsGrown - before.partsGrown) + (drawn.partsMoved - before.partsMoved));
+    EXPECT_GT(drawn.partsGrown, before.partsGrown);
+    EXPECT_EQ(drawn.partsUpdated, before.partsUpdated);
     EXPECT_LE(lazyDirty, wholeDirty + 8) << "the lazy session made dirty far more tiles than the whole one";
     whole.frame(viewer, 0.0);
     lazy.frame(viewer, 0.0);
@@ -655,11 +657,50 @@ TEST_F(LazyForestTest, ARoadDrawnAndTakenBackUpdatesThePartsHoldingItInPlace) {
     ASSERT_TRUE(whole.undo());
     ASSERT_TRUE(lazy.undo());
     const LazyStats& undone = lazy.lazyForest()->stats();
-    EXPECT_EQ(undone.partsRenewed - undoneBefore.partsRenewed,
-              (undone.partsUpdated - undoneBefore.partsUpdated) + (undone.partsMoved - undoneBefore.partsMoved));
+    EXPECT_EQ(undone.partsRenewed - undoneBefore.partsRenewed, undone.partsGrown - undoneBefore.partsGrown);
+    EXPECT_EQ(undone.partsUpdated, undoneBefore.partsUpdated);
     whole.frame(viewer, 0.0);
     lazy.frame(viewer, 0.0);
     expectSameTiles(lazy, whole);
+    const LazyStats redoneBefore = lazy.lazyForest()->stats();
+    ASSERT_TRUE(whole.redo());
+    ASSERT_TRUE(lazy.redo());
+    EXPECT_EQ(lazy.lazyForest()->stats().partsUpdated, redoneBefore.partsUpdated);
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    expectSameTiles(lazy, whole);
+
+    // A road drawn from a road's node (held, with its curves): the node's curves change in memory.
+    const Layer& roads = whole.document().scene.layers[kRoadsLayer];
+    ElementId from = kNoElement;
+    for (ElementId n = 0; n < roads.nodes.size(); ++n)
+        if (roads.nodes[n].alive && !roads.nodes[n].curves.empty() && roads.nodes[n].roundabout == 0.0f &&
+            (from == kNoElement || glm::length(roads.nodes[n].p - a) < glm::length(roads.nodes[from].p - a)))
+            from = n;
+    ASSERT_NE(from, kNoElement);
+    const Vec2 p = roads.nodes[from].p, q = p + Vec2(-70.0, 45.0);
+    const LazyStats joinedBefore = lazy.lazyForest()->stats();
+    for (EditSession* s : {&whole, &lazy}) s->beginGroup();
+    Curve spur;
+    spur.start = from;
+    spur.end = lazy.nextId(kRoadsLayer, ElementKind::Node);
+    both(AddNodeCmd{kRoadsLayer, q});
+    spur.w = 4.0f;
+    spur.wf = 10.0f;
+    spur.vertices = {Vertex{p, true, false}, Vertex{q, true, false}};
+    both(AddCurveCmd{kRoadsLayer, spur});
+    for (EditSession* s : {&whole, &lazy}) s->endGroup();
+    EXPECT_GT(lazy.lazyForest()->stats().partsGrown, joinedBefore.partsGrown);
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    expectSameTiles(lazy, whole);
+    for (int k = 0; k < 2; ++k) {  // the spur, then the road
+        ASSERT_TRUE(whole.undo());
+        ASSERT_TRUE(lazy.undo());
+        whole.frame(viewer, 0.0);
+        lazy.frame(viewer, 0.0);
+        expectSameTiles(lazy, whole);
+    }
 }
 
 TEST_F(LazyForestTest, AnEditOfAnElementTheFileHasNotIsRefusedAndChangesNothing) {
