@@ -2,35 +2,11 @@
 // shown to come from the DEM level their quads need, the finest of the tree; tiles made from a
 // coarser level are caught and named by their level; a pyramid of another state of the scene, or
 // a level it does not store, is refused.
-#include <filesystem>
-#include <random>
-#include <stdexcept>
-
-#include <gtest/gtest.h>
-
-#include "io/dem_lod.h"
-#include "io/dem_stream.h"
-#include "io/gpkg_dem.h"
-#include "io/scene_file.h"
-#include "io/sqlite_db.h"
-#include "io/tile_codec.h"
-#include "pyramid/pyramid_build.h"
 #include "pyramid/pyramid_height_check.h"
-#include "pyramid/pyramid_store.h"
-#include "synth/random_edits.h"
-#include "synth/synthetic_dem.h"
-#include "synth/synthetic_scene.h"
+#include "tests/pyramid/pyramid_fixtures.h"
 
 namespace lacet {
 namespace {
-
-namespace fs = std::filesystem;
-
-struct TempFile {
-    std::string path;
-    explicit TempFile(const std::string& name) : path((fs::temp_directory_path() / ("lacet_" + name)).string()) { fs::remove(path); }
-    ~TempFile() { fs::remove(path); }
-};
 
 PyramidParams elevationOnly(int maxLevel) {
     PyramidParams p;
@@ -51,13 +27,7 @@ struct StreamedScene {
     StreamedScene() {
         doc.scene = makeSyntheticScene({9, 1500});
         const Dem fine = makeSyntheticDem(doc.scene, {9, 5000});
-        createEmptyGpkg(tree.path);
-        {
-            SqliteDb db(tree.path, SqliteDb::Mode::ReadWrite);
-            writeDemLod(db, fine, 16, 0);
-            db.close();
-        }
-        doc.demLod = std::make_shared<const DemLodFile>(tree.path);
+        doc.demLod = writeTree(fine, tree.path);
         coarseLevel = doc.demLod->layout().levels - 3;
         doc.dem = readDemLevel(*doc.demLod, coarseLevel);
         saveScene(scene.path, doc);
