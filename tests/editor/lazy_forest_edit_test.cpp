@@ -2,12 +2,140 @@
 // random edits give the whole scene's tiles and undo restores them; a long road dragged and a road
 // drawn are taken by the parts in memory where nothing else would be read; an edit of an element
 // the file has not is refused. The scene of tests/editor/lazy_forest_fixture.h.
+#include <algorithm>
+#include <cmath>
+
 #include "tests/editor/lazy_forest_fixture.h"
 
 namespace lacet {
 namespace {
 
 class LazyForestEditTest : public LazyForestTest {};
+
+// The part (of level kPartLevel) holding point p.
+QuadKey partAt(const Box& extent, Vec2 p) {
+    const double n = double(1 << kPartLevel);
+    const Vec2 cell = (p - extent.min) / extent.size() * n;
+    return {kPartLevel, int(std::clamp(std::floor(cell.x), 0.0, n - 1.0)), int(std::clamp(std::floor(cell.y), 0.0, n - 1.0))};
+}
+
+// A road whose curve and nodes lie in one part, moved whole (its nodes and control points, one
+// group) into the next part: the part it left and the one it enters give the whole scene's tiles,
+// and so do both after the undo.
+TEST_F(LazyForestEditTest, ARoadMovedFromOnePartIntoAnotherGivesTheWholeScenesTilesThereAndBack) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
+    const Scene& scene = whole.document().scene;
+    const Box e = scene.extent;
+    const double side = e.size().x / double(1 << kPartLevel);
+    const Layer& roads = scene.layers[kRoadsLayer];
+    // A road within a part that has a part to its right (the curves at its nodes follow them).
+    ElementId pick = kNoElement;
+    for (ElementId c = 0; c < roads.curves.size() && pick == kNoElement; ++c) {
+        const Curve& curve = roads.curves[c];
+        if (!curve.alive || curve.flags != 0 || roads.nodes[curve.start].roundabout > 0.0f || roads.nodes[curve.end].roundabout > 0.0f)
+            continue;
+        const Box hull = hullBox(curve);
+        if (hull.size().x > 0.5 * side || partAt(e, hull.min) != partAt(e, hull.max) || std::get<1>(partAt(e, hull.min)) + 1 >= (1 << kPartLevel))
+            continue;
+        pick = c;
+    }
+    ASSERT_NE(pick, kNoElement) << "no road within one part";
+    const Curve road = roads.curves[pick];
+    const Box hull = hullBox(road);
+    const QuadKey from = partAt(e, hull.min);
+    const double right = e.min.x + double(std::get<1>(from) + 1) * side;
+    const Vec2 shift(right - hull.min.x + 0.25 * side, 0.0);
+    ASSERT_EQ(std::get<1>(partAt(e, hull.min + shift)), std::get<1>(from) + 1);
+    const auto look = [&](const char* when) {
+        SCOPED_TRACE(when);
+        for (const Vec2 p : {hull.center(), hull.center() + shift}) {
+            whole.frame({p.x, p.y, 60.0}, 0.0);
+            lazy.frame({p.x, p.y, 60.0}, 0.0);
+            expectSameTiles(lazy, whole);
+        }
+    };
+    look("before");
+    ASSERT_TRUE(lazy.lazyForest()->holds(from));
+    // The targets from the positions before the move (`roads` is the whole session's, which moves).
+    std::vector<Command> commands{MoveNodeCmd{kRoadsLayer, road.start, roads.nodes[road.start].p + shift},
+                                  MoveNodeCmd{kRoadsLayer, road.end, roads.nodes[road.end].p + shift}};
+    for (std::size_t i = 1; i + 1 < road.vertices.size(); ++i) commands.push_back(MoveVertexCmd{kRoadsLayer, pick, i, road.vertices[i].p + shift});
+    for (EditSession* s : {&whole, &lazy}) {
+        s->beginGroup();
+        for (const Command& c : commands) s->execute(c);
+        s->endGroup();
+    }
+    EXPECT_EQ(whole.document().scene.layers[kRoadsLayer].curves[pick].vertices.front().p, road.vertices.front().p + shift);
+    look("moved");
+    ASSERT_TRUE(whole.undo());
+    ASSERT_TRUE(lazy.undo());
+    look("undone");
+}
+
+// An edit whose parts were dropped for the budget before its undo (the viewer went elsewhere):
+// the undo changes no part held, and the parts read again when the viewer comes back are the
+// file's with the edit taken back: the whole scene's tiles.
+TEST_F(LazyForestEditTest, TheUndoOfAnEditWhosePartsWereDroppedSinceGivesTheWholeScenesTilesWhenTheyAreReadAgain) {
+    double top = 0.0, largest = 0.0;
+    {
+        EditSession probe(*path_, lazyParams(1024.0), sessionParams());
+        for (const glm::dvec3& v : viewers(probe.document().scene.extent, 8, 5)) probe.frame(v, 0.0);
+        top = probe.lazyForest()->stats().topMiB;
+        largest = probe.lazyForest()->stats().largestPartMiB;
+    }
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(top + 2.2 * largest), sessionParams());  // room for two parts
+    const Scene& scene = whole.document().scene;
+    const Box e = scene.extent;
+    const Layer& roads = scene.layers[kRoadsLayer];
+    // A road's control point; the viewer then goes to the opposite side of the scene.
+    ElementId pick = kNoElement;
+    for (ElementId c = 0; c < roads.curves.size() && pick == kNoElement; ++c)
+        if (roads.curves[c].alive && roads.curves[c].vertices.size() >= 3 && !roads.curves[c].vertices[1].onCurve) pick = c;
+    ASSERT_NE(pick, kNoElement);
+    const Vec2 here = roads.curves[pick].vertices[1].p;
+    // The corner of the scene farthest from it, a little inside.
+    const Vec2 there(here.x < e.center().x ? e.max.x - 0.05 * e.size().x : e.min.x + 0.05 * e.size().x,
+                     here.y < e.center().y ? e.max.y - 0.05 * e.size().y : e.min.y + 0.05 * e.size().y);
+    const QuadKey part = partAt(e, here);
+    const auto view = [&](Vec2 p) {
+        whole.frame({p.x, p.y, 30.0}, 0.0);
+        lazy.frame({p.x, p.y, 30.0}, 0.0);
+    };
+    // With room for two parts the lazy session shows coarser quads where it could read none: the
+    // tiles of the edit's part it made are compared, and they must be there.
+    const auto samePartTiles = [&] {
+        std::size_t compared = 0;
+        for (const auto& [key, t] : lazy.tiles()) {
+            const auto [level, x, y] = key;
+            if (level < kPartLevel || t.dirty || QuadKey{kPartLevel, x >> (level - kPartLevel), y >> (level - kPartLevel)} != part) continue;
+            const CachedTile* w = whole.tile(key);
+            ASSERT_NE(w, nullptr) << level << "/" << x << "/" << y;
+            EXPECT_EQ(t.texels(), w->texels()) << level << "/" << x << "/" << y;
+            EXPECT_EQ(t.elevation.zm, w->elevation.zm) << level << "/" << x << "/" << y;
+            ++compared;
+        }
+        EXPECT_GT(compared, 4u);
+    };
+    view(here);
+    ASSERT_TRUE(lazy.lazyForest()->holds(part));
+    const Command move = MoveVertexCmd{kRoadsLayer, pick, 1, roads.curves[pick].vertices[1].p + Vec2(25.0, -18.0)};
+    whole.execute(move);
+    lazy.execute(move);
+    view(here);
+    samePartTiles();
+    view(there);
+    ASSERT_FALSE(lazy.lazyForest()->holds(part)) << "the edit's part was not dropped: the test proves nothing";
+    const std::size_t read = lazy.lazyForest()->stats().partsRead;
+    ASSERT_TRUE(whole.undo());
+    ASSERT_TRUE(lazy.undo());
+    view(there);
+    view(here);
+    EXPECT_GT(lazy.lazyForest()->stats().partsRead, read) << "the edit's part was not read again";
+    ASSERT_TRUE(lazy.lazyForest()->holds(part));
+    samePartTiles();
+}
 
 TEST_F(LazyForestEditTest, EditsOfAPartialSceneGiveTheWholeScenesTilesAndUndoRestoresThem) {
     EditSession whole(loadScene(*path_), sessionParams());
