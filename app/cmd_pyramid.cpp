@@ -176,6 +176,7 @@ nlohmann::json pyramidStatsJson(const PyramidStats& s, const std::string& path) 
             {"peak_shard_quads", s.peakShardQuads},
             {"vector_mib", {{"peak", s.peakVectorMiB}, {"top", s.topVectorMiB}, {"largest_part", s.largestPartMiB}}},
             {"reads_not_ahead", s.readsNotAhead},
+            {"whole_file_checked", s.wholeFileChecked},
             {"tiles_made", s.tilesMade},
             {"tiles_written", s.tilesWritten},
             {"rebuilt", s.rebuilt},

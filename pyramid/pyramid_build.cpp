@@ -134,7 +134,7 @@ TopPart readTopPart(const std::string& path, PyramidParams params, const RefineP
     filter.elevationOnly = params.vectorLevel() >= params.shardLevel || !params.appearance;
     const double quad = extent.size().x / double(std::int64_t(1) << deepest);
     filter.minCurveWidth = 2.0 * quad / double(refine.elevationResolution);
-    filter.wholeFileCheck = true;  // the build reads most of the file: every page checked once, first
+    filter.wholeFileCheck = params.wholeFileCheck;  // a build reads most of the file: every page checked once, first
     filter.budgetMiB = params.vectorBudgetMiB;
     SceneRegionStats st;
     try {
@@ -158,6 +158,7 @@ struct PyramidJob::Impl {
     // A job over a scene file (not empty): each shard reads its part of it; the levels above read
     // topPart. Otherwise the caller's whole document.
     std::string scenePath;
+    bool fromFile = false;  // a job over a scene file (its read of the levels above checks it whole when asked)
     std::string fileChecksum;  // the scene file's stored checksum (a job over a file, or PyramidParams::sceneChecksum)
     std::size_t fileElements = 0;  // its curves and areas (the default shard level)
     std::size_t topBytes = 0;      // topPart's vector data (model/graph.h: memoryBytes)
@@ -194,7 +195,7 @@ struct PyramidJob::Impl {
     }
 
     Impl(const std::string& path, PyramidParams p, QuadDigestMap prev)
-        : params(p), previous(std::move(prev)), scenePath(path), topPart(readTop(path, p)), doc(topPart),
+        : params(p), previous(std::move(prev)), scenePath(path), fromFile(true), topPart(readTop(path, p)), doc(topPart),
           demSource(batchDemSource(topPart, p.demBudgetMiB)),
           top(std::make_unique<SceneModel>(&topPart, SceneDocument{}, refine, demSource->heights())),
           cur(top.get()) {
@@ -557,6 +558,7 @@ void PyramidJob::forgetPrevious() { impl_->previous.clear(); }
 const PyramidParams& PyramidJob::params() const { return impl_->params; }
 PyramidStats& PyramidJob::stats() {
     auto& s = impl_->stats;
+    s.wholeFileChecked = impl_->fromFile && impl_->params.wholeFileCheck;
     s.times = {impl_->clip.seconds(),   impl_->digest.seconds(), impl_->elevation.seconds(), impl_->appearance.seconds(),
                impl_->mipmap.seconds(), impl_->encode.seconds(), impl_->decode.seconds(),    impl_->write.seconds(),
                impl_->demRead.seconds()};

@@ -70,6 +70,12 @@ struct PyramidParams {
     // The clipped quads made from a part are not counted (passLevels bounds them). Memory only:
     // not stored with the pyramid, no tile depends on it.
     double vectorBudgetMiB = 2048.0;
+    // A job over a scene file: SQLite's quick_check of every page of the file before its first
+    // read (io/scene_region.h: SceneRegionOptions::wholeFileCheck), O(file) in one read
+    // transaction that a save waits for (99 s for a cold 3.6 GB file). A build reads most of the
+    // file and checks it; an update (after a save) leaves it: SQLite still checks each page it
+    // reads and every row read is checked. Not stored, no tile depends on it.
+    bool wholeFileCheck = true;
     // The scene checksum the pyramid records (empty: the document's, io/scene_checksum.h). A job
     // over a document read whole from a scene file gives that file's stored text, whose form
     // follows the file's format, as a session reading the file lazily compares it. Not stored.
@@ -111,6 +117,7 @@ struct PyramidStats {
     double topVectorMiB = 0.0;        // of it, the part read for the levels above the shards
     double largestPartMiB = 0.0;      // the largest shard's part
     std::size_t readsNotAhead = 0;    // shards' parts not read ahead: with the one being made, over vectorBudgetMiB
+    bool wholeFileChecked = false;    // a job over a scene file: SQLite's quick_check read every page first (PyramidParams::wholeFileCheck)
     PyramidTimes times;
     PyramidDemStats dem;
     double wallSeconds = 0.0;

@@ -97,6 +97,7 @@ PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParam
     PyramidParams params = pyramidParams(*old);
     params.demBudgetMiB = demBudgetMiB;
     params.vectorBudgetMiB = vectorBudgetMiB;
+    params.wholeFileCheck = false;  // a save waits for no O(file) read (PyramidParams::wholeFileCheck)
     const std::unique_ptr<PyramidJob> job = makeJob(params, store.digests());
     const PyramidInfo wanted = job->info();
     checkPyramidMatches(*old, wanted, path);
