@@ -4,6 +4,7 @@
 // the file has not is refused. The scene of tests/editor/lazy_forest_fixture.h.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "tests/editor/lazy_forest_fixture.h"
 
@@ -135,6 +136,77 @@ TEST_F(LazyForestEditTest, TheUndoOfAnEditWhosePartsWereDroppedSinceGivesTheWhol
     EXPECT_GT(lazy.lazyForest()->stats().partsRead, read) << "the edit's part was not read again";
     ASSERT_TRUE(lazy.lazyForest()->holds(part));
     samePartTiles();
+}
+
+// A river far from a part, under a long road the part holds (its read brought the river: the graph
+// step's bridge), deleted and brought back by undo: the part is renewed both times (the undo
+// names nothing it holds, and meets nowhere near it), so it keeps the road's bridge as the whole
+// scene does.
+TEST_F(LazyForestEditTest, ARiverUnderAFarPartsRoadDeletedAndBroughtBackRenewsThatPart) {
+    EditSession whole(loadScene(*path_), sessionParams());
+    EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
+    const Scene& scene = whole.document().scene;
+    const Box e = scene.extent;
+    const double side = e.size().x / double(1 << kPartLevel);
+    // (road layer, road, river layer, river, part): the road meets the part's quad, the river its
+    // hull and not the part's quad dilated by a quarter of a part.
+    struct Case {
+        LayerId riverLayer = 0;
+        ElementId river = kNoElement;
+        QuadKey part;
+    };
+    std::optional<Case> found;
+    for (LayerId rl = 0; rl < scene.layers.size() && !found; ++rl) {
+        if (scene.layers[rl].kind != LayerKind::Roads) continue;
+        for (const Curve& road : scene.layers[rl].curves) {
+            if (!road.alive || found) continue;
+            const Box hull = hullBox(road);
+            for (LayerId vl = 0; vl < scene.layers.size() && !found; ++vl) {
+                if (scene.layers[vl].kind != LayerKind::Rivers) continue;
+                for (ElementId v = 0; v < scene.layers[vl].curves.size() && !found; ++v) {
+                    const Curve& river = scene.layers[vl].curves[v];
+                    if (!river.alive || !river.areas.empty() || !hullBox(river).intersects(hull)) continue;
+                    for (int x = 0; x < (1 << kPartLevel) && !found; ++x)
+                        for (int y = 0; y < (1 << kPartLevel) && !found; ++y) {
+                            const Box quad{e.min + Vec2(double(x), double(y)) * side, e.min + Vec2(double(x + 1), double(y + 1)) * side};
+                            if (quad.intersects(hull) && !quad.dilated(0.25 * side).intersects(hullBox(river)))
+                                found = Case{vl, v, QuadKey{kPartLevel, x, y}};
+                        }
+                }
+            }
+        }
+    }
+    ASSERT_TRUE(found) << "no river under a road far from a part the road crosses";
+    const auto [l, x, y] = found->part;
+    const Vec2 c = e.min + (Vec2(double(x), double(y)) + 0.5) * side;
+    const auto look = [&](const char* when) {
+        SCOPED_TRACE(when);
+        whole.frame({c.x, c.y, 80.0}, 0.0);
+        lazy.frame({c.x, c.y, 80.0}, 0.0);
+        expectSameTiles(lazy, whole);
+    };
+    // The parts holding the river (the far one among them, through the road).
+    const auto holding = [&] {
+        std::size_t n = 0;
+        lazy.lazyForest()->forEachPart([&](const SceneDocument& part) {
+            n += localIdOf(part.scene.layers[found->riverLayer], ElementKind::Curve, found->river) != kNoElement;
+        });
+        return n;
+    };
+    look("before");
+    ASSERT_TRUE(lazy.lazyForest()->holds(found->part));
+    const std::size_t held = holding();
+    ASSERT_GT(held, 0u);
+    const Command del = DeleteCurveCmd{found->riverLayer, found->river};
+    whole.execute(del);
+    lazy.execute(del);
+    look("deleted");
+    const LazyStats before = lazy.lazyForest()->stats();
+    ASSERT_TRUE(whole.undo());
+    ASSERT_TRUE(lazy.undo());
+    EXPECT_GT(lazy.lazyForest()->stats().partsRenewed, before.partsRenewed) << "the undo renewed no part";
+    EXPECT_EQ(holding(), held) << "a part that held the river before the delete does not hold it after the undo";
+    look("brought back");
 }
 
 TEST_F(LazyForestEditTest, EditsOfAPartialSceneGiveTheWholeScenesTilesAndUndoRestoresThem) {
