@@ -402,7 +402,7 @@ void addCheckCommand(CLI::App& app) {
     heights->add_option("scene", h->scene, "Scene file the pyramid was built from")->required();
     heights->add_option("--pyramid", h->pyramid, "Pyramid file (default: SCENE.pyramid.gpkg)");
     heights->add_option("--level", h->params.level, "Pyramid level checked (default: its deepest)")->check(CLI::Range(0, 30));
-    heights->add_option("--tiles", h->params.tiles, "Tiles of the level checked, spread evenly (64)")->check(CLI::Range(1, 1 << 20));
+    heights->add_option("--tiles", h->params.tiles, "Tiles of the level checked, spread evenly (64)")->check(CLI::Range(1, kMaxHeightCheckTiles));
     heights->add_option("--tolerance", h->params.toleranceM, "A cell agrees with a DEM level within this (m; 0.001)")
         ->check(CLI::Range(1e-9, 1000.0));
     heights->add_option("--dem-budget", h->params.demBudgetMiB, "MiB of a streamed DEM's blocks held at once")

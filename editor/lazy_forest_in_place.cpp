@@ -212,6 +212,9 @@ bool LazyForest::growInPlace(Part& part, const LazyStep& step, StepRivers& river
             const Curve& c = curveOf(k, true);
             const std::optional<Box>& box = step.after[k].box;
             const bool endsHeld = local(r.layer, ElementKind::Node, c.start) != kNoElement || local(r.layer, ElementKind::Node, c.end) != kNoElement;
+            // Wider than every held road: the read's reach may grow (it follows the widest road
+            // of the file and the edits) and find what the search before did not.
+            if (c.wf > widest) return false;
             if (!box || !box->intersects(searched)) {
                 if (endsHeld) return false;
                 for (const Layer& layer : scene.layers)
@@ -221,7 +224,7 @@ bool LazyForest::growInPlace(Part& part, const LazyStep& step, StepRivers& river
                                 return false;
                 continue;
             }
-            if (c.wf > widest || !riversHeld(part, c, k, rivers)) return false;
+            if (!riversHeld(part, c, k, rivers)) return false;
             in.push_back(k);
         }
         const auto comes = [&](LayerId l, ElementId file) {

@@ -34,7 +34,11 @@ std::vector<float> cellsFromDem(const Dem& dem, const Box& bounds, int n) {
     return cells;
 }
 
-double quantile(std::vector<double>& v, double q) {
+// The least share of a tile's cells that must agree with a level for the tile to be its (the
+// footprints of roads, rivers and lakes, which agree with no level, cover the rest).
+constexpr double kDecidingFraction = 0.1;
+
+double quantile(std::vector<float>& v, double q) {
     if (v.empty()) return 0.0;
     const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5));
     std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(k), v.end());
@@ -91,7 +95,8 @@ nlohmann::json PyramidHeightCheck::json() const {
 
 PyramidHeightCheck checkPyramidHeights(const std::string& scenePath, const std::string& pyramidPath,
                                        const PyramidHeightCheckParams& params) {
-    if (params.tiles < 1) throw std::invalid_argument("the tiles checked must be at least 1");
+    if (params.tiles < 1 || params.tiles > kMaxHeightCheckTiles)
+        throw std::invalid_argument("the tiles checked must be 1 to " + std::to_string(kMaxHeightCheckTiles));
     if (!(params.toleranceM > 0.0) || !std::isfinite(params.toleranceM)) throw std::invalid_argument("the tolerance must be > 0 m");
     const auto t0 = std::chrono::steady_clock::now();
     PyramidStore store(pyramidPath, PyramidStore::Mode::ReadOnly);
@@ -129,10 +134,9 @@ PyramidHeightCheck checkPyramidHeights(const std::string& scenePath, const std::
     const Vec2 quadSize = info->extent.size() / double(side);
     const DemNeed need0 = quadDemNeed(Box{info->extent.min, info->extent.min + quadSize});
     c.neededLevel = stream ? stream->layout().levelFor(need0.spacing) : 0;
-    const int first = stream ? std::max(0, c.neededLevel - 2) : 0;
     const int last = stream ? c.demLevels - 1 : 0;
-    for (int l = first; l <= last; ++l) c.levels.push_back({l, stream ? stream->layout().levelCell(l) : head.dem->cellSize().x});
-    std::vector<std::vector<double>> diffs(c.levels.size());
+    for (int l = 0; l <= last; ++l) c.levels.push_back({l, stream ? stream->layout().levelCell(l) : head.dem->cellSize().x});
+    std::vector<std::vector<float>> diffs(c.levels.size());
 
     for (const auto& [tx, ty] : spreadQuads(c.level, params.tiles)) {
         const auto blob = store.tile(kElevationTable, PyramidKey{c.level, tx, ty});
@@ -150,24 +154,36 @@ PyramidHeightCheck checkPyramidHeights(const std::string& scenePath, const std::
         std::vector<std::size_t> within(c.levels.size(), 0);
         for (std::size_t k = 0; k < c.levels.size(); ++k) {
             std::shared_ptr<const Dem> dem;
-            if (stream) dem = stream->windowNow(need.box, stream->layout().levelCell(c.levels[k].demLevel)).dem;
-            else dem = std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &*head.dem);
+            if (stream) {
+                const DemWindow w = stream->windowNow(need.box, stream->layout().levelCell(c.levels[k].demLevel));
+                if (w.level != c.levels[k].demLevel)
+                    throw DemLodError(scenePath + ": the DEM tree's level " + std::to_string(c.levels[k].demLevel) +
+                                      " cannot be read under elevation tile " + std::to_string(c.level) + "/" + std::to_string(tx) +
+                                      "/" + std::to_string(ty) + " (a block is corrupt or missing)");
+                dem = w.dem;
+            } else {
+                dem = std::shared_ptr<const Dem>(std::shared_ptr<const Dem>(), &*head.dem);
+            }
             const std::vector<float> made = cellsFromDem(*dem, bounds, n);
             for (std::size_t i = 0; i < made.size(); ++i) {
                 const double d = std::abs(double(stored.values[i]) - double(made[i]));
-                diffs[k].push_back(d);
+                diffs[k].push_back(float(d));
                 within[k] += d <= params.toleranceM;
             }
             c.levels[k].cellsWithin += within[k];
         }
         ++c.tilesChecked;
         c.cells += std::size_t(n) * std::size_t(n);
-        // The tile's source: the level most cells agree with; a tie at the top decides nothing.
+        // The tile's source: the level most cells agree with, when at least kDecidingFraction of
+        // them do (footprints cover the rest); a tie at the top, or too few, decides nothing.
         std::vector<std::size_t> order(c.levels.size());
         for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
         std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return within[a] > within[b]; });
-        if (within[order[0]] == 0 || (order.size() > 1 && within[order[0]] == within[order[1]])) ++c.tilesUndecided;
-        else ++c.levels[order[0]].tilesBest;
+        const double cellsOfTile = double(n) * double(n);
+        if (double(within[order[0]]) < kDecidingFraction * cellsOfTile || (order.size() > 1 && within[order[0]] == within[order[1]]))
+            ++c.tilesUndecided;
+        else
+            ++c.levels[order[0]].tilesBest;
     }
     for (std::size_t k = 0; k < c.levels.size(); ++k) {
         HeightLevelMatch& l = c.levels[k];

@@ -6,11 +6,13 @@
 // A stored elevation cell is the mean of its four corners' z_m (pyramid/pyramid_tiles.h:
 // elevationCells), and away from the footprints z_m is the DEM's bilinear height z_o at the corner
 // (raster/elevation_producer.h). So each checked tile is made again from the DEM alone, once per
-// level of the LOD tree compared (the level the quad needs, its two coarser neighbours, and every
-// finer one), and each cell is compared with the stored one. The level whose cells agree within
-// `toleranceM` most often is the tile's source; the cells under roads, rivers and lakes differ from
-// every level and only lower the counts. A tile whose best levels tie (a flat place: every level
-// gives the same heights) is undecided and proves nothing.
+// level of the LOD tree (every level, the root to the finest), and each cell is compared with the
+// stored one. The level whose cells agree within `toleranceM` most often, when a tenth of them at
+// least do, is the tile's source; the cells under roads, rivers and lakes differ from every level
+// and only lower the counts. A tile whose best levels tie (a flat place: every level gives the same
+// heights), or that agrees with no level, is undecided and proves nothing; the check passes when
+// every decided tile is the needed level's and one tile at least decided. A level the check
+// cannot read (a corrupt block) is refused by name.
 //
 // A scene whose DEM is held in memory (no LOD tree) has one level: the tiles must agree with it.
 //
@@ -24,9 +26,13 @@
 
 namespace lacet {
 
+// The most tiles one check compares (their cells' differences are kept for the quantiles: 4096
+// tiles of 24^2 cells are 9 MiB a DEM level).
+inline constexpr int kMaxHeightCheckTiles = 4096;
+
 struct PyramidHeightCheckParams {
     int level = -1;            // the pyramid level checked (-1: its deepest)
-    int tiles = 64;            // tiles of that level checked, spread evenly over it (>= 1)
+    int tiles = 64;            // tiles of that level checked, spread evenly over it (1 to kMaxHeightCheckTiles)
     double toleranceM = 1e-3;  // a cell agrees with a level when within this (m, > 0)
     double demBudgetMiB = 512.0;
 };

@@ -350,7 +350,27 @@ TEST_F(LazyForestEditTest, ARoadDrawnAndTakenBackUpdatesThePartsHoldingItInPlace
     whole.frame(viewer, 0.0);
     lazy.frame(viewer, 0.0);
     expectSameTiles(lazy, whole);
-    for (int k = 0; k < 2; ++k) {  // the spur, then the road
+    // A road wider than every road a part holds: the part's read would reach farther (its reach
+    // follows the widest road), so the parts it touches are read again, not grown in memory.
+    for (EditSession* s : {&whole, &lazy}) s->beginGroup();
+    Curve wide;
+    wide.start = lazy.nextId(kRoadsLayer, ElementKind::Node);
+    wide.end = wide.start + 1;
+    const Vec2 w0 = a + Vec2(-300.0, 250.0), w1 = w0 + Vec2(120.0, 0.0);
+    both(AddNodeCmd{kRoadsLayer, w0});
+    both(AddNodeCmd{kRoadsLayer, w1});
+    wide.w = 60.0f;
+    wide.wf = 400.0f;
+    wide.vertices = {Vertex{w0, true, false}, Vertex{w1, true, false}};
+    const LazyStats beforeWide = lazy.lazyForest()->stats();
+    both(AddCurveCmd{kRoadsLayer, wide});
+    for (EditSession* s : {&whole, &lazy}) s->endGroup();
+    EXPECT_EQ(lazy.lazyForest()->stats().partsGrown, beforeWide.partsGrown);
+    EXPECT_GT(lazy.lazyForest()->stats().partsRenewed, beforeWide.partsRenewed);
+    whole.frame(viewer, 0.0);
+    lazy.frame(viewer, 0.0);
+    expectSameTiles(lazy, whole);
+    for (int k = 0; k < 3; ++k) {  // the wide road, the spur, then the road
         ASSERT_TRUE(whole.undo());
         ASSERT_TRUE(lazy.undo());
         whole.frame(viewer, 0.0);

@@ -51,14 +51,14 @@ TEST(PyramidHeightCheck, TheDeepestTilesComeFromTheTreesFinestLevelAndTilesOfACo
     EXPECT_EQ(good.tilesChecked, 64u);
     EXPECT_EQ(good.tilesMissing, 0u);
     EXPECT_EQ(good.cells, 64u * 24u * 24u);
-    ASSERT_EQ(good.levels.size(), 3u);  // the needed level and the two coarser
-    EXPECT_EQ(good.levels.front().demLevel, finest - 2);
+    ASSERT_EQ(good.levels.size(), std::size_t(finest + 1));  // every level of the tree, the root first
+    EXPECT_EQ(good.levels.front().demLevel, 0);
     const HeightLevelMatch& best = good.levels.back();
     EXPECT_EQ(best.demLevel, finest);
     EXPECT_EQ(best.tilesBest + good.tilesUndecided, 64u);
     EXPECT_GT(best.tilesBest, 32u);
     EXPECT_EQ(best.medianM, 0.0) << "away from the footprints a cell is the finest level's, exactly";
-    EXPECT_GT(good.levels.front().medianM, 0.01) << "a coarser level differs: the check tells them apart";
+    EXPECT_GT(good.levels[std::size_t(finest - 2)].medianM, 0.01) << "a coarser level differs: the check tells them apart";
     EXPECT_EQ(good.json()["passed"], true);
 
     // The deepest elevation tiles replaced by those a build from the coarse level in memory makes:
