@@ -78,13 +78,7 @@ TEST_F(LazyForestEditTest, ARoadMovedFromOnePartIntoAnotherGivesTheWholeScenesTi
 // the undo changes no part held, and the parts read again when the viewer comes back are the
 // file's with the edit taken back: the whole scene's tiles.
 TEST_F(LazyForestEditTest, TheUndoOfAnEditWhosePartsWereDroppedSinceGivesTheWholeScenesTilesWhenTheyAreReadAgain) {
-    double top = 0.0, largest = 0.0;
-    {
-        EditSession probe(*path_, lazyParams(1024.0), sessionParams());
-        for (const glm::dvec3& v : viewers(probe.document().scene.extent, 8, 5)) probe.frame(v, 0.0);
-        top = probe.lazyForest()->stats().topMiB;
-        largest = probe.lazyForest()->stats().largestPartMiB;
-    }
+    const auto [top, largest] = partSizes();
     EditSession whole(loadScene(*path_), sessionParams());
     EditSession lazy(*path_, lazyParams(top + 2.2 * largest), sessionParams());  // room for two parts
     const Scene& scene = whole.document().scene;

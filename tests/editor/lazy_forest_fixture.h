@@ -85,6 +85,13 @@ protected:
         buildPyramid(*path_, pyramid, pp, /*force=*/true, nullptr);
         return pyramid;
     }
+    // The top tree's vector data and the largest part's (MiB), read with room for all by viewers
+    // over random points.
+    static std::pair<double, double> partSizes() {
+        EditSession probe(*path_, lazyParams(1024.0), sessionParams());
+        for (const glm::dvec3& v : viewers(probe.document().scene.extent, 8, 5)) probe.frame(v, 0.0);
+        return {probe.lazyForest()->stats().topMiB, probe.lazyForest()->stats().largestPartMiB};
+    }
     static std::filesystem::path* dir_;
     static std::string* path_;
 };

@@ -245,14 +245,7 @@ TEST_F(LazyForestTest, AStepWhoseReadOfTheTopFailsIsTakenBackWhole) {
 }
 
 TEST_F(LazyForestTest, TheBudgetDropsWhatNoViewerWantsFirstAndRefusesWhatDoesNotFit) {
-    // The parts' sizes, read with room for all.
-    double top = 0.0, largest = 0.0;
-    {
-        EditSession probe(*path_, lazyParams(1024.0), sessionParams());
-        for (const glm::dvec3& v : viewers(probe.document().scene.extent, 8, 5)) probe.frame(v, 0.0);
-        top = probe.lazyForest()->stats().topMiB;
-        largest = probe.lazyForest()->stats().largestPartMiB;
-    }
+    const auto [top, largest] = partSizes();
     ASSERT_GT(largest, 0.0);
     // Room for the largest part and a little more: each viewer's parts fit one by one, not all.
     const double room = 1.2 * largest;
