@@ -158,7 +158,6 @@ bool LazyForest::growInPlace(Part& part, const LazyStep& step, StepRivers& river
             const ElementId id = local(r.layer, ElementKind::Curve, r.id);
             if (id == kNoElement) continue;  // not held, and nothing held names it
             const Curve& held = scene.layers[r.layer].curves[id];
-            if (held.wf > widest) return false;  // cannot be: held
             curves[r.layer].push_back(id);
             for (const ElementId n : {held.start, held.end}) {
                 const std::vector<ElementId>& at = scene.layers[r.layer].nodes[n].curves;
@@ -171,36 +170,30 @@ bool LazyForest::growInPlace(Part& part, const LazyStep& step, StepRivers& river
                 nodes[r.layer].push_back(n);
             }
         }
-        for (auto& [l, ids] : curves) {
-            std::sort(ids.begin(), ids.end(), std::greater<>());
-            ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-            for (std::size_t i = 0; i < ids.size(); ++i)
-                if (ids[i] != scene.layers[l].curves.size() - 1 - i) return false;
-        }
-        for (auto& [l, ids] : nodes) {
-            std::sort(ids.begin(), ids.end(), std::greater<>());
-            ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-            for (std::size_t i = 0; i < ids.size(); ++i)
-                if (ids[i] != scene.layers[l].nodes.size() - 1 - i) return false;
-        }
-        for (auto& [l, ids] : curves) {
-            Layer& layer = scene.layers[l];
-            for (const ElementId id : ids) {
-                part.bytes -= memoryBytes(layer.curves[id]) + sizeof(ElementId);
-                layer.curves.pop_back();
-                layer.sceneIds.curves.pop_back();
-                cs.removed.push_back({l, ElementKind::Curve, id});
+        // Each kind's ids taken, largest first: they must be the last ones held.
+        const auto areTails = [](std::map<LayerId, std::vector<ElementId>>& taken, const auto& held) {
+            for (auto& [l, ids] : taken) {
+                std::sort(ids.begin(), ids.end(), std::greater<>());
+                ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+                for (std::size_t i = 0; i < ids.size(); ++i)
+                    if (ids[i] != held(l).size() - 1 - i) return false;
             }
-        }
-        for (auto& [l, ids] : nodes) {
-            Layer& layer = scene.layers[l];
-            for (const ElementId id : ids) {
-                part.bytes -= memoryBytes(layer.nodes[id]) + sizeof(ElementId);
-                layer.nodes.pop_back();
-                layer.sceneIds.nodes.pop_back();
-                cs.removed.push_back({l, ElementKind::Node, id});
-            }
-        }
+            return true;
+        };
+        const auto layerCurves = [&](LayerId l) -> const std::vector<Curve>& { return scene.layers[l].curves; };
+        const auto layerNodes = [&](LayerId l) -> const std::vector<Node>& { return scene.layers[l].nodes; };
+        if (!areTails(curves, layerCurves) || !areTails(nodes, layerNodes)) return false;
+        // Popped from the end of the layer's elements and of their file ids.
+        const auto pop = [&](auto& elements, std::vector<ElementId>& fileIds, LayerId l, ElementKind kind, ElementId id) {
+            part.bytes -= memoryBytes(elements[id]) + sizeof(ElementId);
+            elements.pop_back();
+            fileIds.pop_back();
+            cs.removed.push_back({l, kind, id});
+        };
+        for (const auto& [l, ids] : curves)
+            for (const ElementId id : ids) pop(scene.layers[l].curves, scene.layers[l].sceneIds.curves, l, ElementKind::Curve, id);
+        for (const auto& [l, ids] : nodes)
+            for (const ElementId id : ids) pop(scene.layers[l].nodes, scene.layers[l].sceneIds.nodes, l, ElementKind::Node, id);
     } else {
         // Added: a curve the region search finds now (its box meets the region searched) with its
         // end nodes, when every curve at those nodes is held or comes with it (a read loads every
