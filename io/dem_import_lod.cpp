@@ -154,8 +154,8 @@ DemLodOutput writeDemLodFile(const std::string& path, const DemLodLayout& layout
     DemLodOutput out;
     out.layout = layout;
     out.coarseLevel = levelAtMost(layout, coarseSide);
-    createEmptyGpkg(path);
     try {
+        createEmptyGpkg(path);
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);
         db.exec("PRAGMA synchronous = OFF");  // a file of its own, removed when the writing fails
         db.exec("BEGIN");
@@ -185,6 +185,19 @@ DemLodOutput writeDemLodFile(const std::string& path, const DemLodLayout& layout
         const double c = layout.levelCell(out.coarseLevel);
         const Vec2 topLeft = layout.origin + Vec2(-0.5 * c, 0.5 * c);
         out.coarse.emplace(Box{{topLeft.x, topLeft.y - ch * c}, {topLeft.x + cw * c, topLeft.y}}, cw, ch, std::move(coarse));
+    } catch (const std::invalid_argument&) {  // a caller's mistake
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+        throw;
+    } catch (const DemImportError&) {  // the source's, naming it
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+        throw;
+    } catch (const std::exception& e) {
+        // SQLite's and GDAL's errors give the reason only: the file is the DEM tree's.
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+        throw DemImportError(path + ": cannot write the DEM tree: " + e.what());
     } catch (...) {
         std::error_code ec;
         std::filesystem::remove(path, ec);

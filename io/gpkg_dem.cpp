@@ -7,6 +7,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "io/sqlite_db.h"
+
 namespace lacet {
 namespace {
 
@@ -111,6 +113,14 @@ void createEmptyGpkg(const std::string& path) {
     DatasetPtr out(gpkg->Create(path.c_str(), 0, 0, 0, GDT_Unknown, const_cast<char**>(options)));
     if (!out) errors.fail("cannot create a GeoPackage");
     closeChecked(out, errors, "cannot create a GeoPackage");
+    // GDAL does not report every failed write of the new file's tables (a full disk): check them.
+    bool whole = false;
+    try {
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        whole = db.hasTable("gpkg_contents") && db.hasTable("gpkg_spatial_ref_sys");
+    } catch (const SqliteError&) {
+    }
+    if (!whole) throw std::runtime_error("cannot create a GeoPackage: its required tables are missing (a write failed: a full disk?)");
 }
 
 std::vector<float> readGpkgDem(const std::string& path, int width, int height) {

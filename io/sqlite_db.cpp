@@ -3,11 +3,27 @@
 #include <sqlite3.h>
 #include <sys/stat.h>
 
+#include <cstring>
+
 namespace lacet {
 namespace {
 
+// SQLite's message, with the system's reason when a read or write of the file failed (a file size
+// limit or a lost device: SQLite says only "disk I/O error"; a full disk is its SQLITE_FULL).
+std::string reasonOf(sqlite3* db, const char* message) {
+    std::string reason = message ? message : db ? sqlite3_errmsg(db) : "out of memory";
+    if (!db) return reason;
+    const int primary = sqlite3_extended_errcode(db) & 0xff;
+    const int error = sqlite3_system_errno(db);
+    if ((primary == SQLITE_IOERR || primary == SQLITE_FULL || primary == SQLITE_CANTOPEN) && error != 0)
+        reason += std::string(": ") + std::strerror(error);
+    else if (sqlite3_extended_errcode(db) == SQLITE_IOERR_WRITE)  // SQLite keeps no errno of a failed write
+        reason += ": a write failed (a full disk, a file size limit or a device error)";
+    return reason;
+}
+
 [[noreturn]] void fail(sqlite3* db, std::string_view what) {
-    throw SqliteError(std::string(what) + " (SQLite: " + (db ? sqlite3_errmsg(db) : "out of memory") + ")");
+    throw SqliteError(std::string(what) + " (SQLite: " + reasonOf(db, nullptr) + ")");
 }
 
 }  // namespace
@@ -96,7 +112,7 @@ SqliteDb::SqliteDb(const std::string& path, Mode mode) {
     if (mode == Mode::ReadOnly) rollBackHotJournal(path);
     const int flags = mode == Mode::ReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE;
     if (sqlite3_open_v2(path.c_str(), &db_, flags, nullptr) != SQLITE_OK) {
-        const std::string reason = db_ ? sqlite3_errmsg(db_) : "out of memory";
+        const std::string reason = reasonOf(db_, nullptr);
         sqlite3_close(db_);
         db_ = nullptr;
         throw SqliteError("cannot open (SQLite: " + reason + ")");
@@ -112,7 +128,7 @@ void SqliteDb::busyTimeout(int ms) { sqlite3_busy_timeout(db_, ms); }
 void SqliteDb::exec(std::string_view sql) {
     char* message = nullptr;
     if (sqlite3_exec(db_, std::string(sql).c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-        const std::string reason = message ? message : sqlite3_errmsg(db_);
+        const std::string reason = reasonOf(db_, message);
         sqlite3_free(message);
         throw SqliteError("cannot run '" + std::string(sql.substr(0, 60)) + "' (SQLite: " + reason + ")");
     }

@@ -116,6 +116,15 @@ public:
     SqliteDb& db() { return db_; }
 
 private:
+    // f(), its SQLite errors (the reason only) thrown as PyramidError naming this file.
+    template <class F>
+    auto named(F&& f) -> decltype(f()) {
+        try {
+            return f();
+        } catch (const SqliteError& e) {
+            throw PyramidError(path_ + ": " + e.what());
+        }
+    }
     void dropPyramid();
     // A prepared statement of `sql`, kept for the next call (reset, no bindings). Under mutex_.
     SqliteStatement& statement(const std::string& sql);
