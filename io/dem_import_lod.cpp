@@ -1,6 +1,7 @@
 #include "io/dem_import_lod.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -118,7 +119,38 @@ private:
 
 }  // namespace
 
+namespace {
+
+// Removes the DEM trees' temporary files beside `beside` that a killed import left: named as
+// uniqueDemLodPath names them, by a process that no longer runs (a live one's, or one whose id
+// another process took since, are kept). Best effort: what cannot be read or removed stays.
+void removeStaleDemLodFiles(const std::string& beside) {
+    namespace fs = std::filesystem;
+    const fs::path b(beside);
+    const fs::path dir = b.has_parent_path() ? b.parent_path() : fs::path(".");
+    const std::string prefix = b.filename().string() + ".dem.";
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+        const std::string name = e.path().filename().string();
+        if (name.rfind(prefix, 0) != 0 || !name.ends_with(".tmp")) continue;
+        long long pid = 0;
+        unsigned long long r = 0;
+        int used = 0;
+        const std::string rest = name.substr(prefix.size());
+        if (std::sscanf(rest.c_str(), "%lld.%16llx.tmp%n", &pid, &r, &used) != 2 || std::size_t(used) != rest.size() ||
+            rest.size() != rest.find('.') + 1 + 16 + 4 || pid <= 0)
+            continue;
+        if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // running, or not ours to ask
+        std::error_code removed;
+        fs::remove(e.path(), removed);
+        fs::remove(e.path().string() + "-journal", removed);
+    }
+}
+
+}  // namespace
+
 std::string uniqueDemLodPath(const std::string& beside) {
+    removeStaleDemLodFiles(beside);
     std::random_device random;
     for (int attempt = 0; attempt < 100; ++attempt) {
         const std::uint64_t r = std::uint64_t(random()) << 32 ^ std::uint64_t(random());

@@ -78,7 +78,8 @@ using DemRowSource = std::function<void(int t, std::span<float> heights)>;
 // it exclusively (O_CREAT | O_EXCL) and removing it at once (writeDemLodFile creates the file and
 // needs the path free). A caller removes the file only once writeDemLodFile (or importScene) made
 // it, never a file it found there. Throws std::runtime_error naming the path when none can be
-// created (a missing or read-only directory).
+// created (a missing or read-only directory). First removes the temporary files of this kind that
+// killed imports left beside `beside` (their process no longer runs).
 std::string uniqueDemLodPath(const std::string& beside);
 
 // Removes the file at `path` when destroyed, unless `path` is empty (errors ignored): a tree's file

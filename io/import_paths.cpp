@@ -91,7 +91,7 @@ void checkImportPaths(const ImportPaths& p) {
         throw ImportPathError(p.out + ": cannot write in " + dir.string() + ": " + std::strerror(errno));
     // The save writes `out`.tmp first and removes a stale one: it must be ours too.
     const std::string tmp = p.out + ".tmp";
-    if (::stat(tmp.c_str(), &st) == 0 && !isLacetScene(tmp))
+    if (::stat(tmp.c_str(), &st) == 0 && !isStaleSaveTemporary(tmp))
         throw ImportPathError(tmp + ": exists and is not a Lacet scene's temporary file: the save would remove it (move it away)");
     // A scene written into a directory of DEM tiles would be read as a tile by the next import.
     for (const std::string& d : p.dems) {

@@ -134,6 +134,27 @@ bool isLacetScene(const std::string& path) {
     }
 }
 
+bool isStaleSaveTemporary(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+    if (st.st_size == 0 || isLacetScene(path)) return true;
+    try {
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);  // rolls back a hot journal first
+        if (db.queryInteger("PRAGMA application_id") != kGpkgApplicationId) return false;
+        auto tables = db.prepare("SELECT name FROM sqlite_master WHERE type = 'table'");
+        while (tables.step()) {
+            const std::string name = tables.text(0);
+            const bool saveWritesItFirst = name.rfind("gpkg_", 0) == 0 || name.rfind("rtree_", 0) == 0 ||
+                                           name.rfind("sqlite_", 0) == 0 || name == kDemRasterTable || name == kDemLodTable ||
+                                           name == kDemLodMetaTable;
+            if (!saveWritesItFirst) return false;
+        }
+        return true;
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
 namespace {
 
 // loadSceneParts of the file at `path`, over `connection` (kept open) or a connection of its own.

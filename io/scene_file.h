@@ -96,6 +96,12 @@ SceneDocument loadScene(const std::string& path);
 // existing file only when this says so (or when forced): it never overwrites what it does not own.
 bool isLacetScene(const std::string& path);
 
+// Whether `path` is what a save killed before its rename leaves as its temporary file: empty (killed
+// as it was created), a GeoPackage holding no more than the DEM part a save writes first (GeoPackage
+// tables, the DEM raster or tree; its SQLite part rolled back from its journal), or a whole scene.
+// A file a user named so holds anything else and is not removed. Never throws.
+bool isStaleSaveTemporary(const std::string& path);
+
 class SqliteDb;
 
 // A scene file kept open between reads of its parts (io/scene_region.h), by one thread: one SQLite

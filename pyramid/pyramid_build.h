@@ -169,7 +169,9 @@ TileEncoding parseEncoding(const std::string& text);
 std::string defaultPyramidPath(const std::string& scenePath);
 
 // Builds the pyramid of `doc` into `out` in one transaction (a previous pyramid there stays
-// readable until it commits). Refuses a pyramid of another scene in `out` unless `force`.
+// readable until it commits; a new file is built beside `out` and renamed into place once
+// committed, so that a build that fails or is killed leaves nothing at `out`). Refuses a pyramid of
+// another scene in `out` unless `force`.
 PyramidStats buildPyramid(const SceneDocument& doc, const std::string& out, PyramidParams params, bool force,
                           Progress* progress);
 // The same from the scene file at `scenePath`, out of core (PyramidJob above).

@@ -1,6 +1,6 @@
 // One build or update of a pyramid file (pyramid/pyramid_build.h): a PyramidJob run in one
-// SQLite transaction, marked complete and committed, or rolled back (and a file the build created
-// removed) when it fails; the checks that the file's pyramid is this scene's.
+// SQLite transaction, marked complete and committed, or rolled back when it fails (a new file is
+// built under a temporary name and renamed into place once complete); the checks that the file's pyramid is this scene's.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +10,7 @@
 #include <string>
 #include <system_error>
 
+#include "io/atomic_file.h"
 #include "model/progress.h"
 #include "pyramid/pyramid_build.h"
 
@@ -64,27 +65,33 @@ PyramidStats run(PyramidJob& job, PyramidStore& store, Progress* progress) {
 PyramidStats build(const std::function<std::unique_ptr<PyramidJob>(PyramidParams)>& makeJob, const std::string& out,
                    PyramidParams params, bool force, Progress* progress) {
     const std::unique_ptr<PyramidJob> job = makeJob(params);
-    std::error_code noFile;  // a failed build removes a file it made (not a link, even a dangling one)
-    const bool created = !std::filesystem::exists(std::filesystem::symlink_status(out, noFile));
-    std::optional<PyramidStore> store(std::in_place, out, PyramidStore::Mode::ReadWrite);
     const PyramidInfo wanted = job->info();
-    if (auto old = store->info(); old && !force) checkPyramidMatches(*old, wanted, out);
-    try {
-        store->begin();
-        store->create(wanted);
-        PyramidStats st = run(*job, *store, progress);
-        complete(*store, wanted, st);
-        return st;
-    } catch (...) {
-        store->rollback();
-        if (created) {
-            store.reset();
-            std::error_code ec;
-            std::filesystem::remove(out, ec);
-            std::filesystem::remove(out + "-journal", ec);
+    const auto buildInto = [&](PyramidStore& store) {
+        store.begin();
+        try {
+            store.create(wanted);
+            PyramidStats st = run(*job, store, progress);
+            complete(store, wanted, st);
+            return st;
+        } catch (...) {
+            store.rollback();
+            throw;
         }
-        throw;
+    };
+    std::error_code noFile;  // not even a dangling link
+    if (!std::filesystem::exists(std::filesystem::symlink_status(out, noFile))) {
+        // A new file is built beside `out` and renamed into place once committed: a build that
+        // fails or is killed leaves no file at `out` (the next one removes its temporary file).
+        PyramidStats st;
+        replaceFileAtomically(out, [&](const std::string& tmp) {
+            PyramidStore store(tmp, PyramidStore::Mode::ReadWrite);
+            st = buildInto(store);
+        });
+        return st;
     }
+    PyramidStore store(out, PyramidStore::Mode::ReadWrite);
+    if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
+    return buildInto(store);
 }
 
 PyramidStats update(const std::function<std::unique_ptr<PyramidJob>(PyramidParams, QuadDigestMap)>& makeJob,

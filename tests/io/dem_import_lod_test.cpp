@@ -2,6 +2,9 @@
 // voids, with a scene larger than the DEM), the documented change when a void is wider than the
 // fill's margin, a two-tile SRTM mosaic cut from the shared Andorra tile (no seam, the same samples
 // as the uncut tile), and the memory held (the strips, never the whole grid).
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -392,6 +395,30 @@ TEST(DemLodTempPath, UniqueNamesBesideTheOutputThatNoFileHas) {
     EXPECT_THROW(writeDemLodFile(a, layout, [](int, std::span<float> row) { std::fill(row.begin(), row.end(), 1.0f); }),
                  std::invalid_argument);
     EXPECT_EQ(readText(a), "my notes");
+    std::filesystem::remove_all(dir);
+}
+
+// A killed import leaves its tree's temporary file (SIGKILL runs no cleanup): the next name asked
+// for beside the same output removes those of processes that no longer run, and keeps a running
+// process's, another output's and any file named otherwise.
+TEST(DemLodTempPath, TheTemporaryFilesOfKilledImportsAreRemoved) {
+    const auto dir = test::scratchDir("demlod_stale_temp");
+    const std::string out = (dir / "scene.gpkg").string();
+    // A process id that no process has: a child that exited and was reaped.
+    const pid_t gone = ::fork();
+    ASSERT_GE(gone, 0);
+    if (gone == 0) ::_exit(0);
+    ::waitpid(gone, nullptr, 0);
+    const std::string stale = out + ".dem." + std::to_string(gone) + ".0123456789abcdef.tmp";
+    const std::string running = out + ".dem." + std::to_string(::getpid()) + ".0123456789abcdef.tmp";
+    const std::string other = (dir / "other.gpkg").string() + ".dem." + std::to_string(gone) + ".0123456789abcdef.tmp";
+    const std::string unlike = out + ".dem." + std::to_string(gone) + ".notes.tmp";
+    for (const std::string& p : {stale, stale + "-journal", running, other, unlike}) writeText(p, "left");
+    const std::string fresh = uniqueDemLodPath(out);
+    EXPECT_FALSE(std::filesystem::exists(stale));
+    EXPECT_FALSE(std::filesystem::exists(stale + "-journal"));
+    for (const std::string& p : {running, other, unlike}) EXPECT_EQ(readText(p), "left") << p;
+    EXPECT_NE(fresh, stale);
     std::filesystem::remove_all(dir);
 }
 

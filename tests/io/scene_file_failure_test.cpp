@@ -1,6 +1,7 @@
 // A scene file's failures (io/scene_file.h, io/atomic_file.h): a write that cannot finish leaves
 // the previous file and no temporary; missing, empty, foreign, truncated, damaged and overwritten
 // files are refused by name, never a crash; a save killed at any moment leaves a whole scene.
+#include "io/sqlite_db.h"
 #include "tests/io/scene_file_fixture.h"
 
 namespace lacet {
@@ -74,6 +75,46 @@ TEST_F(SceneFileFailure, AFailedRenameRemovesTheTemporaryFile) {
     expectSceneFileError([&] { saveScene(path, handDocument(true)); }, path, "cannot rename");
     EXPECT_FALSE(fs::exists(path + ".tmp"));
     EXPECT_TRUE(fs::is_directory(path + "/occupied"));
+}
+
+// What a save killed before its rename leaves at <path>.tmp is recognized as such (the import
+// removes it, and refuses to remove anything else): empty, the DEM part alone (its SQLite part
+// rolled back), or a whole scene; a user's text file or GeoPackage is not.
+TEST_F(SceneFileFailure, AKilledSavesTemporaryFileIsToldFromAUsersFile) {
+    const std::string empty = file("empty.gpkg.tmp");
+    { std::ofstream(empty).flush(); }
+    EXPECT_TRUE(isStaleSaveTemporary(empty));
+    const std::string whole = file("whole.gpkg.tmp");
+    saveScene(whole, handDocument(true));
+    EXPECT_TRUE(isStaleSaveTemporary(whole));
+    // The DEM part: the whole scene less what its SQLite transaction writes.
+    const std::string demOnly = file("dem_only.gpkg.tmp");
+    saveScene(demOnly, handDocument(true));
+    {
+        SqliteDb db(demOnly, SqliteDb::Mode::ReadWrite);
+        std::vector<std::string> drop;
+        auto tables = db.prepare("SELECT name FROM sqlite_master WHERE type = 'table' AND name NOT LIKE 'gpkg%' AND name NOT LIKE "
+                                 "'rtree%' AND name NOT LIKE 'sqlite%' AND name <> 'dem'");
+        while (tables.step()) drop.push_back(tables.text(0));
+        tables.reset();
+        ASSERT_FALSE(drop.empty());
+        for (const std::string& t : drop) db.exec("DROP TABLE \"" + t + "\"");
+    }
+    EXPECT_FALSE(isLacetScene(demOnly));
+    EXPECT_TRUE(isStaleSaveTemporary(demOnly));
+    // A user's files.
+    const std::string text = file("notes.gpkg.tmp");
+    { std::ofstream(text) << "my notes\n"; }
+    EXPECT_FALSE(isStaleSaveTemporary(text));
+    const std::string theirs = file("theirs.gpkg.tmp");
+    saveScene(theirs, handDocument(true));
+    {
+        SqliteDb db(theirs, SqliteDb::Mode::ReadWrite);
+        db.exec("DROP TABLE lacet_meta");
+        db.exec("CREATE TABLE parcels (id INTEGER PRIMARY KEY, owner TEXT)");
+    }
+    EXPECT_FALSE(isStaleSaveTemporary(theirs));
+    EXPECT_FALSE(isStaleSaveTemporary(file("missing.gpkg.tmp")));
 }
 
 TEST_F(SceneFileFailure, AnInvalidSceneIsNotSaved) {
