@@ -38,7 +38,7 @@ ui::EditorDocument chooseDocument(const EditCli& o) {
     ui::EditorDocument d;
     if (!o.scene.empty()) {
         d.lazy = o.editor.vectorBudgetMiB > 0.0;
-        if (!d.lazy) d.document = loadScene(o.scene);
+        if (!d.lazy) d.document = loadScene(o.scene, d.storedChecksum);
         d.path = d.label = o.scene;
         return d;
     }

@@ -258,14 +258,79 @@ SqliteDb& SceneFileConnection::open(std::uint64_t device, std::uint64_t inode) {
     return *db_;
 }
 
-SceneDocument loadScene(const std::string& path) {
+SceneDocument loadScene(const std::string& path, std::string& storedChecksum) {
     SceneDocument doc;
     int version = 0;
     const std::string checksum = scene_format::loadSceneParts(path, doc, readElementTables, true, true, &version);
     if (const std::string sum = sceneChecksumText(doc, version); sum != checksum)
         throw SceneFileError(path + ": corrupt file (its contents do not match their checksum: " + sum + ", not " +
                              checksum + ")");
+    storedChecksum = checksum;
     return doc;
+}
+
+SceneDocument loadScene(const std::string& path) {
+    std::string unused;
+    return loadScene(path, unused);
+}
+
+namespace {
+
+std::string storedChecksumOf(SqliteDb& db, const std::string& path) {
+    try {
+        return db.queryText("SELECT value FROM lacet_meta WHERE key = 'checksum'");
+    } catch (const SqliteError& e) {
+        throw SceneFileError(path + ": cannot read its stored checksum (not a Lacet scene?): " + e.what());
+    }
+}
+
+}  // namespace
+
+std::string storedSceneChecksum(const std::string& path) {
+    try {
+        SqliteDb db(path, SqliteDb::Mode::ReadOnly);
+        return storedChecksumOf(db, path);
+    } catch (const SqliteError& e) {
+        throw SceneFileError(path + ": cannot open: " + e.what());
+    }
+}
+
+std::string saveSceneOver(const std::string& path, const SceneDocument& doc, const std::string& expected, int lockWaitMs) {
+    const auto storedChecksum = [&](SqliteDb& db) { return storedChecksumOf(db, path); };
+    // A saver that renamed a new file over `path` while this one waited for the old file's lock:
+    // lock the new one (a few times at most: each is a save that finished).
+    constexpr int kAttempts = 16;
+    for (int attempt = 0; attempt < kAttempts; ++attempt) {
+        struct stat before {};
+        if (::stat(path.c_str(), &before) != 0)
+            throw SceneFileError(path + ": cannot save over it: " + std::strerror(errno) + " (moved or removed since it was read)");
+        std::optional<SqliteDb> lock;
+        try {
+            lock.emplace(path, SqliteDb::Mode::ReadWrite);
+            lock->busyTimeout(lockWaitMs);
+            lock->exec("BEGIN IMMEDIATE");
+        } catch (const SqliteError& e) {
+            throw SceneFileError(path + ": cannot save over it: another program is writing it (waited " + std::to_string(lockWaitMs) +
+                                 " ms): " + e.what());
+        }
+        struct stat now {};
+        if (::stat(path.c_str(), &now) != 0 || now.st_dev != before.st_dev || now.st_ino != before.st_ino) continue;
+        if (const std::string stored = storedChecksum(*lock); stored != expected)
+            throw SceneFileChangedError(path + ": changed since it was read (another editor or command saved it: its checksum is " +
+                                        stored + ", was " + expected + "): not saved over, so that neither save is lost; save "
+                                        "under another name, or open it again");
+        saveScene(path, doc);
+        // Read while the old file's lock still makes the other savers wait.
+        SqliteDb saved(path, SqliteDb::Mode::ReadOnly);
+        const std::string checksum = storedChecksum(saved);
+        saved.close();
+        try {
+            lock->exec("ROLLBACK");
+        } catch (const SqliteError&) {
+        }
+        return checksum;
+    }
+    throw SceneFileError(path + ": cannot save over it: replaced " + std::to_string(kAttempts) + " times while waiting for its lock");
 }
 
 }  // namespace lacet

@@ -58,6 +58,12 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+// saveSceneOver's refusal: the file changed since it was read (another editor or command saved it).
+class SceneFileChangedError : public SceneFileError {
+public:
+    using SceneFileError::SceneFileError;
+};
+
 // Current version of the format above; loadScene refuses files of a later version.
 // Files of version 1 load as before (their checksum is format 1's, io/scene_checksum.h); a save
 // in place of edits (io/scene_save_edits.h) makes such a file version 2.
@@ -90,6 +96,21 @@ void saveSceneStreamed(const std::string& path, const SceneDocument& head, Layer
 // first, then every value read is checked, then the checksum), a file that is not a Lacet scene or
 // is of a later format version, or one whose model fails validate() (model/validate.h).
 SceneDocument loadScene(const std::string& path);
+// The same, and the checksum the file stores (lacet_meta), which saveSceneOver expects.
+SceneDocument loadScene(const std::string& path, std::string& storedChecksum);
+
+// The checksum the scene file at `path` stores (lacet_meta), read alone (not checked against the
+// contents: loadScene does that). Throws SceneFileError naming the file.
+std::string storedSceneChecksum(const std::string& path);
+
+// saveScene over the file a document was read from, when no one else saved it since: two editors of
+// one file, or an editor and a command, take turns and never lose an edit. Under an SQLite write
+// lock of the file at `path` (BEGIN IMMEDIATE, which another saver holding it makes this wait for,
+// up to `lockWaitMs`; a saver that replaced the file meanwhile makes this lock the new one), its
+// stored checksum must be `expected` (loadScene's, or the previous saveSceneOver's): else
+// SceneFileChangedError naming the file, which is left as it is. Returns the checksum the new file
+// stores. Throws SceneFileError as saveScene does, and when the file is gone or the lock is not given.
+std::string saveSceneOver(const std::string& path, const SceneDocument& doc, const std::string& expected, int lockWaitMs = 30000);
 
 // Whether `path` is a file Lacet wrote: a GeoPackage whose lacet_meta says it is a Lacet scene.
 // Reads only the header and one table (not the checksum); never throws. The import replaces an

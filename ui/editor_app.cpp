@@ -107,6 +107,7 @@ EditorApp::EditorApp(const EditorOptions& options, EditorDocument document) : op
     objects_ = std::make_unique<ObjectRenderer>();
     overlay_ = std::make_unique<OverlayRenderer>();
     scenePath_ = document.path;
+    diskChecksum_ = document.storedChecksum;
     pyramid_.setFiles(options_.noPyramid ? std::string() : options_.pyramid, document.path);
     log_["scene"] = document.label;
     const Box ext = document.lazy ? loadSceneExtent(document.path) : document.document.scene.extent;
@@ -288,7 +289,15 @@ void EditorApp::save(const std::string& path) {
             status("Saved " + std::to_string(s.nodes + s.curves + s.areas) + " edited elements into " + target + " in " +
                    std::to_string(int(msSince(t0))) + " ms");
         } else {
-            saveScene(target, session_->document());
+            std::error_code e1, e2;
+            const bool over = !diskChecksum_.empty() && std::filesystem::exists(target, e1) &&
+                              std::filesystem::weakly_canonical(target, e1) == std::filesystem::weakly_canonical(scenePath_, e2) && !e1 && !e2;
+            if (over) {
+                diskChecksum_ = saveSceneOver(target, session_->document(), diskChecksum_);
+            } else {
+                saveScene(target, session_->document());
+                diskChecksum_ = storedSceneChecksum(target);
+            }
             session_->markSaved();
             scenePath_ = target;
             status("Saved " + target + " in " + std::to_string(int(msSince(t0))) + " ms");
@@ -309,9 +318,11 @@ void EditorApp::open(const std::string& path) {
     while (pyramid_.updating()) pollPyramidUpdate(true);  // the updates of the scene being left end first
     if (options_.noPyramid) pyramid_.setFiles({}, path);
     else pyramid_.setDefaultFiles(path);
+    std::string checksum;
     if (options_.vectorBudgetMiB > 0.0) resetSession({}, path);
-    else resetSession(loadScene(path));
+    else resetSession(loadScene(path, checksum));
     scenePath_ = path;
+    diskChecksum_ = checksum;
     status("Opened " + path);
 }
 

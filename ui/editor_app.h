@@ -83,6 +83,7 @@ struct EditorDocument {
     SceneDocument document;  // empty when `lazy`: `path` is read lazily (EditorOptions::vectorBudgetMiB)
     bool lazy = false;
     std::string path;
+    std::string storedChecksum;  // what `path` stored when `document` was read from it (loadScene)
     std::string label;
     std::string message;
 };
@@ -151,6 +152,9 @@ private:
     std::unique_ptr<EditSession> session_;
     std::unique_ptr<EditingController> controller_;
     std::string scenePath_;
+    // What scenePath_ stores as read or last saved by this window (a whole document): a save over it
+    // is refused when it stores something else (another editor saved it: io/scene_file.h saveSceneOver).
+    std::string diskChecksum_;
     SessionParams sessionParams_;
     Camera camera_;
     std::unique_ptr<TerrainRenderer> terrain_;

@@ -293,3 +293,83 @@ TEST_F(SceneFileFailure, KillingTheProcessDuringASaveLeavesAWholeScene) {
 
 }  // namespace
 }  // namespace lacet
+
+namespace lacet {
+namespace {
+
+// Two editors of one file (issue 26's concurrent writers): the second save over it, made from what
+// it read before the first's, is refused by name and loses neither; saved again from the file's new
+// checksum, it goes through.
+TEST_F(SceneFileFailure, ASaveOverAFileChangedSinceItWasReadIsRefused) {
+    const std::string path = file("shared.gpkg");
+    saveScene(path, handDocument(true));
+    std::string readByA, readByB;
+    SceneDocument a = loadScene(path, readByA), b = loadScene(path, readByB);
+    ASSERT_EQ(readByA, readByB);
+    EXPECT_EQ(readByA, storedSceneChecksum(path));
+    b.scene.layers[0].curves[0].wf += 1.0f;
+    const std::string afterB = saveSceneOver(path, b, readByB);
+    EXPECT_EQ(afterB, storedSceneChecksum(path));
+    EXPECT_NE(afterB, readByA);
+    a.scene.layers[0].curves[0].wf += 2.0f;
+    try {
+        saveSceneOver(path, a, readByA);
+        ADD_FAILURE() << "A saved over B's edits";
+    } catch (const SceneFileChangedError& e) {
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("changed since it was read"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(identical(loadScene(path), b));
+    const std::string afterA = saveSceneOver(path, a, afterB);  // A read B's save (its checksum) and saves again
+    EXPECT_TRUE(identical(loadScene(path), a));
+    EXPECT_EQ(afterA, storedSceneChecksum(path));
+    EXPECT_THROW(saveSceneOver(file("nowhere.gpkg"), a, afterA), SceneFileError);
+}
+
+// Two processes save over the file at the same moment from the same checksum: they take turns
+// under the file's lock, one succeeds and the other is refused, and the file holds the first's.
+TEST_F(SceneFileFailure, TwoSavesOverOneFileAtOnceTakeTurns) {
+    const std::string path = file("raced.gpkg");
+    saveScene(path, handDocument(true));
+    const std::string base = storedSceneChecksum(path);
+    SceneDocument docs[2] = {syntheticDocument(), syntheticDocument()};
+    docs[1].scene.layers[0].curves[0].w += 1.0f;
+    for (int round = 0; round < 3; ++round) {
+        SCOPED_TRACE("round " + std::to_string(round));
+        saveScene(path, handDocument(true));
+        int go[2];
+        ASSERT_EQ(::pipe(go), 0);
+        pid_t children[2];
+        for (int k = 0; k < 2; ++k) {
+            children[k] = ::fork();
+            ASSERT_GE(children[k], 0);
+            if (children[k] == 0) {
+                char c;
+                ::close(go[1]);
+                if (::read(go[0], &c, 1) != 0) ::_exit(9);  // both start when the parent closes the pipe
+                try {
+                    saveSceneOver(path, docs[k], base);
+                    ::_exit(0);
+                } catch (const SceneFileChangedError&) {
+                    ::_exit(3);
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "save %d: %s\n", k, e.what());
+                    ::_exit(4);
+                }
+            }
+        }
+        ::close(go[0]);
+        ::close(go[1]);
+        int codes[2];
+        for (int k = 0; k < 2; ++k) {
+            int status = 0;
+            ::waitpid(children[k], &status, 0);
+            codes[k] = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+        }
+        ASSERT_TRUE((codes[0] == 0 && codes[1] == 3) || (codes[0] == 3 && codes[1] == 0)) << codes[0] << " " << codes[1];
+        EXPECT_TRUE(identical(loadScene(path), docs[codes[0] == 0 ? 0 : 1]));
+    }
+}
+
+}  // namespace
+}  // namespace lacet
