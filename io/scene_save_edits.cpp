@@ -1,7 +1,11 @@
 #include "io/scene_save_edits.h"
 
+#include <sys/stat.h>
+
+#include <cerrno>
 #include <charconv>
 #include <chrono>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <optional>
@@ -182,8 +186,15 @@ SceneEditsSaved saveSceneEdits(const std::string& path, const SceneOverlay& over
         }
     }
     try {
+        struct stat opened {};
+        if (::stat(path.c_str(), &opened) != 0) throw SceneFileError(path + ": not saved: " + std::strerror(errno));
         SqliteDb db(path, SqliteDb::Mode::ReadWrite);  // waits for readers: SqliteDb::kDefaultBusyTimeoutMs
         db.exec("BEGIN IMMEDIATE");
+        // A whole save (saveSceneOver) may have renamed a new file over the path while this waited
+        // for the old one's lock: writing into the old one would lose the edits.
+        struct stat locked {};
+        if (::stat(path.c_str(), &locked) != 0 || locked.st_dev != opened.st_dev || locked.st_ino != opened.st_ino)
+            throw SceneFileError(path + ": not saved: another program saved a new file over it since its edits began; it is left as it is");
         const StoredChecksum sum = storedChecksum(db);
         if (sum.text != expected || sum.giveChecksum() != parts.giveChecksum()) throw changed(sum.text);
         counts = idCounts(db, head.scene.layers.size());  // as read in this transaction
