@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -120,6 +121,47 @@ private:
 }  // namespace
 
 namespace {
+
+std::string gib(double bytes) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.3g GiB", bytes / double(1ull << 30));
+    return s;
+}
+
+// Refuses, with the figures, a grid whose tree could not be written or resampled here: one whose
+// 32-bit samples, with their coarser levels, would not fit the free space beside `lodPath` even
+// compressed kBestDemCompression times (the tree is then copied into the scene file: twice that),
+// or whose strips would not fit half the machine's memory. Before any of the grid's rows is visited.
+void checkDemLodFits(const std::string& name, const SceneGrid& grid, const std::string& lodPath, const DemLodImportParams& params) {
+    constexpr double kBestDemCompression = 4.0;  // DEFLATE of float heights rarely does better than this
+    const double samples = double(grid.width) * double(grid.height);
+    const double treeBytes = samples * 4.0 * 4.0 / 3.0;
+    const double needed = 2.0 * treeBytes / kBestDemCompression;
+    const std::filesystem::path p(lodPath);
+    const std::string dir = p.has_parent_path() ? p.parent_path().string() : std::string(".");
+    struct statvfs fs {};
+    const auto cellFor = [&](double bytes) {  // the cell at which the tree would need `bytes`
+        return grid.cell.x * std::sqrt(treeBytes / std::max(bytes, 1.0));
+    };
+    const std::string what = name + ": the DEM at " + number(grid.cell.x) + " m cells would be " + std::to_string(grid.width) + " x " +
+                             std::to_string(grid.height) + " samples (" + gib(treeBytes) +
+                             " as 32-bit heights with their coarser levels)";
+    if (::statvfs(dir.c_str(), &fs) == 0) {
+        const double free = double(fs.f_bavail) * double(fs.f_frsize);
+        if (needed > free)
+            throw DemImportError(what + ": the file system of " + dir + " has " + gib(free) + " free, and the tree needs at least " +
+                                 gib(needed) + " (written, then copied into the scene, compressed " + number(kBestDemCompression) +
+                                 " times at best); refused: a cell of " + number(cellFor(free * kBestDemCompression / 2.0)) +
+                                 " m or more would fit (--dem-cell)");
+    }
+    // A strip of scene rows, its source window and its void margin, a few buffers of each.
+    const double stripBytes = 3.0 * 4.0 * double(grid.width) * double(params.stripRows + 2 * params.voidMargin);
+    const double memory = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+    if (memory > 0.0 && stripBytes > memory / 2.0)
+        throw DemImportError(what + ": its strips of " + std::to_string(params.stripRows) + " rows would hold about " + gib(stripBytes) +
+                             ", more than half of this machine's " + gib(memory) + " of memory; refused: a cell of " +
+                             number(grid.cell.x * stripBytes / (memory / 2.0)) + " m or more would fit (--dem-cell)");
+}
 
 // Removes the DEM trees' temporary files beside `beside` that a killed import left: named as
 // uniqueDemLodPath names them, by a process that no longer runs (a live one's, or one whose id
@@ -255,6 +297,7 @@ DemLodOutput importDemLod(const DemSourceInfo& src, const SceneFrame& frame, con
         grid.extent.max.y = extent.min.y + grid.height * grid.cell.x;
     }
     const int width = grid.width, height = grid.height;
+    checkDemLodFits(name, grid, lodPath, params);
     report.cellSize = grid.cell.x;
     report.sceneWidth = width;
     report.sceneHeight = height;

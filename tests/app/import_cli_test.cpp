@@ -275,6 +275,16 @@ const std::vector<Case> kCases = {
          test::writeDemTile(d / "far.tif", 10.0, 45.0, 20, 20, 0.0025);  // lon 10-10.05, lat 45-45.05
          return keepsTheScene(d, {"--dem", "far.tif", "--vectors", kGoodVectors}, {"far.tif"}, "inside the DEM");
      }},
+    {"dem_cell_too_fine_for_the_disk",
+     [](const fs::path& d) {
+         // A road 400 km long over a DEM of 4 x 4 degrees: at 0.1 m cells the tree would be some
+         // 4 million samples a side, 80 TiB: refused with the figures before a row is visited.
+         test::writeDemTile(d / "wide.tif", 0.0, 42.0, 40, 40, 0.1);
+         writeFile(d / "long.geojson", R"({"type": "FeatureCollection", "features": [{"type": "Feature", "id": 1, "properties":
+  {"highway": "primary"}, "geometry": {"type": "LineString", "coordinates": [[0.2, 42.2], [3.8, 45.8]]}}]})");
+         return keepsTheScene(d, {"--dem", "wide.tif", "--vectors", "long.geojson", "--dem-cell", "0.1", "--dem-storage", "lod"},
+                              {"wide.tif", "GiB"}, "m or more would fit (--dem-cell)");
+     }},
     {"out_is_the_vectors_input",
      [](const fs::path& d) {
          writeFile(d / "roads.osm", kOsmXml);
