@@ -46,6 +46,7 @@
 
 #include "app/commands.h"
 #include "app/progress_bar.h"
+#include "io/atomic_file.h"
 #include "io/dem_lod.h"
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
@@ -316,9 +317,9 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
         if (!shardFinished(shardPath(dir, k), wanted, checksum))
             throw PyramidError(shardPath(dir, k) + ": the shard is missing or unfinished after every rank's work");
     PyramidStats st;
-    {
-        PyramidStore store(out, PyramidStore::Mode::ReadWrite);
-        if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, out);
+    const auto mergeInto = [&](const std::string& path) {
+        PyramidStore store(path, PyramidStore::Mode::ReadWrite);
+        if (auto old = store.info(); old && !force) checkPyramidMatches(*old, wanted, path);
         try {
             store.begin();
             store.create(wanted);
@@ -344,7 +345,12 @@ void run(const std::string& scene, const std::string& out, const PyramidParams& 
             store.rollback();
             throw;
         }
-    }
+    };
+    // A new pyramid is merged beside `out` and renamed into place once committed: a merge that
+    // fails or is killed leaves nothing at `out` (as the one-process build, pyramid/pyramid_run.cpp).
+    std::error_code noFile;
+    if (!fs::exists(fs::symlink_status(out, noFile))) replaceFileAtomically(out, mergeInto);
+    else mergeInto(out);
     fs::remove_all(dir);
     const double mergeSeconds = since(tMerge);
 

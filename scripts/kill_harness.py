@@ -13,6 +13,8 @@ Writers (each over a small scene, so that a kill lands anywhere in a run of a fr
                   core beside the output, then the scene saved)
   pyramid_build   lacet pyramid build of a scene with no pyramid yet, then run again to the end
   pyramid_update  lacet pyramid update of a pyramid whose scene changed, then run again to the end
+  pyramid_mpi     lacet pyramid build --shards under mpirun -np 2, one rank killed (not by default:
+                  it needs Open MPI and a lacet built with LACET_MPI)
 A kill's moment is uniform between the start and the median time of three uninterrupted runs.
 After all the kills, the folder must hold no temporary file (a writer killed leaves its temporary,
 the next run of a writer removes it).
@@ -198,6 +200,69 @@ class PyramidWriter(Writer):
             self.stats["resumed_equal"] += 1
 
 
+class MpiPyramidWriter(PyramidWriter):
+    """pyramid build --shards under mpirun -np 2: one rank killed at a random moment (the job then
+    aborts); the pyramid is absent or whole, and a run again to the end (finished shards resumed,
+    the rest made, merged) gives the uninterrupted tiles."""
+
+    def __init__(self, name, lacet, folder):
+        self.mpirun = shutil.which("mpirun")
+        if not self.mpirun:
+            sys.exit("kill_harness: pyramid_mpi needs mpirun (Open MPI) and a lacet built with LACET_MPI")
+        Writer.__init__(self, name, lacet, folder)
+        self.pyramid = os.path.join(folder, "scene.pyramid.gpkg")
+        self.old = None
+        run([lacet, "synth", "--curves", "1500", "--seed", "2", "--out", "b.gpkg"], folder)
+        self.cmd = [self.mpirun, "--allow-run-as-root", "--oversubscribe", "-np", "2", lacet, "pyramid", "build", "scene.gpkg",
+                    "--levels", "0-4", "--shard-level", "2", "--shards"]
+        times = []
+        for _ in range(3):
+            self.reset()
+            times.append(self.timed(self.cmd))
+        self.expected = pyramid_digest(self.pyramid)
+        self.median_s = statistics.median(times)
+
+    def reset(self):
+        shutil.copy(os.path.join(self.folder, "b.gpkg"), os.path.join(self.folder, "scene.gpkg"))
+        for f in os.listdir(self.folder):
+            if f.startswith("scene.pyramid.gpkg"):
+                p = os.path.join(self.folder, f)
+                shutil.rmtree(p) if os.path.isdir(p) else os.remove(p)
+
+    def kill_once(self, cmd, delay):
+        p = subprocess.Popen(cmd, cwd=self.folder, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+        try:
+            p.wait(timeout=delay)
+            self.stats["finished_before_kill"] += 1
+        except subprocess.TimeoutExpired:
+            # One of the ranks: the lacet processes of this job's session but mpirun.
+            ranks = []
+            for pid in os.listdir("/proc"):
+                if not pid.isdigit():
+                    continue
+                try:
+                    if os.getsid(int(pid)) != p.pid:
+                        continue
+                    with open("/proc/%s/cmdline" % pid, "rb") as f:
+                        argv = f.read().split(b"\0")
+                    if os.path.basename(argv[0].decode()) == os.path.basename(self.lacet):
+                        ranks.append(int(pid))
+                except (OSError, ValueError):
+                    continue
+            if ranks:
+                os.kill(random.choice(ranks), signal.SIGKILL)
+                self.stats["killed_before_done"] += 1
+            else:  # not started or already ending: the job itself
+                os.killpg(p.pid, signal.SIGKILL)
+                self.stats["killed_before_done"] += 1
+            try:
+                p.wait(timeout=120)
+            except subprocess.TimeoutExpired:
+                os.killpg(p.pid, signal.SIGKILL)
+                p.wait()
+        self.stats["kills"] += 1
+
+
 def make(name, lacet, folder):
     if name == "save":
         return SceneWriter(name, lacet, folder, [lacet, "synth", "--curves", "300", "--seed", "2", "--out", "scene.gpkg"])
@@ -206,6 +271,8 @@ def make(name, lacet, folder):
                                                  "--out", "scene.gpkg"])
     if name in ("pyramid_build", "pyramid_update"):
         return PyramidWriter(name, lacet, folder)
+    if name == "pyramid_mpi":
+        return MpiPyramidWriter(name, lacet, folder)
     sys.exit("kill_harness: unknown writer '%s'" % name)
 
 
@@ -229,6 +296,8 @@ def main():
         w = make(name, lacet, folder)
         for i in range(a.kills):
             w.trial(rng, i)
+            if not a.json and (i + 1) % 100 == 0 and i + 1 < a.kills:
+                print("%-15s %d kills, %d failures, %.0f s" % (name, i + 1, len(w.failures), time.monotonic() - t0), file=sys.stderr)
         # The writer run to the end once more: it removes what the kills left.
         if isinstance(w, SceneWriter):
             run(w.make_new, folder)
