@@ -6,52 +6,6 @@
 namespace lacet {
 namespace {
 
-TEST(PyramidTiles, MipmapAveragesEachChildIntoItsQuadrant) {
-    std::array<PyramidImage, 4> kids;
-    for (int k = 0; k < 4; ++k) {
-        kids[std::size_t(k)].size = 4;
-        kids[std::size_t(k)].rgb.assign(48, std::uint8_t(10 * (k + 1)));
-        kids[std::size_t(k)].water.assign(16, std::uint8_t(k == 3 ? 255 : 0));
-    }
-    kids[0].rgb[0] = 13;  // one texel of the lower-left child's top-left 2x2 block: (13 + 10 * 3 + 2) / 4 = 11
-    const PyramidImage p = mipmap({&kids[0], &kids[1], &kids[2], &kids[3]});
-    ASSERT_EQ(p.size, 4);
-    // Rows top first: the top half comes from the upper children (2 left, 3 right).
-    EXPECT_EQ(p.rgb[(0 * 4 + 0) * 3], 30);
-    EXPECT_EQ(p.rgb[(0 * 4 + 3) * 3], 40);
-    EXPECT_EQ(p.rgb[(2 * 4 + 0) * 3], 11);
-    EXPECT_EQ(p.rgb[(3 * 4 + 3) * 3], 20);
-    EXPECT_EQ(p.water[0 * 4 + 3], 255);
-    EXPECT_EQ(p.water[3 * 4 + 0], 0);
-    PyramidImage odd = kids[0];
-    odd.size = 3;
-    EXPECT_THROW(mipmap({&odd, &kids[1], &kids[2], &kids[3]}), std::invalid_argument);
-}
-
-// What a parent reads of a child tile: half size, near the 2 x 2 mean of the full decode for a
-// JPEG (scaled IDCT), exactly it for a PNG.
-TEST(PyramidTiles, HalfDecodeIsTheChildAtHalfSize) {
-    PyramidImage image;
-    image.size = 256;
-    image.rgb.resize(256 * 256 * 3);
-    image.water.assign(256 * 256, 0);
-    for (std::size_t k = 0; k < image.rgb.size(); ++k) image.rgb[k] = std::uint8_t((k * 7 / 3 + (k / 768) * 5) % 251);
-    const PyramidImage exact = halve(image);
-    const DecodedImage png = decodeImageHalf(encodeRgb(image.rgb, 256, 256, parseEncoding("png:1")));
-    ASSERT_EQ(png.width, 128);
-    EXPECT_EQ(png.pixels, exact.rgb);
-    for (int y = 0; y < 256; ++y)  // a smooth image: JPEG keeps it well
-        for (int x = 0; x < 256; ++x)
-            for (int c = 0; c < 3; ++c) image.rgb[std::size_t((y * 256 + x) * 3 + c)] = std::uint8_t((x + y + 40 * c) / 3);
-    const PyramidImage smooth = halve(image);
-    const DecodedImage jpeg = decodeImageHalf(encodeRgb(image.rgb, 256, 256, parseEncoding("jpeg:90")));
-    ASSERT_EQ(jpeg.width, 128);
-    ASSERT_EQ(jpeg.channels, 3);
-    double worst = 0.0;
-    for (std::size_t k = 0; k < jpeg.pixels.size(); ++k) worst = std::max(worst, std::abs(double(jpeg.pixels[k]) - smooth.rgb[k]));
-    EXPECT_LE(worst, 6.0);
-}
-
 TEST(PyramidBuild, GdalReadsTheTablesAsTheyAre) {
     const SceneDocument doc = smallScene();
     TempFile f("pyramid_gdal.gpkg");
@@ -396,85 +350,6 @@ TEST(PyramidBuild, AnInterruptedBuildOrUpdateLeavesThePreviousPyramid) {
     EXPECT_THROW(updatePyramid(doc, f.path, &failing2), std::runtime_error);
     EXPECT_EQ(tilesOf(f.path, kAppearanceTable), before);
     EXPECT_TRUE(checkPyramid(f.path).problems.empty());
-}
-
-TEST(PyramidCheck, ReportsACorruptTileAndAMissingOne) {
-    const SceneDocument doc = smallScene();
-    TempFile f("pyramid_corrupt.gpkg");
-    buildPyramid(doc, f.path, smallParams(), false, nullptr);
-    {
-        SqliteDb db(f.path, SqliteDb::Mode::ReadWrite);
-        db.exec(std::string("UPDATE ") + kAppearanceTable + " SET tile_data = x'89504E470D0A1A0A0000' WHERE zoom_level = 2 AND "
-                "tile_column = 1 AND tile_row = 0");
-        db.exec(std::string("DELETE FROM ") + kElevationTable + " WHERE zoom_level = 3 AND tile_column = 0 AND tile_row = 7");
-    }
-    const PyramidCheck c = checkPyramid(f.path);
-    ASSERT_EQ(c.problems.size(), 2u);
-    EXPECT_EQ(c.problems[0].table, kAppearanceTable);
-    EXPECT_EQ(c.problems[0].quad, (PyramidKey{2, 1, 3}));
-    EXPECT_NE(c.problems[0].reason.find("does not decode"), std::string::npos) << c.problems[0].reason;
-    EXPECT_EQ(c.problems[1].table, kElevationTable);
-    EXPECT_EQ(c.problems[1].quad, (PyramidKey{3, 0, 0}));
-    EXPECT_EQ(c.problems[1].reason, "missing");
-}
-
-// The editor does not show a pyramid of another state of the scene; after an update it does.
-TEST(PyramidReader, RefusesAPyramidOfAnEarlierStateOfTheScene) {
-    SceneDocument doc = smallScene();
-    TempFile f("pyramid_stale.gpkg");
-    buildPyramid(doc, f.path, smallParams(), false, nullptr);
-    EXPECT_NO_THROW(PyramidReader(f.path, doc));
-    std::mt19937_64 rng(5);
-    applyRandomEdit(doc.scene, rng, 50.0);
-    try {
-        PyramidReader reader(f.path, doc);
-        FAIL() << "a pyramid of the scene before an edit was accepted";
-    } catch (const PyramidError& e) {
-        EXPECT_NE(std::string(e.what()).find("another state of the scene"), std::string::npos) << e.what();
-    }
-    updatePyramid(doc, f.path, nullptr);
-    EXPECT_NO_THROW(PyramidReader(f.path, doc));
-}
-
-// A pyramid records the document's checksum, or the one given (a scene file's stored text, of a
-// format-1 file: io/scene_checksum.h); the editor takes either form of the document's.
-TEST(PyramidReader, RecordsTheChecksumGivenAndTakesEitherFormOfTheDocuments) {
-    const SceneDocument doc = smallScene();
-    TempFile f("pyramid_checksum.gpkg");
-    PyramidParams params = smallParams();
-    params.sceneChecksum = sceneChecksumText(doc, 1);
-    buildPyramid(doc, f.path, params, false, nullptr);
-    const Box extent = doc.scene.extent;
-    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), sceneChecksumText(doc, 1));
-    EXPECT_NO_THROW(PyramidReader(f.path, doc));
-    updatePyramid(doc, f.path, nullptr);
-    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), sceneChecksumText(doc));
-    updatePyramid(doc, f.path, nullptr, PyramidParams{}.demBudgetMiB, "0123456789abcdef");
-    EXPECT_EQ(PyramidReader(f.path, extent, std::string()).sceneChecksum(), "0123456789abcdef");
-    EXPECT_THROW(PyramidReader(f.path, doc), PyramidError);
-}
-
-// A pyramid added to a GeoPackage that has custom CRSs of its own takes a new id and leaves
-// theirs alone; built again, it reuses its own.
-TEST(PyramidStore, TheScenesCrsTakesAFreeIdAndLeavesOthersAlone) {
-    SceneDocument doc = smallScene();
-    doc.georeference.valid = true;
-    doc.georeference.crsWkt = "LOCAL_CS[\"Lacet test scene\",LOCAL_DATUM[\"none\",32767],UNIT[\"metre\",1]]";
-    TempFile f("pyramid_srs.gpkg");
-    {
-        PyramidStore created(f.path, PyramidStore::Mode::ReadWrite);  // a new, empty GeoPackage
-        created.db().exec("INSERT INTO gpkg_spatial_ref_sys (srs_name, srs_id, organization, organization_coordsys_id, "
-                          "definition) VALUES ('a', 100000, 'NONE', 100000, 'LOCAL_CS[\"a\"]'), ('b', 100001, 'NONE', "
-                          "100001, 'LOCAL_CS[\"b\"]')");
-    }
-    buildPyramid(doc, f.path, smallParams(), false, nullptr);
-    buildPyramid(doc, f.path, smallParams(), false, nullptr);
-    SqliteDb db(f.path, SqliteDb::Mode::ReadOnly);
-    EXPECT_EQ(db.queryInteger(std::string("SELECT srs_id FROM gpkg_tile_matrix_set WHERE table_name = '") + kAppearanceTable + "'"),
-              100002);
-    EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = 100000"), "LOCAL_CS[\"a\"]");
-    EXPECT_EQ(db.queryText("SELECT definition FROM gpkg_spatial_ref_sys WHERE srs_id = 100001"), "LOCAL_CS[\"b\"]");
-    EXPECT_EQ(db.queryInteger("SELECT count(*) FROM gpkg_spatial_ref_sys WHERE srs_id >= 100000"), 3);
 }
 
 TEST(PyramidParams, DefaultDeepestLevelReachesTheTexelSize) {
