@@ -54,8 +54,9 @@ void addOverlayTables(std::vector<FeatureTableRef>& tables, const SceneOverlay& 
         if (ref.layer >= layers) throw FormatError("the edits name layer " + std::to_string(ref.layer) + ", which the file has not");
         if (ref.kind == ElementKind::Node) continue;
         const bool polygons = ref.kind == ElementKind::Area;
-        if (std::none_of(tables.begin(), tables.end(), [&](const FeatureTableRef& t) { return t.layer == ref.layer && t.polygons == polygons; }))
-            tables.push_back({std::string(), ref.layer, polygons});
+        const LayerId layer = ref.layer;  // a structured binding is not captured by clang 14
+        if (std::none_of(tables.begin(), tables.end(), [&](const FeatureTableRef& t) { return t.layer == layer && t.polygons == polygons; }))
+            tables.push_back({std::string(), layer, polygons});
     }
 }
 

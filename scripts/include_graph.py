@@ -19,7 +19,7 @@ ALLOWED = {
     "editor": {"model", "raster", "io", "pyramid"},
     "ui": {"model", "io", "editor"},
     "bench": {"model", "raster", "synth", "io", "pyramid", "editor"},
-    "fuzz": {"model", "io"},
+    "fuzz": {"model", "io", "pyramid"},
 }
 
 root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).resolve().parent.parent)
