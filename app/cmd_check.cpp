@@ -53,6 +53,8 @@ struct CheckOptions {
     int edits = 100;
     int depth = 12;
     int viewEvery = 10;
+    std::size_t sample = 0;        // quads compared after each edit (0: all, the whole tree rebuilt)
+    int fullEvery = 0;             // with --sample: every quad compared every this many edits
     bool json = false;
     bool lazy = false;             // edits of the scene read lazily against the whole scene's
     double vectorBudgetMiB = 512.0;
@@ -119,10 +121,13 @@ int runLazy(const CheckOptions& o) {
 
 int run(const CheckOptions& o) {
     Scene s = makeSyntheticScene({o.seed, o.curves});
+    const auto t0 = std::chrono::steady_clock::now();
     const IncrementalCheckReport r = checkIncremental(s, {.seed = o.seed * 7919 + 1, .edits = o.edits, .maxLevel = o.depth,
                                                           .viewEvery = o.viewEvery, .reach = s.extent.size().x * 0.01,
                                                           .viewerHeight = 2.0, .viewerHeightRange = 50.0,
+                                                          .sample = o.sample, .fullEvery = o.fullEvery,
                                                           .detailsPerEdit = 5, .maxDetails = 20});
+    const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::map<std::string, std::size_t> byKind;
     for (const auto& [kind, n] : r.byKind) byKind[std::string(toString(kind))] = n;
     const bool valid = validate(s).empty();
@@ -131,6 +136,9 @@ int run(const CheckOptions& o) {
                                 {"depth", o.depth},
                                 {"edits", r.edits},
                                 {"edits_by_kind", byKind},
+                                {"sample", o.sample},
+                                {"full_every", o.fullEvery},
+                                {"full_comparisons", r.fullComparisons},
                                 {"quads_compared", r.quadsCompared},
                                 {"mismatches", r.mismatches},
                                 {"mismatch_details", r.details},
@@ -142,7 +150,8 @@ int run(const CheckOptions& o) {
                                                 {"bridges_at_end", r.bridgesAtEnd},
                                                 {"roundabout_arcs_at_end", r.ringArcsAtEnd}}},
                                 {"update_median_ms", bench::median(r.updateMs)},
-                                {"rebuild_median_ms", bench::median(r.rebuildMs)}};
+                                {"rebuild_median_ms", bench::median(r.rebuildMs)},
+                                {"wall_s", wallS}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
         std::cout << r.edits << " edits (" << r.editsAddingBridges << " adding bridges, " << r.editsRemovingBridges
@@ -362,6 +371,11 @@ void addCheckCommand(CLI::App& app) {
     inc->add_option("--edits", o->edits, "Number of random edits");
     inc->add_option("--depth", o->depth, "Deepest quadtree level around the random viewpoints");
     inc->add_option("--view-every", o->viewEvery, "Move the viewer every this many edits");
+    inc->add_option("--sample", o->sample,
+                    "Quads compared after each edit, drawn at random and each rebuilt alone along its path (0: every quad, the whole "
+                    "tree rebuilt; the default)");
+    inc->add_option("--full-every", o->fullEvery, "With --sample: every quad compared every this many edits (0: never)")
+        ->check(CLI::Range(0, 1 << 30));
     inc->add_flag("--json", o->json, "Print JSON");
     inc->add_flag("--lazy", o->lazy, "Edits of the scene read lazily (saved into a temporary file) against edits of the whole scene, tile for tile");
     inc->add_option("--vector-budget", o->vectorBudgetMiB, "With --lazy: MiB of vector data the lazy session holds");

@@ -47,6 +47,14 @@ void curveChanged(Changeset& cs, const Curve& c, LayerId layer, ElementId id) {
     for (ElementId a : c.areas) cs.modify({layer, ElementKind::Area, a});
 }
 
+// The curves of an area's loops, whose `areas` an added or deleted area changes: a river curve
+// that becomes or stops being an area's border is bridged otherwise (model/graph_step.h), and drawn
+// otherwise (a border, not a river).
+void loopCurvesChanged(Changeset& cs, const Area& a, LayerId layer) {
+    for (const auto& loop : a.loops)
+        for (const auto& e : loop) cs.modify({layer, ElementKind::Curve, e.curve});
+}
+
 void endNodesChanged(Changeset& cs, const Curve& c, LayerId layer) {
     cs.modify({layer, ElementKind::Node, c.start});
     if (c.end != c.start) cs.modify({layer, ElementKind::Node, c.end});
@@ -225,7 +233,8 @@ Changeset addArea(Scene& s, LayerId layer, Area a, ElementId* id) {
     if (id) *id = aid;
     Changeset cs;
     cs.added.push_back({layer, ElementKind::Area, aid});
-    return cs;
+    loopCurvesChanged(cs, l.areas[aid], layer);
+    return done(cs);
 }
 
 Changeset deleteArea(Scene& s, LayerId layer, ElementId area) {
@@ -239,7 +248,8 @@ Changeset deleteArea(Scene& s, LayerId layer, ElementId area) {
     a.alive = false;
     Changeset cs;
     cs.removed.push_back({layer, ElementKind::Area, area});
-    return cs;
+    loopCurvesChanged(cs, a, layer);
+    return done(cs);
 }
 
 Changeset setCurveWidth(Scene& s, LayerId layer, ElementId curve, float w, float wf) {

@@ -37,9 +37,9 @@ class Comparer {
 public:
     explicit Comparer(std::size_t maxDetails) : maxDetails_(maxDetails) {}
 
-    void quad(const Quad& a, const Quad& b) {
+    void quad(const Quad& a, const Quad& b, bool recurse = true) {
         ++diff.quadsCompared;
-        if (a.isLeaf() != b.isLeaf()) report(quadName(a) + ": subdivided in one tree only");
+        if (recurse && a.isLeaf() != b.isLeaf()) report(quadName(a) + ": subdivided in one tree only");
         if (a.layers.size() != b.layers.size()) report(quadName(a) + ": different layer counts");
         for (std::size_t l = 0; l < std::min(a.layers.size(), b.layers.size()); ++l) {
             const std::string where = quadName(a) + " layer " + std::to_string(l);
@@ -47,7 +47,7 @@ public:
             map(a.layers[l].curves, b.layers[l].curves, where + " curve");
             map(a.layers[l].areas, b.layers[l].areas, where + " area");
         }
-        if (a.isLeaf() || b.isLeaf()) return;
+        if (!recurse || a.isLeaf() || b.isLeaf()) return;
         for (int k = 0; k < 4; ++k) quad(*a.children[k], *b.children[k]);
     }
 
@@ -78,6 +78,12 @@ private:
 QuadtreeDiff compareQuadtrees(const Quadtree& a, const Quadtree& b, std::size_t maxDetails) {
     Comparer c(maxDetails);
     c.quad(a.root(), b.root());
+    return c.diff;
+}
+
+QuadtreeDiff compareQuads(const Quad& a, const Quad& b, std::size_t maxDetails) {
+    Comparer c(maxDetails);
+    c.quad(a, b, false);
     return c.diff;
 }
 

@@ -17,5 +17,7 @@ struct QuadtreeDiff {
 };
 
 QuadtreeDiff compareQuadtrees(const Quadtree& a, const Quadtree& b, std::size_t maxDetails = 10);
+// The same for two quads alone (their graphs, not their children): a sampled comparison.
+QuadtreeDiff compareQuads(const Quad& a, const Quad& b, std::size_t maxDetails = 10);
 
 }  // namespace lacet

@@ -1,5 +1,7 @@
 #include "synth/incremental_check.h"
 
+#include <cstdio>
+#include <cstdlib>
 #include <optional>
 
 #include "model/graph_step.h"
@@ -23,6 +25,9 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 
 IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& p) {
     std::mt19937_64 rng(p.seed);
+    // The sample's own generator: the same seed gives the same edits with or without --sample, so
+    // that a mismatch a sample finds late is found at its edit by the full check.
+    std::mt19937_64 sampleRng(p.seed ^ 0x9e3779b97f4a7c15ULL);
     const ViewParams view{.maxLevel = p.maxLevel};
     auto viewer = [&] {
         return glm::dvec3(s.extent.min.x + uniform01(rng) * s.extent.size().x,
@@ -55,14 +60,38 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
         std::optional<GraphStep> freshStep;
         if (!p.procedural) freshStep.emplace(s);
         Quadtree rebuilt(s, {}, p.procedural ? p.procedural : &*freshStep);
-        rebuilt.copyStructureOf(qt);
-        r.rebuildMs.push_back(msSince(t0));
-        const QuadtreeDiff diff = compareQuadtrees(qt, rebuilt, p.detailsPerEdit);
+        const bool full = p.sample == 0 || (p.fullEvery > 0 && r.edits % std::size_t(p.fullEvery) == 0);
+        QuadtreeDiff diff;
+        if (full) {
+            rebuilt.copyStructureOf(qt);
+            r.rebuildMs.push_back(msSince(t0));
+            diff = compareQuadtrees(qt, rebuilt, p.detailsPerEdit);
+            ++r.fullComparisons;
+        } else {
+            std::vector<const Quad*> quads;
+            qt.forEachQuad([&](const Quad& q) { quads.push_back(&q); });
+            for (std::size_t k = 0; k < p.sample; ++k) {
+                const Quad& q = *quads[std::size_t(uniform01(sampleRng) * double(quads.size())) % quads.size()];
+                const QuadtreeDiff d = compareQuads(q, rebuilt.reach(q.level, q.tx, q.ty), p.detailsPerEdit);
+                diff.quadsCompared += d.quadsCompared;
+                diff.mismatches += d.mismatches;
+                diff.details.insert(diff.details.end(), d.details.begin(), d.details.end());
+            }
+            r.rebuildMs.push_back(msSince(t0));
+        }
         r.quadsCompared += diff.quadsCompared;
         r.mismatches += diff.mismatches;
         for (const auto& d : diff.details)
             if (r.details.size() < p.maxDetails)
                 r.details.push_back("edit " + std::to_string(i) + " (" + std::string(toString(e.kind)) + "): " + d);
+        if (diff.mismatches && std::getenv("LACET_DEBUG_EDIT")) {
+            for (const auto* list : {&e.changeset.removed, &e.changeset.added})
+                for (const ElementRef& ref : *list) std::fprintf(stderr, "DEBUG %s layer %u kind %d id %u\n", list == &e.changeset.removed ? "removed" : "added", unsigned(ref.layer), int(ref.kind), unsigned(ref.id));
+            for (const auto& d : diff.details) std::fprintf(stderr, "DEBUG %s\n", d.c_str());
+            for (LayerId l = 0; l < s.layers.size(); ++l) std::fprintf(stderr, "DEBUG layer %u kind %d\n", unsigned(l), int(s.layers[l].kind));
+            const Curve& c5 = s.layers[0].curves[5];
+            std::fprintf(stderr, "DEBUG curve 5: w %g wf %g flags %u start %u end %u\n", double(c5.w), double(c5.wf), unsigned(c5.flags), unsigned(c5.start), unsigned(c5.end));
+        }
         if (diff.mismatches && p.stopAtFirstMismatch) break;
     }
     r.bridgesAtEnd = bridgesBefore;

@@ -29,6 +29,12 @@ struct IncrementalCheckParams {
     // The quadtree's procedural step at the root: the scene's GraphStep (bridges, roundabouts; the
     // rebuild gets a fresh one, so the step's own index is checked too), or this one when set.
     ProceduralStep* procedural = nullptr;
+    // Quads compared after each edit: 0, every quad of the tree (a rebuild of the whole tree);
+    // else this many drawn at random, each rebuilt alone along its path from the root
+    // (Quadtree::reach), and every quad every `fullEvery` edits (0: never), so that millions of
+    // edits run in hours.
+    std::size_t sample = 0;
+    int fullEvery = 0;
     bool stopAtFirstMismatch = false;  // stop after the first edit whose update differs
     std::size_t detailsPerEdit = 3;    // mismatch descriptions kept per edit (compareQuadtrees)
     std::size_t maxDetails = 20;       // and in all
@@ -37,6 +43,7 @@ struct IncrementalCheckParams {
 struct IncrementalCheckReport {
     std::size_t edits = 0;          // edits applied
     std::size_t quadsCompared = 0;  // over all comparisons
+    std::size_t fullComparisons = 0;  // edits after which every quad was compared
     std::size_t mismatches = 0;     // quads that differ, over all comparisons
     std::map<EditKind, std::size_t> byKind;
     std::vector<std::string> details;       // "edit I (kind): what differs"

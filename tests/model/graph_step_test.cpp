@@ -364,6 +364,41 @@ TEST(GraphStep, MovingARiverMovesTheBridgesOfTheRoadsItCrosses) {
     EXPECT_EQ(compareQuadtrees(qt, rebuilt, 3).mismatches, 0u);
 }
 
+// A river area deleted, and added back: its border curves stop and start being banks (bridged
+// however thin), so the road over them loses and gets back its bridge, as a rebuild has it. The
+// deletion used to list the area alone, and the road kept its bridge (found by lacet check
+// incremental --sample, seed 21 of its test).
+TEST(GraphStep, DeletingARiverAreaTakesItsBridgesAwayAndUndoingItBringsThemBack) {
+    Scene s = emptyScene();
+    Layer& rivers = s.layers[kRivers];
+    const Vec2 corners[4] = {{980, 0}, {1020, 0}, {1020, 2000}, {980, 2000}};
+    ElementId n[4];
+    for (int i = 0; i < 4; ++i) n[i] = rivers.addNode(corners[i]);
+    Area area;
+    area.loops.emplace_back();
+    for (int i = 0; i < 4; ++i) area.loops[0].push_back({polyline(s, kRivers, {corners[i], corners[(i + 1) % 4]}, 0, 4, 0, n[i], n[(i + 1) % 4]), false});
+    const ElementId id = s.layers[kRivers].addArea(area);
+    const ElementId road = polyline(s, kRoads, {{500, 900}, {1800, 900}}, 6, 12);
+    GraphStep step(s);
+    Quadtree qt(s, {}, &step);
+    qt.refineForViewer({1000, 1000, 1}, ViewParams{.maxLevel = 5});
+    ASSERT_FALSE(qt.expansionOf(kRoads, road).empty());
+    const auto sameAsARebuild = [&] {
+        GraphStep fresh(s);
+        Quadtree rebuilt(s, {}, &fresh);
+        rebuilt.copyStructureOf(qt);
+        const QuadtreeDiff d = compareQuadtrees(qt, rebuilt, 3);
+        EXPECT_EQ(d.mismatches, 0u) << (d.details.empty() ? "" : d.details[0]);
+    };
+    qt.update(deleteArea(s, kRivers, id));
+    EXPECT_TRUE(qt.expansionOf(kRoads, road).empty()) << "the road kept its bridge over the deleted area's bank";
+    sameAsARebuild();
+    Area back = s.layers[kRivers].areas[id];
+    qt.update(addArea(s, kRivers, back));
+    EXPECT_FALSE(qt.expansionOf(kRoads, road).empty());
+    sameAsARebuild();
+}
+
 // A V-shaped valley: z = 0.3 |x - 1000| + 0.01 y; the river runs down its floor.
 class Valley : public HeightField {
 public:

@@ -1,9 +1,11 @@
 // Invariant: after every edit, the incrementally updated quadtree equals a rebuild from scratch
 // (elements, geometry bit for bit, ancestors, CREATEDFROM). Randomized with fixed seeds.
+#include <cstdlib>
 #include <map>
 
 #include <gtest/gtest.h>
 
+#include "model/quadtree_compare.h"
 #include "model/validate.h"
 #include "synth/incremental_check.h"
 #include "synth/random_edits.h"
@@ -61,6 +63,28 @@ TEST(Incremental, RandomEditsOnSyntheticScenesEqualRebuild) {
         edits += checkIncremental(s, seed, 300, 8, 0.05 * s.extent.size().x, 30).edits;
     }
     EXPECT_GT(edits, 600u);
+}
+
+// The sampled check (lacet check incremental --sample): random quads, each rebuilt alone along its
+// path, and every quad every fullEvery edits; it finds no mismatch where the full check finds none,
+// compares what it says, and a quad of a tree built from another scene does differ.
+TEST(Incremental, TheSampledCheckComparesRandomQuadsAndEveryQuadNowAndThen) {
+    const std::uint64_t seed = std::getenv("LACET_SAMPLED_SEED") ? std::strtoull(std::getenv("LACET_SAMPLED_SEED"), nullptr, 10) : 21;
+    Scene s = makeSyntheticScene({seed, 400});
+    const IncrementalCheckReport r = checkIncremental(s, {.seed = seed, .edits = 200, .maxLevel = 8, .viewEvery = 20,
+                                                          .reach = 0.05 * s.extent.size().x, .sample = 6, .fullEvery = 25, .detailsPerEdit = 10});
+    EXPECT_EQ(r.mismatches, 0u) << (r.details.empty() ? "" : r.details[0]);
+    ASSERT_GT(r.edits, 100u);
+    EXPECT_EQ(r.fullComparisons, r.edits / 25);
+    EXPECT_GT(r.quadsCompared, (r.edits - r.fullComparisons) * 6);  // and the full comparisons' quads
+    // A quad of the same place in a tree of another scene: a difference the sampled compare sees.
+    Scene other = makeSyntheticScene({22, 400});
+    Quadtree a(s, {}), b(other, {});
+    const Quad& qa = a.reach(3, 2, 5);
+    EXPECT_GT(compareQuads(qa, b.reach(3, 2, 5)).mismatches, 0u);
+    Quadtree same(s, {});
+    const QuadtreeDiff d = compareQuads(qa, same.reach(3, 2, 5));
+    EXPECT_EQ(d.mismatches, 0u) << (d.details.empty() ? "" : d.details[0]);
 }
 
 }  // namespace
