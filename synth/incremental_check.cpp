@@ -1,7 +1,5 @@
 #include "synth/incremental_check.h"
 
-#include <cstdio>
-#include <cstdlib>
 #include <optional>
 
 #include "model/graph_step.h"
@@ -84,14 +82,6 @@ IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& 
         for (const auto& d : diff.details)
             if (r.details.size() < p.maxDetails)
                 r.details.push_back("edit " + std::to_string(i) + " (" + std::string(toString(e.kind)) + "): " + d);
-        if (diff.mismatches && std::getenv("LACET_DEBUG_EDIT")) {
-            for (const auto* list : {&e.changeset.removed, &e.changeset.added})
-                for (const ElementRef& ref : *list) std::fprintf(stderr, "DEBUG %s layer %u kind %d id %u\n", list == &e.changeset.removed ? "removed" : "added", unsigned(ref.layer), int(ref.kind), unsigned(ref.id));
-            for (const auto& d : diff.details) std::fprintf(stderr, "DEBUG %s\n", d.c_str());
-            for (LayerId l = 0; l < s.layers.size(); ++l) std::fprintf(stderr, "DEBUG layer %u kind %d\n", unsigned(l), int(s.layers[l].kind));
-            const Curve& c5 = s.layers[0].curves[5];
-            std::fprintf(stderr, "DEBUG curve 5: w %g wf %g flags %u start %u end %u\n", double(c5.w), double(c5.wf), unsigned(c5.flags), unsigned(c5.start), unsigned(c5.end));
-        }
         if (diff.mismatches && p.stopAtFirstMismatch) break;
     }
     r.bridgesAtEnd = bridgesBefore;
