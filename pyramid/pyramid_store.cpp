@@ -78,7 +78,7 @@ std::optional<PyramidInfo> PyramidStore::info() {
         i.inputs = std::stoull(get("inputs"), nullptr, 16);
         i.complete = get("complete") == "1";
         if (auto it = kv.find("scene_checksum"); it != kv.end()) i.sceneChecksum = it->second;
-        if (i.minLevel < 0 || i.maxLevel < i.minLevel || i.maxLevel > 30 || i.tileSize <= 0 || i.elevationSize <= 0)
+        if (i.minLevel < 0 || i.maxLevel < i.minLevel || i.maxLevel > kMaxPyramidLevel || i.tileSize <= 0 || i.elevationSize <= 0)
             throw PyramidError("lacet_pyramid holds impossible levels or tile sizes");
         return i;
     } catch (const PyramidError& e) {
@@ -343,10 +343,14 @@ std::vector<std::pair<PyramidKey, std::vector<std::uint8_t>>> PyramidStore::allT
         auto st = db_.prepare(std::string("SELECT zoom_level, tile_column, tile_row, tile_data FROM \"") + table +
                               "\" ORDER BY zoom_level, tile_column, tile_row");
         while (st.step()) {
-            const int level = int(st.integer(0));
-            const std::int64_t row = st.integer(2);
+            const std::int64_t level = st.integer(0), column = st.integer(1), row = st.integer(2);
+            // A tile a pyramid cannot hold (a damaged or foreign table): refused, never shifted by it.
+            if (level < 0 || level > kMaxPyramidLevel || column < 0 || row < 0 || column >= (std::int64_t(1) << level) ||
+                row >= (std::int64_t(1) << level))
+                throw PyramidError(std::string("table ") + table + " holds a tile at an impossible place: level " + std::to_string(level) +
+                                   ", column " + std::to_string(column) + ", row " + std::to_string(row));
             const auto b = st.blob(3);
-            out.push_back({PyramidKey{level, std::uint32_t(st.integer(1)), std::uint32_t((std::int64_t(1) << level) - 1 - row)},
+            out.push_back({PyramidKey{int(level), std::uint32_t(column), std::uint32_t((std::int64_t(1) << level) - 1 - row)},
                            std::vector<std::uint8_t>(b.begin(), b.end())});
         }
         return out;

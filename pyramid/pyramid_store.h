@@ -43,6 +43,7 @@ inline constexpr const char* kAppearanceTable = "lacet_appearance";
 inline constexpr const char* kWaterTable = "lacet_water";
 inline constexpr const char* kElevationTable = "lacet_elevation";
 inline constexpr int kPyramidFormatVersion = 1;
+inline constexpr int kMaxPyramidLevel = 30;  // deepest level a pyramid may hold (2^30 tiles a side)
 
 struct PyramidInfo {
     int formatVersion = kPyramidFormatVersion;
@@ -116,12 +117,15 @@ public:
     SqliteDb& db() { return db_; }
 
 private:
-    // f(), its SQLite errors (the reason only) thrown as PyramidError naming this file.
+    // f(), its SQLite errors (the reason only) and its own PyramidErrors thrown as PyramidError naming
+// this file.
     template <class F>
     auto named(F&& f) -> decltype(f()) {
         try {
             return f();
         } catch (const SqliteError& e) {
+            throw PyramidError(path_ + ": " + e.what());
+        } catch (const PyramidError& e) {
             throw PyramidError(path_ + ": " + e.what());
         }
     }

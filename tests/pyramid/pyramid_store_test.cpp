@@ -132,6 +132,24 @@ TEST(PyramidStore, ABrokenInfoTableIsRefusedByNameAndReason) {
     EXPECT_FALSE(isPyramidFile(f.path));
 }
 
+// A tile row at a place no pyramid has (fuzz finding: a zoom level of 64 was shifted by, undefined
+// behaviour) is refused naming the file and the place, by the store and by lacet info's check.
+TEST(PyramidStore, ATileAtAnImpossiblePlaceIsRefusedByName) {
+    TempFile built("store_impossible_built.gpkg"), f("store_impossible_tile.gpkg");
+    buildPyramid(smallScene(), built.path, smallParams(), false, nullptr);
+    for (const char* place : {"zoom_level = 64", "zoom_level = -1", "tile_column = 1000000", "tile_row = -5"}) {
+        SCOPED_TRACE(place);
+        std::filesystem::copy_file(built.path, f.path, std::filesystem::copy_options::overwrite_existing);
+        {
+            SqliteDb db(f.path, SqliteDb::Mode::ReadWrite);
+            db.exec(std::string("UPDATE ") + kAppearanceTable + " SET " + place + " WHERE zoom_level = 1 AND tile_column = 0 AND tile_row = 0");
+        }
+        PyramidStore s(f.path, PyramidStore::Mode::ReadOnly);
+        expectPyramidError([&] { s.allTiles(kAppearanceTable); }, {f.path, "impossible place"});
+        expectPyramidError([&] { checkPyramid(f.path); }, {f.path, "impossible place"});
+    }
+}
+
 TEST(PyramidStore, AWriteToAFileOpenedReadOnlyIsRefusedByName) {
     TempFile f("store_read_only.gpkg");
     {
