@@ -20,8 +20,8 @@ After all the kills, the folder must hold no temporary file (a writer killed lea
 the next run of a writer removes it).
 
 Prints a table (or JSON) of kills, results and failures per writer; exits 1 when any file did not
-open whole, held a mixture, or a resumed pyramid differed. The scene's DEM and vectors are the
-Andorra data in ../shared/data (read in place).
+open whole, held a mixture, or a resumed pyramid differed. The import's vectors are the test
+inputs' good.geojson and its DEM is made here (gdal_create); nothing is read from ../shared.
 """
 import argparse
 import hashlib
@@ -38,8 +38,6 @@ import tempfile
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ANDORRA = os.environ.get("LACET_ANDORRA_DATA", os.path.join(ROOT, "..", "shared", "data", "andorra"))
-DEM = "/vsizip/" + os.path.join(ANDORRA, "N42E001.hgt.zip") + "/N42E001.hgt"
 VECTORS = os.path.join(ROOT, "tests", "data", "vectors", "good.geojson")
 
 
@@ -267,7 +265,11 @@ def make(name, lacet, folder):
     if name == "save":
         return SceneWriter(name, lacet, folder, [lacet, "synth", "--curves", "300", "--seed", "2", "--out", "scene.gpkg"])
     if name == "import":
-        return SceneWriter(name, lacet, folder, [lacet, "import", "--dem", DEM, "--vectors", VECTORS, "--dem-storage", "lod",
+        # A DEM under the test vectors (lon 1.4-1.65, lat 42.4-42.6, about 80 m cells), made here
+        # with GDAL's gdal_create (gdal-bin, which scripts/install_deps.sh installs).
+        run(["gdal_create", "-q", "-of", "GTiff", "-outsize", "300", "240", "-bands", "1", "-ot", "Float32", "-burn", "1200",
+             "-a_srs", "EPSG:4326", "-a_ullr", "1.4", "42.6", "1.65", "42.4", "dem.tif"], folder)
+        return SceneWriter(name, lacet, folder, [lacet, "import", "--dem", "dem.tif", "--vectors", VECTORS, "--dem-storage", "lod",
                                                  "--out", "scene.gpkg"])
     if name in ("pyramid_build", "pyramid_update"):
         return PyramidWriter(name, lacet, folder)
