@@ -28,6 +28,7 @@
 #include <ogrsf_frmts.h>
 
 #include "io/scene_file.h"
+#include "tests/app/cli_fixtures.h"
 #include "tests/io/gis_fixtures.h"
 
 namespace lacet {
@@ -44,33 +45,19 @@ const std::string kScene = "scene.gpkg";
 // A guard against a hang only: far above what any import here takes, even sanitized on a loaded machine.
 constexpr int kTimeoutS = 600;
 
-// The bytes of a regular file; empty for anything else.
-std::string readFile(const fs::path& path, std::size_t maxBytes = std::string::npos) {
-    if (!fs::is_regular_file(path)) return {};
-    std::ifstream in(path, std::ios::binary);
-    std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return s.substr(0, maxBytes);
-}
+using test::kWithoutRootsOverride;
+using test::quoted;
+using test::readFile;
 
 void writeFile(const fs::path& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
     out << bytes;
 }
 
-std::string quoted(const std::string& s) {
-    std::string q = "'";
-    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 struct Outcome {
     int code = -1;  // the exit status; 128 + n for a signal n, 124 for the timeout
     std::string out, err;
 };
-
-// Root without the capabilities that let it ignore file permissions (util-linux's setpriv), so that
-// a read-only directory is read-only to it too.
-const char* const kWithoutRootsOverride = "setpriv --bounding-set -dac_override,-dac_read_search";
 
 // Runs `lacet import args...` in `cwd`, after `prefix` (a command that runs the rest) if any.
 Outcome runImport(const fs::path& cwd, const std::vector<std::string>& args, const std::string& prefix = {}) {

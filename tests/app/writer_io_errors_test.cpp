@@ -24,6 +24,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/app/cli_fixtures.h"
 #include "tests/io/gis_fixtures.h"
 
 namespace lacet {
@@ -33,20 +34,9 @@ namespace fs = std::filesystem;
 
 // A guard against a hang only: far above what any command here takes, even sanitized on a loaded machine.
 constexpr int kTimeoutS = 600;
-// Root without the capabilities that let it ignore file permissions (util-linux's setpriv).
-const char* const kWithoutRootsOverride = "setpriv --bounding-set -dac_override,-dac_read_search";
-
-std::string readFile(const fs::path& path) {
-    if (!fs::is_regular_file(path)) return {};
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-std::string quoted(const std::string& s) {
-    std::string q = "'";
-    for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using test::kWithoutRootsOverride;
+using test::quoted;
+using test::readFile;
 
 struct Outcome {
     int code = -1;  // the exit status; 128 + n for a signal n, 124 for the timeout

@@ -183,10 +183,8 @@ TEST(GraphStep, TwoRiversCloserThanTheAbutmentsShareOneBridge) {
     EXPECT_EQ(e.curves.size(), 3u);
 }
 
-// A river area (a riverbank polygon) with no river curve inside: its border is the water's edge,
-// bridged however thin the curve (w = 0), bank to bank, while a stream of 1 m is a culvert.
-TEST(GraphStep, ARiverAreasBorderIsBridgedBankToBankAndAStreamIsACulvert) {
-    Scene s = emptyScene();
+// A river area 40 m wide along x = 1000, from y = 0 to 2000: four border curves of width 0.
+ElementId addRiverArea(Scene& s) {
     Layer& rivers = s.layers[kRivers];
     const Vec2 corners[4] = {{980, 0}, {1020, 0}, {1020, 2000}, {980, 2000}};
     ElementId n[4];
@@ -194,7 +192,14 @@ TEST(GraphStep, ARiverAreasBorderIsBridgedBankToBankAndAStreamIsACulvert) {
     Area area;
     area.loops.emplace_back();
     for (int i = 0; i < 4; ++i) area.loops[0].push_back({polyline(s, kRivers, {corners[i], corners[(i + 1) % 4]}, 0, 4, 0, n[i], n[(i + 1) % 4]), false});
-    rivers.addArea(area);
+    return s.layers[kRivers].addArea(area);
+}
+
+// A river area (a riverbank polygon) with no river curve inside: its border is the water's edge,
+// bridged however thin the curve (w = 0), bank to bank, while a stream of 1 m is a culvert.
+TEST(GraphStep, ARiverAreasBorderIsBridgedBankToBankAndAStreamIsACulvert) {
+    Scene s = emptyScene();
+    addRiverArea(s);
     polyline(s, kRivers, {{1500, 0}, {1500, 2000}}, 1, 3);  // a stream
     const ElementId road = polyline(s, kRoads, {{500, 900}, {1800, 900}}, 6, 12);
     GraphStep step(s);
@@ -370,14 +375,7 @@ TEST(GraphStep, MovingARiverMovesTheBridgesOfTheRoadsItCrosses) {
 // incremental --sample, seed 21 of its test).
 TEST(GraphStep, DeletingARiverAreaTakesItsBridgesAwayAndUndoingItBringsThemBack) {
     Scene s = emptyScene();
-    Layer& rivers = s.layers[kRivers];
-    const Vec2 corners[4] = {{980, 0}, {1020, 0}, {1020, 2000}, {980, 2000}};
-    ElementId n[4];
-    for (int i = 0; i < 4; ++i) n[i] = rivers.addNode(corners[i]);
-    Area area;
-    area.loops.emplace_back();
-    for (int i = 0; i < 4; ++i) area.loops[0].push_back({polyline(s, kRivers, {corners[i], corners[(i + 1) % 4]}, 0, 4, 0, n[i], n[(i + 1) % 4]), false});
-    const ElementId id = s.layers[kRivers].addArea(area);
+    const ElementId id = addRiverArea(s);
     const ElementId road = polyline(s, kRoads, {{500, 900}, {1800, 900}}, 6, 12);
     GraphStep step(s);
     Quadtree qt(s, {}, &step);
