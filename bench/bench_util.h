@@ -5,12 +5,12 @@
 #include <cstddef>
 #include <vector>
 
+#include "model/work_clock.h"
+
 namespace lacet::bench {
 
 using Clock = std::chrono::steady_clock;
-inline double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+using lacet::msSince;  // model/work_clock.h
 // Quantile q in [0, 1] (nearest rank) of a copy of v; 0 for an empty v.
 double quantile(std::vector<double> v, double q);
 inline double median(const std::vector<double>& v) { return quantile(v, 0.5); }

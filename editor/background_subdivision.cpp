@@ -5,13 +5,9 @@
 #include <tbb/task_arena.h>
 
 #include "editor/background_work.h"
+#include "model/work_clock.h"
 
 namespace lacet {
-namespace {
-
-double msSince(const WorkClock& clock, WorkClock::result_type t0) { return msBetween(t0, clock()); }
-
-}  // namespace
 
 std::optional<QuadChildren> BackgroundSubdivision::children(const Quadtree& tree, const Quad& q) {
     if (job_ && job_->quad == &q && job_->tree == &tree) {

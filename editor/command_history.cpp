@@ -4,11 +4,12 @@
 #include <utility>
 #include <variant>
 
+#include "model/work_clock.h"
+
 namespace lacet {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 }  // namespace
 

@@ -5,13 +5,11 @@
 
 #include "io/scene_checksum.h"
 #include "model/edits.h"
+#include "model/work_clock.h"
 
 namespace lacet {
 namespace {
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The kinds of random edits (randomEdit's `kind`, 0..kEditKinds - 1).
 constexpr int kEditKinds = 8;

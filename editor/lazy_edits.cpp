@@ -12,6 +12,7 @@
 #include "io/scene_features.h"
 #include "io/scene_region.h"
 #include "model/edits.h"
+#include "model/work_clock.h"
 
 namespace lacet {
 namespace {
@@ -77,9 +78,6 @@ std::optional<Box> boxOf(const OverlayElement& e) {
     return e.box;
 }
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 }  // namespace
 

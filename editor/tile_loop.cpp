@@ -14,12 +14,12 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "model/work_clock.h"
+
 namespace lacet {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-// Budgets are read on the session's work clock (SessionParams::clock).
-double msSince(const WorkClock& clock, Clock::time_point t0) { return msBetween(t0, clock()); }
 
 // Sorts quads nearest to the viewer `v` first (Quadtree::viewDistance, the K rule's distance).
 auto nearestFirst(glm::dvec3 v) {

@@ -16,7 +16,7 @@ struct Source {
     const SourceRef* ref;
 };
 
-struct Piece {
+struct FitPiece {
     BezierPiece piece;
     ElementId curve;
 };
@@ -37,7 +37,7 @@ void checkLayer(const Layer& layer, const std::vector<Source>& sources, const Fi
             b.push_back(s.points[i + 1]);
             segmentBoxes.push_back({glm::min(s.points[i], s.points[i + 1]), glm::max(s.points[i], s.points[i + 1])});
         }
-    std::vector<Piece> pieces;
+    std::vector<FitPiece> pieces;
     std::vector<Box> pieceBoxes;
     for (std::size_t c = 0; c < layer.curves.size(); ++c) {
         const Curve& curve = layer.curves[c];

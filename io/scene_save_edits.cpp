@@ -15,15 +15,12 @@
 #include "io/scene_checksum.h"
 #include "io/scene_file.h"
 #include "io/scene_format.h"
+#include "model/work_clock.h"
 
 namespace lacet {
 namespace {
 
 using namespace scene_format;
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::optional<Box> unite(const std::optional<Box>& a, const Box& b) {
     if (!(b.min.x <= b.max.x)) return a;

@@ -102,6 +102,8 @@ struct Layer {
     ElementId sceneNodeId(ElementId id) const { return fileId(sceneIds.nodes, id); }
     ElementId sceneCurveId(ElementId id) const { return fileId(sceneIds.curves, id); }
     ElementId sceneAreaId(ElementId id) const { return fileId(sceneIds.areas, id); }
+    // `id` names a node of the layer that is alive (kNoElement and ids past the end do not).
+    bool aliveNode(ElementId id) const { return id != kNoElement && id < nodes.size() && nodes[id].alive; }
 
     ElementId addNode(Vec2 p);
     // Adds a curve whose vertices run from node `start` to node `end`; updates adjacency.

@@ -17,7 +17,7 @@ constexpr std::size_t kGridFrom = 16;
 // The piece lies within `flat` of its chord and the chord within `flat` of the piece (bezier.h,
 // flatness()), so the distance from q lies within `flat` of q's distance to the chord: a lower
 // bound that converges quadratically as the piece is halved, and an upper bound.
-void distanceRec(const BezierPiece& b, Vec2 q, double precision, int depth, double& best) {
+void boundedDistanceRec(const BezierPiece& b, Vec2 q, double precision, int depth, double& best) {
     const double flat = flatness(b);
     const double chord = distanceToSegment(q, b.start(), b.end());
     if (std::max(chord - flat, 0.0) >= best - precision) return;
@@ -26,8 +26,8 @@ void distanceRec(const BezierPiece& b, Vec2 q, double precision, int depth, doub
     const auto [l, r] = splitHalf(b);
     // Nearer half first, so that the other is more likely pruned.
     const bool leftFirst = distanceToSegment(q, l.start(), l.end()) <= distanceToSegment(q, r.start(), r.end());
-    distanceRec(leftFirst ? l : r, q, precision, depth + 1, best);
-    distanceRec(leftFirst ? r : l, q, precision, depth + 1, best);
+    boundedDistanceRec(leftFirst ? l : r, q, precision, depth + 1, best);
+    boundedDistanceRec(leftFirst ? r : l, q, precision, depth + 1, best);
 }
 
 // Both directions between pieces and a polyline, brute force with box pruning.
@@ -70,8 +70,8 @@ void measure(ForEachPiece&& forEachPiece, std::span<const Vec2> polyline, const 
             const BoxedPiece& p = pieces[i];
             if (p.box.distanceTo(q) >= n.distance - oraclePrecision) return;
             double d = std::min({n.distance, glm::length(q - p.piece.start()), glm::length(q - p.piece.end())});
-            distanceRec(p.piece, q, oraclePrecision, 0, d);
-            // A line piece is a segment: convex. (distanceRec is exact on it: flatness 0.)
+            boundedDistanceRec(p.piece, q, oraclePrecision, 0, d);
+            // A line piece is a segment: convex. (boundedDistanceRec is exact on it: flatness 0.)
             if (d < n.distance) n = {d, i, p.piece.degree == 1};
         });
         return n;
@@ -87,7 +87,7 @@ void measure(ForEachPiece&& forEachPiece, std::span<const Vec2> polyline, const 
 
 double distanceUpperBound(const BezierPiece& b, Vec2 q, double precision) {
     double best = std::min(glm::length(q - b.start()), glm::length(q - b.end()));
-    distanceRec(b, q, precision, 0, best);
+    boundedDistanceRec(b, q, precision, 0, best);
     return best;
 }
 

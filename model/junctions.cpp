@@ -8,10 +8,6 @@
 namespace lacet {
 namespace {
 
-bool validNode(const Layer& layer, ElementId node) {
-    return node != kNoElement && node < layer.nodes.size() && layer.nodes[node].alive;
-}
-
 // Unit direction in which `c` leaves the node at its start (atStart) or end: towards the first
 // vertex that differs from the node (a control point, or the next on-curve vertex). Zero for a
 // curve of one repeated point.
@@ -28,7 +24,7 @@ Vec2 leavingDirection(const Curve& c, bool atStart) {
 }  // namespace
 
 int nodeDegree(const Layer& layer, ElementId node) {
-    return validNode(layer, node) ? int(layer.nodes[node].curves.size()) : 0;
+    return layer.aliveNode(node) ? int(layer.nodes[node].curves.size()) : 0;
 }
 
 bool hasStopLine(const Layer& layer, ElementId node, ElementId curve) {

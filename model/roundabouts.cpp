@@ -27,10 +27,6 @@ struct Entry {
     double angle = 0.0;    // of p around the node, radians in (-pi, pi]
 };
 
-bool validNode(const Layer& layer, ElementId node) {
-    return node != kNoElement && node < layer.nodes.size() && layer.nodes[node].alive;
-}
-
 // The curve's pieces (global coordinates), in order.
 std::vector<BezierPiece> piecesOf(const Curve& c) {
     std::vector<BezierPiece> out;
@@ -156,7 +152,7 @@ RingLayout layoutRing(const Scene& scene, LayerId layerId, ElementId node, doubl
         // The road's other end may be a ring too (its current radius): the two trims must leave
         // some road between them.
         const ElementId other = atStart ? c.end : c.start;
-        if (other != node && validNode(layer, other) && layer.nodes[other].roundabout > 0.0f) {
+        if (other != node && layer.aliveNode(other) && layer.nodes[other].roundabout > 0.0f) {
             const auto o = firstCrossing(c, id, !atStart, layer.nodes[other].p, double(layer.nodes[other].roundabout));
             if (!o || (atStart ? !(e->s < o->s) : !(o->s < e->s))) {
                 std::ostringstream s;
@@ -225,7 +221,7 @@ std::vector<Vertex> ringArc(Vec2 centre, double radius, const Entry& a, const En
 bool fittingRing(const Scene& scene, LayerId layerId, ElementId node, const RoundaboutParams& params,
                  RingLayout& layout) {
     const Layer& layer = scene.layers[layerId];
-    if (!validNode(layer, node)) return false;
+    if (!layer.aliveNode(node)) return false;
     const float radius = layer.nodes[node].roundabout;
     // The checks of roundaboutRefusal(), the layout computed once.
     if (!(radius > 0.0f) || !std::isfinite(radius) || double(radius) > params.maxRadius) return false;
@@ -281,7 +277,7 @@ std::optional<RoundaboutCut> roundaboutCut(const Scene& scene, LayerId layerId, 
 }
 
 float roundaboutRingWidth(const Layer& layer, ElementId node) {
-    if (!validNode(layer, node)) return 0.0f;
+    if (!layer.aliveNode(node)) return 0.0f;
     float w = 0.0f;
     for (ElementId id : layer.nodes[node].curves)
         if (id < layer.curves.size() && layer.curves[id].alive) w = std::max(w, layer.curves[id].w);
@@ -300,7 +296,7 @@ std::optional<std::string> roundaboutRefusal(const Scene& scene, LayerId layerId
         return s.str();
     }
     const Layer& layer = scene.layers[layerId];
-    if (!validNode(layer, node)) {
+    if (!layer.aliveNode(node)) {
         s << "node " << node << " of layer " << layerId << " does not exist";
         return s.str();
     }

@@ -33,6 +33,10 @@ WorkClock threadCpuClock();
 inline double msBetween(std::chrono::steady_clock::time_point t0, std::chrono::steady_clock::time_point t1) {
     return std::chrono::duration<double, std::milli>(t1 - t0).count();
 }
+// Milliseconds from `t0`, a reading of `clock`, to its reading now.
+inline double msSince(const WorkClock& clock, std::chrono::steady_clock::time_point t0) { return msBetween(t0, clock()); }
+// Milliseconds from `t0` to now on the steady clock (what a report states as time taken).
+inline double msSince(std::chrono::steady_clock::time_point t0) { return msBetween(t0, std::chrono::steady_clock::now()); }
 
 // A point on a work clock past which sliced work starts no new unit but its first.
 struct Deadline {

@@ -11,7 +11,7 @@
 namespace lacet::appearance {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Lower bound of the distance from any point of `box` to the segment: the distance from the
 // segment's bounding box to `box`.
@@ -23,7 +23,7 @@ double lowerBound(const Segment& sg, const Box& box) {
 
 // A segment with an infinite end would pass the lower bound (its box reaches everywhere) and,
 // its distances being NaN, leave an upper bound of 0 that prunes every other segment.
-bool finite(const Segment& sg) {
+bool finiteSegment(const Segment& sg) {
     return std::isfinite(sg.p0.x) && std::isfinite(sg.p0.y) && std::isfinite(sg.p1.x) && std::isfinite(sg.p1.y);
 }
 
@@ -56,18 +56,18 @@ double candidatesNear(const std::vector<Segment>& segments, const Box& box, doub
                       std::vector<const Segment*>& out) {
     out.clear();
     for (const Segment& sg : segments)
-        if (finite(sg) && lowerBound(sg, box) <= reach) out.push_back(&sg);
-    if (out.empty()) return kInf;
+        if (finiteSegment(sg) && lowerBound(sg, box) <= reach) out.push_back(&sg);
+    if (out.empty()) return kInfinity;
     // The least upper bound among those in reach bounds the nearest distance at every point of
     // the box (if that is within reach at all).
     const Vec2 corners[4] = {box.min, {box.max.x, box.min.y}, {box.min.x, box.max.y}, box.max};
-    double upper = kInf;
+    double upper = kInfinity;
     for (const Segment* sg : out) {
         double farthest = 0.0;
         for (const Vec2& c : corners) farthest = std::max(farthest, distanceToSegment(c, sg->p0, sg->p1));
         upper = std::min(upper, farthest);
     }
-    double nearest = kInf;
+    double nearest = kInfinity;
     std::size_t kept = 0;
     for (const Segment* sg : out) {
         const double lower = lowerBound(*sg, box);

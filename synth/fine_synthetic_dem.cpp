@@ -15,7 +15,7 @@ namespace {
 // quarter cell from the curves at most.
 constexpr double kDistanceSlack = 1.75;
 
-std::uint64_t splitmix(std::uint64_t z) {
+std::uint64_t splitmix64(std::uint64_t z) {
     z += 0x9e3779b97f4a7c15ull;
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
@@ -24,13 +24,13 @@ std::uint64_t splitmix(std::uint64_t z) {
 
 // A lattice value in [-1, 1].
 double lattice(std::uint64_t seed, std::uint64_t octave, std::int64_t ix, std::int64_t iy) {
-    const std::uint64_t h = splitmix(splitmix(seed ^ (octave << 56)) ^ (std::uint64_t(std::uint32_t(ix)) << 32 | std::uint32_t(iy)));
+    const std::uint64_t h = splitmix64(splitmix64(seed ^ (octave << 56)) ^ (std::uint64_t(std::uint32_t(ix)) << 32 | std::uint32_t(iy)));
     return double(h >> 11) * (2.0 / 9007199254740992.0) - 1.0;
 }
 
 double smooth(double f) { return f * f * (3.0 - 2.0 * f); }
 
-double smoothstep(double t) { return smooth(std::clamp(t, 0.0, 1.0)); }
+double clampedSmooth(double t) { return smooth(std::clamp(t, 0.0, 1.0)); }
 
 }  // namespace
 
@@ -102,7 +102,7 @@ double FineSyntheticDem::fade(Vec2 p) const {
     const double bilinear = (1 - a) * (1 - b) * d(i0, j0) + a * (1 - b) * d(i1, j0) + (1 - a) * b * d(i0, j1) + a * b * d(i1, j1);
     const double lower = bilinear - kDistanceSlack * dc;
     if (params_.riverFade <= 0.0) return lower > 0.0 ? 1.0 : 0.0;
-    return smoothstep((lower - params_.riverFade) / params_.riverFade);
+    return clampedSmooth((lower - params_.riverFade) / params_.riverFade);
 }
 
 double FineSyntheticDem::detail(Vec2 p) const {

@@ -11,15 +11,9 @@
 
 #include "model/quadtree_compare.h"
 #include "model/view_params.h"
+#include "model/work_clock.h"
 
 namespace lacet {
-namespace {
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 IncrementalCheckReport checkIncremental(Scene& s, const IncrementalCheckParams& p) {
     std::mt19937_64 rng(p.seed);

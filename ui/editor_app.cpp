@@ -18,6 +18,7 @@
 #include "io/image_file.h"
 #include "io/scene_file.h"
 #include "io/scene_region.h"
+#include "model/work_clock.h"
 #include "ui/object_renderer.h"
 #include "ui/overlay_renderer.h"
 #include "ui/script_player.h"
@@ -27,7 +28,6 @@ namespace lacet::ui {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 EditorApp* appOf(GLFWwindow* w) { return static_cast<EditorApp*>(glfwGetWindowUserPointer(w)); }
 

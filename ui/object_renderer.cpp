@@ -8,7 +8,7 @@
 namespace lacet::ui {
 namespace {
 
-const char* kVertex = R"(#version 410 core
+const char* kObjectVertex = R"(#version 410 core
 layout(location = 0) in vec3 aPos;     // relative to the mesh's origin (m)
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec4 aColour;  // sRGB, normalized
@@ -23,7 +23,7 @@ void main() {
 }
 )";
 
-const char* kFragment = R"(#version 410 core
+const char* kObjectFragment = R"(#version 410 core
 in vec3 vNormal;
 in vec3 vColour;
 uniform vec3 uSun;
@@ -37,7 +37,7 @@ void main() {
 
 }  // namespace
 
-ObjectRenderer::ObjectRenderer() : program_("objects", kVertex, kFragment) {}
+ObjectRenderer::ObjectRenderer() : program_("objects", kObjectVertex, kObjectFragment) {}
 
 ObjectRenderer::~ObjectRenderer() { reset(); }
 

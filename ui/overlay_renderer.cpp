@@ -5,7 +5,7 @@
 namespace lacet::ui {
 namespace {
 
-const char* kVertex = R"(#version 410 core
+const char* kOverlayVertex = R"(#version 410 core
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec4 aColour;
 layout(location = 2) in float aSize;
@@ -18,7 +18,7 @@ void main() {
 }
 )";
 
-const char* kFragment = R"(#version 410 core
+const char* kOverlayFragment = R"(#version 410 core
 in vec4 vColour;
 uniform int uPoints;
 out vec4 oColour;
@@ -36,7 +36,7 @@ void main() {
 
 }  // namespace
 
-OverlayRenderer::OverlayRenderer() : program_("overlay", kVertex, kFragment) {
+OverlayRenderer::OverlayRenderer() : program_("overlay", kOverlayVertex, kOverlayFragment) {
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
     glBindVertexArray(vao_);

@@ -9,7 +9,7 @@
 namespace lacet::ui {
 namespace {
 
-const char* kVertex = R"(#version 410 core
+const char* kTerrainVertex = R"(#version 410 core
 layout(location = 0) in vec3 aGrid;  // i, j, 1 on the skirt
 uniform mat4 uViewProj;
 uniform vec3 uOrigin;       // the leaf's lower-left corner, camera-relative (z: minus the camera's)
@@ -49,7 +49,7 @@ void main() {
 }
 )";
 
-const char* kFragment = R"(#version 410 core
+const char* kTerrainFragment = R"(#version 410 core
 in vec2 vApp;
 in vec3 vNormal;
 in vec3 vView;
@@ -78,7 +78,7 @@ void main() {
 
 }  // namespace
 
-TerrainRenderer::TerrainRenderer() : program_("terrain", kVertex, kFragment) {
+TerrainRenderer::TerrainRenderer() : program_("terrain", kTerrainVertex, kTerrainFragment) {
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
     glGenBuffers(1, &ibo_);

@@ -17,6 +17,7 @@
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 #include "tests/editor/session_checks.h"
+#include "tests/same_bits.h"
 
 namespace lacet {
 namespace {
@@ -24,8 +25,6 @@ namespace {
 using test::expectTilesEqualFromScratch;
 using test::syntheticDocument;
 
-bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
 
 ::testing::AssertionResult sameScene(const Scene& a, const Scene& b) {
     if (a.layers.size() != b.layers.size()) return ::testing::AssertionFailure() << "layer count";

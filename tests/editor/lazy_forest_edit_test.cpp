@@ -206,7 +206,8 @@ TEST_F(LazyForestEditTest, ARiverUnderAFarPartsRoadDeletedAndBroughtBackRenewsTh
 TEST_F(LazyForestEditTest, EditsOfAPartialSceneGiveTheWholeScenesTilesAndUndoRestoresThem) {
     EditSession whole(loadScene(*path_), sessionParams());
     EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
-    expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 5, .edits = 28}), false);
+    const int edits = test::sanitizedOr(28, 9);
+    expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 5, .edits = edits}), false, std::size_t(edits));
     EXPECT_GT(lazy.lazyForest()->stats().partsRenewed, 0u);
 }
 

@@ -420,7 +420,9 @@ TEST_F(LazyForestTest, EditsOfAPartialSceneOverAPyramidReadTheTopAgainOnlyWhereI
     link.setFiles(pyramid, *path_);
     link.sessionStarted();
     ASSERT_TRUE(link.open(lazy).levels.has_value());
-    expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 8, .edits = 28, .appearanceFrom = 3, .topElevationOnly = true}), true);
+    const int edits = test::sanitizedOr(28, 9);
+    expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 8, .edits = edits, .appearanceFrom = 3, .topElevationOnly = true}),
+                    true, std::size_t(edits));
 }
 
 }  // namespace

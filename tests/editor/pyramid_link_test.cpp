@@ -26,7 +26,7 @@ SceneDocument smallDocument() {
     return doc;
 }
 
-SessionParams sessionParams() {
+SessionParams linkSessionParams() {
     SessionParams params;
     params.view.maxLevel = 5;
     return params;
@@ -58,7 +58,7 @@ protected:
 };
 
 TEST_F(PyramidLinkTest, UpdatesAfterSavesToItsSceneOneAtATimeAndReopensAtTheSavesEditCount) {
-    EditSession session(loadScene(scene_), sessionParams());
+    EditSession session(loadScene(scene_), linkSessionParams());
     PyramidLink link;
     link.setDefaultFiles(scene_);
     EXPECT_EQ(link.path(), defaultPyramidPath(scene_));
@@ -105,7 +105,7 @@ TEST_F(PyramidLinkTest, UpdatesAfterSavesToItsSceneOneAtATimeAndReopensAtTheSave
 }
 
 TEST_F(PyramidLinkTest, AnUpdateOfASessionLeftBehindIsNotAppliedToTheNext) {
-    EditSession first(loadScene(scene_), sessionParams());
+    EditSession first(loadScene(scene_), linkSessionParams());
     PyramidLink link;
     link.setDefaultFiles(scene_);
     link.sessionStarted();
@@ -113,7 +113,7 @@ TEST_F(PyramidLinkTest, AnUpdateOfASessionLeftBehindIsNotAppliedToTheNext) {
     moveARoad(first, 20.0);
     saveScene(scene_, first.document());
     link.afterSave(first, scene_);
-    EditSession next(loadScene(scene_), sessionParams());
+    EditSession next(loadScene(scene_), linkSessionParams());
     link.sessionStarted();
     EXPECT_FALSE(link.poll(next, true)) << "the first session's update is not the next one's";
     EXPECT_FALSE(link.last());
@@ -123,7 +123,7 @@ TEST_F(PyramidLinkTest, AnUpdateOfASessionLeftBehindIsNotAppliedToTheNext) {
 TEST_F(PyramidLinkTest, APyramidOfAnotherSceneIsRefusedAndForgotten) {
     SceneDocument moved = smallDocument();
     moved.scene.extent.max += Vec2(1.0, 1.0);
-    EditSession session(std::move(moved), sessionParams());
+    EditSession session(std::move(moved), linkSessionParams());
     PyramidLink link;
     link.setFiles(defaultPyramidPath(scene_), scene_);
     link.sessionStarted();
@@ -157,7 +157,7 @@ TEST_F(PyramidLinkTest, ASceneReadLazilyIsUpdatedFromItsFileAfterEachSaveInPlace
     lazy.vectorBudgetMiB = 256.0;
     lazy.background = false;
     lazy.topElevationOnly = true;
-    EditSession session(scene_, lazy, sessionParams());
+    EditSession session(scene_, lazy, linkSessionParams());
     PyramidLink link;
     link.setDefaultFiles(scene_);
     link.sessionStarted();

@@ -33,12 +33,12 @@ std::string errorOf(const std::function<void()>& f) {
 }
 
 // A frame centred on `centre` and the scene box between two lon/lat corners, starting at (0, 0).
-struct Scene {
+struct FramedScene {
     SceneFrame frame;
     Box extent;
 };
-Scene sceneBetween(glm::dvec2 southWest, glm::dvec2 northEast) {
-    Scene s{SceneFrame((southWest.x + northEast.x) / 2, (southWest.y + northEast.y) / 2), {}};
+FramedScene sceneBetween(glm::dvec2 southWest, glm::dvec2 northEast) {
+    FramedScene s{SceneFrame((southWest.x + northEast.x) / 2, (southWest.y + northEast.y) / 2), {}};
     const Vec2 a = s.frame.forward(southWest), b = s.frame.forward(northEast);
     s.frame.setOriginShift(-a);
     s.extent = {{0.0, 0.0}, b - a};
@@ -68,7 +68,7 @@ TEST(DemImport, TwoSrtmTilesAsPathsDirectoryOrVrtEqualOneRasterCoveringBoth) {
         ASSERT_TRUE(ds);
         GDALClose(ds);
     }
-    const Scene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
+    const FramedScene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
     DemImportReport reference;
     const Dem one = importDem(demSourceInfo({whole}), s.frame, s.extent, 50.0, reference);
     EXPECT_EQ(reference.outsideFraction, 0.0);
@@ -107,7 +107,7 @@ TEST(DemImport, AStepBetweenTilesIsReportedAtItsSeam) {
     const auto dir = test::scratchDir("demstep");
     const std::string west = test::writeDemTile(dir / "west.tif", 1.5, 42.5, kTile, kTile, kStep);
     const std::string east = test::writeDemTile(dir / "east.tif", 1.5 + kTileSpan, 42.5, kTile, kTile, kStep, 50.0);
-    const Scene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
+    const FramedScene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
     DemImportReport r;
     importDem(demSourceInfo({west, east}), s.frame, s.extent, 50.0, r);
     ASSERT_EQ(r.seams.size(), 1u);
@@ -126,7 +126,7 @@ TEST(DemImport, TilesThatOnlyTouchAreComparedAtTheirCommonBorder) {
     const auto dir = test::scratchDir("demtouch");
     const std::string west = test::writeDemTile(dir / "west.tif", 1.5, 42.5, kTile, kTile, kStep);
     const std::string east = test::writeDemTile(dir / "east.tif", 1.5 + kTileSpan + kStep, 42.5, kTile, kTile, kStep);
-    const Scene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
+    const FramedScene s = sceneBetween({1.505, 42.505}, {1.62, 42.557});
     DemImportReport r;
     const DemSourceInfo info = demSourceInfo({west, east});
     EXPECT_TRUE(info.covers({1.5 + kTileSpan + kStep / 2, 42.53})) << "the common border";
@@ -150,7 +150,7 @@ TEST(DemImport, AMissingTileLeavesAHoleReportedAsUncovered) {
 
     // Over the whole 2 x 2 square, the hole is inside the covered cells' box: filled from its
     // covered neighbours and counted, cell for cell.
-    const Scene s = sceneBetween({1.505, 42.505}, {1.62, 42.62});
+    const FramedScene s = sceneBetween({1.505, 42.505}, {1.62, 42.62});
     DemImportReport r;
     const Dem dem = importDem(info, s.frame, s.extent, 50.0, r);
     EXPECT_EQ(r.outsideFraction, 0.0);
@@ -167,7 +167,7 @@ TEST(DemImport, AMissingTileLeavesAHoleReportedAsUncovered) {
     EXPECT_LT(r.largestSeamStep, 1e-3);
 
     // Over the northern half, the covered cells end at the missing tile: the Dem stops there.
-    const Scene north = sceneBetween({1.505, 42.57}, {1.62, 42.62});
+    const FramedScene north = sceneBetween({1.505, 42.57}, {1.62, 42.62});
     const Dem half = importDem(info, north.frame, north.extent, 50.0, r);
     EXPECT_EQ(r.uncoveredFilled, 0u);
     const double border = north.frame.forward({1.5 + kTileSpan + kStep / 2, 42.595}).x;
@@ -225,7 +225,7 @@ TEST(DemImport, OnlyTheWindowUnderTheSceneIsRead) {
     const std::string big = test::writeDemTile(dir / "big.tif", 1.25, 42.25, 2047, 2047, kFine);  // half a degree a side
     const DemSourceInfo info = demSourceInfo({big});
     ASSERT_EQ(info.width, 2048);
-    const Scene s = sceneBetween({1.49, 42.49}, {1.51, 42.51});
+    const FramedScene s = sceneBetween({1.49, 42.49}, {1.51, 42.51});
     DemImportReport r;
     const Dem dem = importDem(info, s.frame, s.extent, 20.0, r);
     EXPECT_EQ(r.sourceWidth, 2048);

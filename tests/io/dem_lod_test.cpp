@@ -22,6 +22,7 @@
 #include "io/sqlite_db.h"
 #include "io/tile_codec.h"
 #include "synth/synthetic_scene.h"
+#include "tests/io/test_crs.h"
 
 namespace lacet {
 namespace {
@@ -44,12 +45,6 @@ protected:
 
     fs::path dir_;
 };
-
-const char* const kWkt =
-    "PROJCS[\"Lacet TM\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
-    "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],"
-    "PARAMETER[\"latitude_of_origin\",42.5],PARAMETER[\"central_meridian\",1.5],PARAMETER[\"scale_factor\",1],"
-    "PARAMETER[\"false_easting\",0],PARAMETER[\"false_northing\",0],UNIT[\"metre\",1]]";
 
 // Heights with no pattern a wrong index could reproduce: a smooth part and a hashed one (cm steps,
 // negative ones too).

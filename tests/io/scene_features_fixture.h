@@ -25,17 +25,13 @@
 #include "io/scene_file.h"
 #include "io/sqlite_db.h"
 #include "synth/synthetic_scene.h"
+#include "tests/io/scene_identical.h"
+#include "tests/io/test_crs.h"
 
 namespace lacet {
 namespace {
 
 namespace fs = std::filesystem;
-
-const char* const kWkt =
-    "PROJCS[\"Lacet TM\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
-    "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],"
-    "PARAMETER[\"latitude_of_origin\",42.5],PARAMETER[\"central_meridian\",1.5],PARAMETER[\"scale_factor\",1],"
-    "PARAMETER[\"false_easting\",0],PARAMETER[\"false_northing\",0],UNIT[\"metre\",1]]";
 
 // Spacing (metres) of the samples of each Bezier piece compared with its feature's polyline: finer
 // than the shortest flat sub-piece a 0.1 m tolerance makes on these curves (metres long).
@@ -456,53 +452,6 @@ inline std::vector<std::string> tableNames(const std::string& path) {
     auto s = db.prepare("SELECT table_name FROM gpkg_contents WHERE data_type = 'features' ORDER BY table_name");
     while (s.step()) names.push_back(s.text(0));
     return names;
-}
-
-inline bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-inline bool sameBits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-inline bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
-
-// Save then load is the identity, doubles and floats bit for bit.
-::testing::AssertionResult identical(const SceneDocument& x, const SceneDocument& y) {
-    auto differ = [](const std::string& what) { return ::testing::AssertionFailure() << what << " differs"; };
-    if (!sameBits(x.scene.extent.min, y.scene.extent.min) || !sameBits(x.scene.extent.max, y.scene.extent.max))
-        return differ("extent");
-    if (x.scene.layers.size() != y.scene.layers.size()) return differ("layer count");
-    for (std::size_t l = 0; l < x.scene.layers.size(); ++l) {
-        const Layer &p = x.scene.layers[l], &q = y.scene.layers[l];
-        const std::string at = "layer " + std::to_string(l) + " ";
-        if (p.name != q.name || p.kind != q.kind) return differ(at + "name or kind");
-        if (p.nodes.size() != q.nodes.size() || p.curves.size() != q.curves.size() || p.areas.size() != q.areas.size())
-            return differ(at + "element count");
-        for (std::size_t i = 0; i < p.nodes.size(); ++i)
-            if (!sameBits(p.nodes[i].p, q.nodes[i].p) || p.nodes[i].curves != q.nodes[i].curves ||
-                p.nodes[i].alive != q.nodes[i].alive)
-                return differ(at + "node " + std::to_string(i));
-        for (std::size_t i = 0; i < p.curves.size(); ++i) {
-            const Curve &c = p.curves[i], &d = q.curves[i];
-            bool same = c.start == d.start && c.end == d.end && sameBits(c.w, d.w) && sameBits(c.wf, d.wf) &&
-                        c.cls == d.cls && c.flags == d.flags && c.areas == d.areas && c.alive == d.alive &&
-                        c.vertices.size() == d.vertices.size();
-            for (std::size_t k = 0; same && k < c.vertices.size(); ++k)
-                same = sameBits(c.vertices[k].p, d.vertices[k].p) && c.vertices[k].onCurve == d.vertices[k].onCurve &&
-                       c.vertices[k].closing == d.vertices[k].closing;
-            if (!same) return differ(at + "curve " + std::to_string(i));
-        }
-        for (std::size_t i = 0; i < p.areas.size(); ++i) {
-            const Area &a = p.areas[i], &b = q.areas[i];
-            if (a.loops != b.loops || !sameBits(a.wf, b.wf) || a.cls != b.cls || a.axial != b.axial || a.alive != b.alive)
-                return differ(at + "area " + std::to_string(i));
-        }
-    }
-    if (x.georeference != y.georeference) return differ("georeference");
-    if (x.attributes != y.attributes) return differ("attributes");
-    if (x.dem.has_value() != y.dem.has_value()) return differ("DEM presence");
-    if (x.dem) {
-        if (x.dem->width() != y.dem->width() || x.dem->height() != y.dem->height()) return differ("DEM size");
-        for (std::size_t k = 0; k < x.dem->heights().size(); ++k)
-            if (!sameBits(x.dem->heights()[k], y.dem->heights()[k])) return differ("DEM height " + std::to_string(k));
-    }
-    return ::testing::AssertionSuccess();
 }
 
 inline OGRSpatialReference sceneSrs() {

@@ -31,6 +31,8 @@
 #include "io/gpkg_dem.h"
 #include "model/validate.h"
 #include "synth/synthetic_scene.h"
+#include "tests/io/scene_identical.h"
+#include "tests/io/test_crs.h"
 
 namespace lacet {
 namespace {
@@ -57,12 +59,6 @@ protected:
 
     fs::path dir_;
 };
-
-inline const char* const kWkt =
-    "PROJCS[\"Lacet TM\",GEOGCS[\"WGS 84\",DATUM[\"WGS_1984\",SPHEROID[\"WGS 84\",6378137,298.257223563]],"
-    "PRIMEM[\"Greenwich\",0],UNIT[\"degree\",0.0174532925199433]],PROJECTION[\"Transverse_Mercator\"],"
-    "PARAMETER[\"latitude_of_origin\",42.5],PARAMETER[\"central_meridian\",1.5],PARAMETER[\"scale_factor\",1],"
-    "PARAMETER[\"false_easting\",0],PARAMETER[\"false_northing\",0],UNIT[\"metre\",1]]";
 
 inline float nanWithPayload(std::uint32_t payload) { return std::bit_cast<float>(0x7fc00000u | payload); }
 
@@ -216,63 +212,6 @@ inline const SceneDocument& syntheticDocument() {
 }
 
 // ---- comparisons ----
-
-inline bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-inline bool sameBits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
-inline bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
-inline bool sameBits(const Box& a, const Box& b) { return sameBits(a.min, b.min) && sameBits(a.max, b.max); }
-
-// Every field, doubles and floats by bit pattern; names the first difference.
-::testing::AssertionResult identical(const SceneDocument& x, const SceneDocument& y) {
-    auto differ = [](const std::string& what) { return ::testing::AssertionFailure() << what << " differs"; };
-    const Scene& a = x.scene;
-    const Scene& b = y.scene;
-    if (!sameBits(a.extent, b.extent)) return differ("extent");
-    if (a.layers.size() != b.layers.size()) return differ("layer count");
-    for (std::size_t l = 0; l < a.layers.size(); ++l) {
-        const Layer& p = a.layers[l];
-        const Layer& q = b.layers[l];
-        const std::string at = "layer " + std::to_string(l) + " ";
-        if (p.name != q.name || p.kind != q.kind) return differ(at + "name or kind");
-        if (p.nodes.size() != q.nodes.size() || p.curves.size() != q.curves.size() || p.areas.size() != q.areas.size())
-            return differ(at + "element count");
-        for (std::size_t i = 0; i < p.nodes.size(); ++i)
-            if (!sameBits(p.nodes[i].p, q.nodes[i].p) || p.nodes[i].curves != q.nodes[i].curves ||
-                p.nodes[i].alive != q.nodes[i].alive || !sameBits(p.nodes[i].roundabout, q.nodes[i].roundabout))
-                return differ(at + "node " + std::to_string(i));
-        for (std::size_t i = 0; i < p.curves.size(); ++i) {
-            const Curve& c = p.curves[i];
-            const Curve& d = q.curves[i];
-            bool same = c.start == d.start && c.end == d.end && sameBits(c.w, d.w) && sameBits(c.wf, d.wf) &&
-                        c.cls == d.cls && c.flags == d.flags && c.areas == d.areas && c.alive == d.alive &&
-                        c.vertices.size() == d.vertices.size();
-            for (std::size_t k = 0; same && k < c.vertices.size(); ++k)
-                same = sameBits(c.vertices[k].p, d.vertices[k].p) && c.vertices[k].onCurve == d.vertices[k].onCurve &&
-                       c.vertices[k].closing == d.vertices[k].closing;
-            if (!same) return differ(at + "curve " + std::to_string(i));
-        }
-        for (std::size_t i = 0; i < p.areas.size(); ++i) {
-            const Area& c = p.areas[i];
-            const Area& d = q.areas[i];
-            if (c.loops != d.loops || !sameBits(c.wf, d.wf) || c.cls != d.cls || c.axial != d.axial || c.alive != d.alive)
-                return differ(at + "area " + std::to_string(i));
-        }
-    }
-    const Georeference& g = x.georeference;
-    const Georeference& h = y.georeference;
-    if (g.valid != h.valid || !sameBits(g.lon0, h.lon0) || !sameBits(g.lat0, h.lat0) ||
-        !sameBits(g.originShift, h.originShift) || g.crsWkt != h.crsWkt)
-        return differ("georeference");
-    if (x.dem.has_value() != y.dem.has_value()) return differ("DEM presence");
-    if (x.dem) {
-        if (!sameBits(x.dem->extent(), y.dem->extent()) || x.dem->width() != y.dem->width() ||
-            x.dem->height() != y.dem->height())
-            return differ("DEM grid");
-        for (std::size_t k = 0; k < x.dem->heights().size(); ++k)
-            if (!sameBits(x.dem->heights()[k], y.dem->heights()[k])) return differ("DEM height " + std::to_string(k));
-    }
-    return ::testing::AssertionSuccess();
-}
 
 // ---- file helpers ----
 

@@ -39,13 +39,13 @@ double denseU(const Curve& c, double s) {
     return u;
 }
 
-struct Fixture {
+struct CurveFixture {
     Scene scene = makeSyntheticScene({3, 3000});
     Hills hills;
 };
 
 TEST(CurveData, NothingIsComputedUntilAskedAndUMatchesDenseArcLength) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     qt.refineForViewer({f.scene.extent.center().x, f.scene.extent.center().y, 20.0}, ViewParams{.maxLevel = 10});
     CurveDataCache cache(qt, f.hills);
@@ -68,7 +68,7 @@ TEST(CurveData, NothingIsComputedUntilAskedAndUMatchesDenseArcLength) {
 }
 
 TEST(CurveData, RiversNeverRiseAndCurvesShareTheirNodesHeight) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     CurveDataCache cache(qt, f.hills);
     for (LayerId l : {kRoadsLayer, kRiversLayer}) {
@@ -85,7 +85,7 @@ TEST(CurveData, RiversNeverRiseAndCurvesShareTheirNodesHeight) {
 }
 
 TEST(CurveData, ProfilesAreSmoothedTerrain) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     CurveDataCache cache(qt, f.hills, {5.0, 0.0});  // no smoothing: the profile is the terrain
     const Curve& road = f.scene.layers[kRoadsLayer].curves[0];
@@ -99,7 +99,7 @@ TEST(CurveData, ProfilesAreSmoothedTerrain) {
 }
 
 TEST(CurveData, LakesAreFlatAtTheirLowestBorderHeight) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     CurveDataCache cache(qt, f.hills);
     const Layer& lakes = f.scene.layers[kLakesLayer];
@@ -114,7 +114,7 @@ TEST(CurveData, LakesAreFlatAtTheirLowestBorderHeight) {
 }
 
 TEST(CurveData, AnEditDropsOnlyWhatItTouches) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     CurveDataCache cache(qt, f.hills);
     const Layer& roads = f.scene.layers[kRoadsLayer];
@@ -133,7 +133,7 @@ TEST(CurveData, AnEditDropsOnlyWhatItTouches) {
 }
 
 TEST(CurveData, RiversStayMonotoneAfterASourceMoves) {
-    Fixture f;
+    CurveFixture f;
     Quadtree qt(f.scene);
     CurveDataCache cache(qt, f.hills);
     const Layer& rivers = f.scene.layers[kRiversLayer];

@@ -22,11 +22,11 @@ constexpr double kPi = std::numbers::pi;
 // Roads meeting at one node: road k leaves at angles[k] (radians), a cubic that bends by up to
 // `bend` metres sideways, `length` metres long; every other road is stored from its far end to
 // the node (so the node is its end).
-struct Star {
+struct RoundaboutStar {
     Scene scene;
     ElementId centre = 0;
     std::vector<ElementId> roads;
-    Star(Vec2 at, const std::vector<double>& angles, double length = 100.0, double bend = 15.0, unsigned seed = 1) {
+    RoundaboutStar(Vec2 at, const std::vector<double>& angles, double length = 100.0, double bend = 15.0, unsigned seed = 1) {
         scene.extent = {at - 1000.0, at + 1000.0};
         scene.layers.resize(1);
         scene.layers[0].name = "roads";
@@ -142,7 +142,7 @@ std::vector<ProceduralCurve> checkRing(const Scene& scene, LayerId layer, Elemen
 TEST(Roundabouts, DegreeOneThroughSixArcsChainAroundTheFullCircle) {
     for (int degree = 1; degree <= 6; ++degree) {
         SCOPED_TRACE(degree);
-        Star s({300.0, 200.0}, evenAngles(degree, 0.15, unsigned(degree)), 100.0, 15.0, unsigned(degree));
+        RoundaboutStar s({300.0, 200.0}, evenAngles(degree, 0.15, unsigned(degree)), 100.0, 15.0, unsigned(degree));
         EXPECT_EQ(roundaboutCut(s.scene, 0, s.roads[0]), std::nullopt);  // no ring yet
         ASSERT_EQ(roundaboutRefusal(s.scene, 0, s.centre, 15.0f), std::nullopt);
         setNodeRoundabout(s.scene, 0, s.centre, 15.0f);
@@ -174,7 +174,7 @@ TEST(Roundabouts, RandomStarsEitherFitWithAChainedRingOrAreRefused) {
     for (int trial = 0; trial < 60; ++trial) {
         std::vector<double> angles(std::size_t(degree(rng)));
         for (double& a : angles) a = angle(rng);
-        Star s({5000.0, -3000.0}, angles, 60.0, 20.0, unsigned(trial));
+        RoundaboutStar s({5000.0, -3000.0}, angles, 60.0, 20.0, unsigned(trial));
         const auto r = float(radius(rng));
         s.scene.layers[0].nodes[s.centre].roundabout = r;  // bypassing the edit: the cut refuses alike
         if (roundaboutRefusal(s.scene, 0, s.centre, r)) {
@@ -223,7 +223,7 @@ TEST(Roundabouts, AClosedRoadAtTheNodeCarriesTwoArcs) {
 }
 
 TEST(Roundabouts, ARadiusLargerThanAConnectedRoadIsRefusedWithTheReason) {
-    Star s({0.0, 0.0}, {0.0, 2.0}, 100.0, 0.0);
+    RoundaboutStar s({0.0, 0.0}, {0.0, 2.0}, 100.0, 0.0);
     // A short third road: both its ends within 20 m of the node.
     Layer& l = s.scene.layers[0];
     const ElementId near = l.addNode({-5.0, -12.0});
@@ -262,7 +262,7 @@ TEST(Roundabouts, ARadiusLargerThanAConnectedRoadIsRefusedWithTheReason) {
 TEST(Roundabouts, TwoRoadsEnteringWithinTheSameArcAreRefused) {
     // Straight roads 5 degrees apart: 1.75 m apart on a ring of 20 m, less than the 4 m asked.
     const double d = 5.0 * kPi / 180.0;
-    Star s({0.0, 0.0}, {0.0, d, kPi}, 100.0, 0.0);
+    RoundaboutStar s({0.0, 0.0}, {0.0, d, kPi}, 100.0, 0.0);
     const auto reason = roundaboutRefusal(s.scene, 0, s.centre, 20.0f);
     ASSERT_TRUE(reason);
     EXPECT_NE(reason->find("roads " + std::to_string(s.roads[0]) + " and " + std::to_string(s.roads[1])),
@@ -308,7 +308,7 @@ TEST(Roundabouts, ARoadBetweenTwoRingsMustKeepSomeRoad) {
 }
 
 TEST(Roundabouts, TheEditReportsTheNodeAndEveryCurveAtIt) {
-    Star s({0.0, 0.0}, evenAngles(3, 0.0, 1), 100.0, 10.0);
+    RoundaboutStar s({0.0, 0.0}, evenAngles(3, 0.0, 1), 100.0, 10.0);
     const Changeset cs = setNodeRoundabout(s.scene, 0, s.centre, 12.0f);
     EXPECT_EQ(s.scene.layers[0].nodes[s.centre].roundabout, 12.0f);
     std::vector<ElementRef> expected = {{0, ElementKind::Node, s.centre}};
@@ -326,7 +326,7 @@ TEST(Roundabouts, HugeCoordinatesKeepTheRingOnTheCircle) {
     // 1e7 m from the origin a double's spacing is 1.9e-9 m: the points are on the circle to it.
     for (int degree : {1, 3, 5}) {
         SCOPED_TRACE(degree);
-        Star s({1.0e7 + 0.123, -1.0e7 + 0.456}, evenAngles(degree, 0.2, 7), 100.0, 15.0, 7);
+        RoundaboutStar s({1.0e7 + 0.123, -1.0e7 + 0.456}, evenAngles(degree, 0.2, 7), 100.0, 15.0, 7);
         setNodeRoundabout(s.scene, 0, s.centre, 18.5f);
         checkRing(s.scene, 0, s.centre, 5e-9);
     }
@@ -368,7 +368,7 @@ void checkRingInLeaves(const Quadtree& tree, LayerId layer, Vec2 c, double r, st
 TEST(Roundabouts, NearAQuadBorderTheRingIsClippedOnBothSides) {
     // The node 3 m left of the vertical border x = 1000 and 2 m below y = 1000 of a 2 km root: the
     // ring of 25 m lies in the four children.
-    Star s({997.0, 998.0}, evenAngles(4, 0.1, 3), 200.0, 20.0, 3);
+    RoundaboutStar s({997.0, 998.0}, evenAngles(4, 0.1, 3), 200.0, 20.0, 3);
     s.scene.extent = {{0.0, 0.0}, {2000.0, 2000.0}};
     setNodeRoundabout(s.scene, 0, s.centre, 25.0f);
     GraphStep step(s.scene);
@@ -396,7 +396,7 @@ TEST(Roundabouts, NearAQuadBorderTheRingIsClippedOnBothSides) {
 }
 
 TEST(Roundabouts, MovingTheNodeMovesTheRing) {
-    Star s({500.0, 500.0}, evenAngles(3, 0.1, 5), 150.0, 10.0, 5);
+    RoundaboutStar s({500.0, 500.0}, evenAngles(3, 0.1, 5), 150.0, 10.0, 5);
     s.scene.extent = {{0.0, 0.0}, {1000.0, 1000.0}};
     setNodeRoundabout(s.scene, 0, s.centre, 20.0f);
     GraphStep step(s.scene);

@@ -27,16 +27,16 @@
 namespace lacet {
 namespace {
 
-struct World {
+struct AppearanceWorld {
     Scene scene;
     Dem dem;
     DemHeightField heights;
-    World(std::uint64_t seed, std::size_t curves)
+    AppearanceWorld(std::uint64_t seed, std::size_t curves)
         : scene(makeSyntheticScene({seed, curves})), dem(makeSyntheticDem(scene, {seed, 1000})), heights(dem) {}
 };
 
 using Key = std::tuple<int, std::uint32_t, std::uint32_t>;
-Key keyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
+Key appearanceKeyOf(const Quad& q) { return {q.level, q.tx, q.ty}; }
 
 std::vector<const Quad*> quadsFrom(const Quadtree& qt, int minLevel) {
     std::vector<const Quad*> out;
@@ -99,7 +99,7 @@ TEST(AppearanceShading, BlocksAreTheColoursOfTheirPoints) {
 // WorkCancelled, for the appearance and the elevation alike, and leaves the per-thread buffers
 // ready: the next call on the same thread makes the same tile as before.
 TEST(AppearanceProducer, ACancelledCallThrowsAndTheNextCallMakesTheSameTile) {
-    World w(4, 2000);
+    AppearanceWorld w(4, 2000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     const Vec2 c = w.scene.extent.center();
     qt.refineForViewer({c.x, c.y, 30.0}, ViewParams{.maxLevel = 6});
@@ -122,7 +122,7 @@ TEST(AppearanceProducer, ACancelledCallThrowsAndTheNextCallMakesTheSameTile) {
 }
 
 TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
-    World w(2, 3000);
+    AppearanceWorld w(2, 3000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 128}});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
@@ -135,8 +135,8 @@ TEST(AppearanceProducer, AdjacentTilesAgreeOnTheirBorderTexels) {
     std::map<Key, std::vector<std::uint8_t>> texels;
     std::map<Key, const AppearanceTile*> byKey;
     for (std::size_t k = 0; k < quads.size(); ++k) {
-        texels[keyOf(*quads[k])] = tileTexels(tiles[k]);
-        byKey[keyOf(*quads[k])] = &tiles[k];
+        texels[appearanceKeyOf(*quads[k])] = tileTexels(tiles[k]);
+        byKey[appearanceKeyOf(*quads[k])] = &tiles[k];
     }
     std::size_t compared = 0, differing = 0;
     int worst = 0;
@@ -173,7 +173,7 @@ TEST(AppearanceProducer, ACoarserGroundGridInSmallQuadsChangesTexelsByLittle) {
     // measured on quads of 160 m down to 10 m, over an Alpine DEM of 20 m samples (the paper's
     // spacing, the finest it had) whose heights and slopes cross every ground colour's range
     // (meadow, rock by height and by slope, snow; the synthetic DEM is one uniform grass here).
-    World w(2, 3000);
+    AppearanceWorld w(2, 3000);
     const Box extent = w.scene.extent;
     const int nx = int(extent.size().x / 20.0) + 1, ny = int(extent.size().y / 20.0) + 1;
     std::vector<float> z(std::size_t(nx) * std::size_t(ny));
@@ -262,7 +262,7 @@ TEST(AppearanceProducer, HairpinsAndSharpTurnsHaveNoGapAndNoSpike) {
 }
 
 TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraws) {
-    World w(3, 3000);
+    AppearanceWorld w(3, 3000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     qt.refineForViewer({0.0, 0.0, 1.0}, ViewParams{.K = 1e12, .maxLevel = 6});  // every quad down to level 6 (110 m)
     DemHeightField heights(w.dem);
@@ -287,7 +287,7 @@ TEST(AppearanceProducer, UniformQuadsStoreNoTexelsAndExpandToWhatTheProducerDraw
 TEST(AppearanceProducer, UniformFurrowedFieldQuadsExpandToWhatTheProducerDraws) {
     // Quads inside a field, with texels fine enough for its furrows (the pattern the producer
     // and tileTexels both shade row by row).
-    World w(3, 3000);
+    AppearanceWorld w(3, 3000);
     const Layer& fields = w.scene.layers[kFieldsLayer];
     ASSERT_FALSE(fields.nodes.empty());
     const Vec2 at = fields.nodes[fields.nodes.size() / 2].p;
@@ -332,7 +332,7 @@ TEST(AppearanceProducer, RiversWiderThanTheQuadMakeUniformWaterQuads) {
 }
 
 TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
-    World w(6, 1500);
+    AppearanceWorld w(6, 1500);
     const RefineParams rp{{.resolution = 32}};
     Quadtree qt(w.scene, rp);
     const Vec2 c = w.scene.extent.center();
@@ -342,7 +342,7 @@ TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
         std::map<Key, std::pair<AppearanceTile, ElevationTile>> tiles;
         tree.forEachQuad([&](const Quad& q) {
             if (q.level >= 1)
-                tiles.emplace(keyOf(q), std::pair{produceAppearance(q, tree, cache, w.dem, {}), produceElevation(q, tree, cache, w.dem, {})});
+                tiles.emplace(appearanceKeyOf(q), std::pair{produceAppearance(q, tree, cache, w.dem, {}), produceElevation(q, tree, cache, w.dem, {})});
         });
         return tiles;
     };
@@ -356,7 +356,7 @@ TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
         data.invalidate(edit.changeset);
         const UpdateStats st = qt.update(edit.changeset);
         for (const Quad* q : st.changedQuads)
-            tiles[keyOf(*q)] = {produceAppearance(*q, qt, data, w.dem, {}), produceElevation(*q, qt, data, w.dem, {})};
+            tiles[appearanceKeyOf(*q)] = {produceAppearance(*q, qt, data, w.dem, {}), produceElevation(*q, qt, data, w.dem, {})};
         regenerated += st.changedQuads.size();
         Quadtree fresh(w.scene, rp);
         fresh.copyStructureOf(qt);
@@ -377,7 +377,7 @@ TEST(AppearanceProducer, IncrementalRegenerationEqualsProductionFromScratch) {
 TEST(AppearanceProducer, ATileDoesNotDependOnTheTilesMadeBeforeItOnItsThread) {
     // A thread's canvas is reused from tile to tile without being cleared (every pass clears what
     // it set): the same tiles made in opposite orders, on this thread, must be identical.
-    World w(2, 3000);
+    AppearanceWorld w(2, 3000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 128}});
     // Near a road junction, down to quads of 14 m (texels of 11 cm: markings show).
     const Vec2 junction = w.scene.layers[kRoadsLayer].nodes[w.scene.layers[kRoadsLayer].nodes.size() / 2].p;
@@ -488,7 +488,7 @@ TEST(AppearanceProducer, RiverAreasAreWaterOverTheirRiversBanks) {
 }
 
 TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
-    World w(5, 2000);
+    AppearanceWorld w(5, 2000);
     Quadtree qt(w.scene, RefineParams{{.resolution = 64}});
     const Vec2 c = w.scene.extent.center();
     qt.refineForViewer({c.x, c.y, 50.0}, ViewParams{.maxLevel = 8});
@@ -504,7 +504,7 @@ TEST(AppearanceProducer, ResultsDoNotDependOnTheThreadCount) {
 }
 
 TEST(AppearanceProducer, MarkingsBelowATexelCostNoCurvilinearCoordinate) {
-    World w(8, 3000);
+    AppearanceWorld w(8, 3000);
     Quadtree qt(w.scene);
     qt.refineForViewer({0.0, 0.0, 1e6}, ViewParams{.K = 1e6, .maxLevel = 2});  // texels of 7 m: no marking shows
     CurveDataCache data(qt, w.heights);
@@ -518,7 +518,7 @@ TEST(AppearanceProducer, MarkingsBelowATexelCostNoCurvilinearCoordinate) {
 }
 
 TEST(AppearanceProducer, ScenesWithoutWaterDrawNoWater) {
-    World w(9, 2000);
+    AppearanceWorld w(9, 2000);
     AppearanceCounters withWater, without;
     {
         Quadtree qt(w.scene, RefineParams{{.resolution = 64}});

@@ -23,14 +23,14 @@
 namespace lacet {
 namespace {
 
-constexpr int kSide = 700;  // samples: about 8 m cells over the 2,000-curve scene's 5.8 km
+constexpr int kFineSide = 700;  // samples: about 8 m cells over the 2,000-curve scene's 5.8 km
 
-struct Fixture {
+struct FineDemFixture {
     Scene scene = makeSyntheticScene({1, 2000});
     Dem base = makeSyntheticDem(scene, {1, 5000});  // 20 m cells
 };
-const Fixture& fixture() {
-    static const Fixture f;
+const FineDemFixture& fixture() {
+    static const FineDemFixture f;
     return f;
 }
 
@@ -70,13 +70,13 @@ double worstRise(const Scene& scene, const Dem& dem) {
 }
 
 TEST(FineSyntheticDem, RowsAreDeterministicAndSeeded) {
-    const Fixture& f = fixture();
-    const FineSyntheticDem a(f.scene, f.base, {.side = kSide, .seed = 3});
-    const FineSyntheticDem b(f.scene, f.base, {.side = kSide, .seed = 3});
-    const FineSyntheticDem c(f.scene, f.base, {.side = kSide, .seed = 4});
-    EXPECT_NEAR(a.cell(), f.scene.extent.size().x / kSide, 1e-9);
-    std::vector<float> ra(kSide), rb(kSide), rc(kSide), again(kSide);
-    for (const int t : {0, 123, kSide - 1}) {
+    const FineDemFixture& f = fixture();
+    const FineSyntheticDem a(f.scene, f.base, {.side = kFineSide, .seed = 3});
+    const FineSyntheticDem b(f.scene, f.base, {.side = kFineSide, .seed = 3});
+    const FineSyntheticDem c(f.scene, f.base, {.side = kFineSide, .seed = 4});
+    EXPECT_NEAR(a.cell(), f.scene.extent.size().x / kFineSide, 1e-9);
+    std::vector<float> ra(kFineSide), rb(kFineSide), rc(kFineSide), again(kFineSide);
+    for (const int t : {0, 123, kFineSide - 1}) {
         a.row(t, ra);
         b.row(t, rb);
         c.row(t, rc);
@@ -90,14 +90,14 @@ TEST(FineSyntheticDem, RowsAreDeterministicAndSeeded) {
 }
 
 TEST(FineSyntheticDem, DetailAwayFromRiversNoneOnThem) {
-    const Fixture& f = fixture();
-    const FineDemParams p{.side = kSide};
+    const FineDemFixture& f = fixture();
+    const FineDemParams p{.side = kFineSide};
     const FineSyntheticDem fine(f.scene, f.base, p);
     double largest = 0.0;
-    std::vector<float> row(kSide);
-    for (int t = 0; t < kSide; t += 7) {
+    std::vector<float> row(kFineSide);
+    for (int t = 0; t < kFineSide; t += 7) {
         fine.row(t, row);
-        for (int i = 0; i < kSide; ++i) largest = std::max(largest, std::abs(row[std::size_t(i)] - f.base.sample(fine.position(i, t))));
+        for (int i = 0; i < kFineSide; ++i) largest = std::max(largest, std::abs(row[std::size_t(i)] - f.base.sample(fine.position(i, t))));
     }
     EXPECT_GT(largest, 0.5 * p.amplitude) << "metres";
     EXPECT_LE(largest, p.amplitude + 1e-3) << "metres";
@@ -114,21 +114,21 @@ TEST(FineSyntheticDem, DetailAwayFromRiversNoneOnThem) {
 
 TEST(FineSyntheticDem, RiversStillRunDownhillAtTheFineResolution) {
     constexpr double kRiseTolerance = 0.5;  // metres, the base's (tests/raster/dem_test.cpp)
-    const Fixture& f = fixture();
-    const FineSyntheticDem fine(f.scene, f.base, {.side = kSide});
+    const FineDemFixture& f = fixture();
+    const FineSyntheticDem fine(f.scene, f.base, {.side = kFineSide});
     const double rise = worstRise(f.scene, wholeDem(fine, f.scene.extent));
-    std::printf("[   info   ] %d samples a side (%.1f m cells): worst rise %.3f m along the rivers (base: %.3f m)\n", kSide,
+    std::printf("[   info   ] %d samples a side (%.1f m cells): worst rise %.3f m along the rivers (base: %.3f m)\n", kFineSide,
                 fine.cell(), rise, worstRise(f.scene, f.base));
     EXPECT_LE(rise, kRiseTolerance);
     // Without the fade the same detail makes the rivers climb: the check can fail.
-    const FineSyntheticDem unfaded(f.scene, f.base, {.side = kSide, .riverFade = 0.0, .distanceCell = 2.0});
+    const FineSyntheticDem unfaded(f.scene, f.base, {.side = kFineSide, .riverFade = 0.0, .distanceCell = 2.0});
     EXPECT_GT(worstRise(f.scene, wholeDem(unfaded, f.scene.extent)), kRiseTolerance);
 }
 
 TEST(FineSyntheticDem, RowsThroughALodTreeReadBackUnchanged) {
-    const Fixture& f = fixture();
-    const FineSyntheticDem fine(f.scene, f.base, {.side = kSide});
-    const DemLodLayout layout = DemLodLayout::make(kSide, kSide, fine.cell(), fine.topLeft(), 64);
+    const FineDemFixture& f = fixture();
+    const FineSyntheticDem fine(f.scene, f.base, {.side = kFineSide});
+    const DemLodLayout layout = DemLodLayout::make(kFineSide, kFineSide, fine.cell(), fine.topLeft(), 64);
     const auto path = std::filesystem::temp_directory_path() / ("lacet_test_fine_dem_" + std::to_string(::getpid()) + ".gpkg");
     std::filesystem::remove(path);
     const DemLodOutput out = writeDemLodFile(path.string(), layout, [&](int t, std::span<float> row) { fine.row(t, row); }, 256);

@@ -10,6 +10,7 @@
 
 #include "model/graph.h"
 #include "model/validate.h"
+#include "tests/same_bits.h"
 
 namespace lacet {
 namespace {
@@ -20,8 +21,6 @@ const Scene& scene10k() {
     return scene;
 }
 
-bool sameBits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-bool sameBits(Vec2 a, Vec2 b) { return sameBits(a.x, b.x) && sameBits(a.y, b.y); }
 
 // Element by element, positions compared bitwise; reports the first difference.
 ::testing::AssertionResult identical(const Scene& a, const Scene& b) {
