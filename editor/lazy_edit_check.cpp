@@ -171,7 +171,7 @@ LazyEditCheckReport checkLazyEdits(EditSession& lazy, EditSession& whole, const 
             ++r.mismatches;
             if (r.details.size() < p.maxDetails) r.details.push_back("edit " + std::to_string(edit) + ": the undo depths differ");
         }
-        if (u(rng) < 0.2) {
+        if (u(rng) < p.undoChance) {
             const bool a = lazy.undo(), b = whole.undo();
             r.undos += a && b;
             r.mismatches += a != b;

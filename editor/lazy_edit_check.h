@@ -37,6 +37,7 @@ struct LazyEditCheckParams {
     int edits = 30;             // random edits tried (a drag counts once)
     int dragSteps = 3;          // commands of a drag (one undo step)
     double reach = 120.0;       // m: how far a move goes, each way
+    double undoChance = 0.2;    // each edit is undone with this chance, then redone with one in two
     int appearanceFrom = 0;         // the first level whose appearance is compared (a pyramid's first vector level)
     bool topElevationOnly = false;  // the lazy session's top tree reads what elevation needs only
     std::size_t maxDetails = 20;

@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages Lacet builds with, if any is missing. Run as root.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build python3
+  build-essential cmake ninja-build ccache python3
   libglm-dev libcgal-dev libgmp-dev libmpfr-dev
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

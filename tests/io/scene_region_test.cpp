@@ -28,6 +28,7 @@
 #include "synth/synthetic_dem.h"
 #include "synth/synthetic_scene.h"
 #include "tests/io/gis_fixtures.h"
+#include "tests/sanitized.h"
 
 namespace lacet {
 namespace {
@@ -139,7 +140,7 @@ TEST_F(SceneRegion, RandomRegionsGiveTheWholeScenesTilesFromWhatTheyRead) {
     const Box extent = whole_->scene.extent;
     std::mt19937_64 rng(2026);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    constexpr int kRegions = 40;
+    const int kRegions = test::sanitizedOr(40, 16);
     std::size_t bridges = 0, roundabouts = 0, partial = 0;
     for (int k = 0; k < kRegions; ++k) {
         const int level = 5 + k % 3;  // quads of 560 m to 140 m over a 17.9 km extent
