@@ -26,11 +26,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-#ifdef __SANITIZE_ADDRESS__
-constexpr double kMemoryBoundKiB = 8.0 * 1024 * 1024;  // AddressSanitizer's shadow and quarantine on top
-#else
-constexpr double kMemoryBoundKiB = 2.0 * 1024 * 1024;
-#endif
+// The sanitized lacet's bound: AddressSanitizer's shadow and quarantine on top.
+constexpr double kMemoryBoundKiB = (test::kSanitized ? 8.0 : 2.0) * 1024 * 1024;
 
 // The hostile sizes: a tenth of them under the sanitizers, which import the same way ten to
 // twenty-five times slower (the Release suite imports them whole, and the peak memory bound above
