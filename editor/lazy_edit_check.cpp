@@ -10,7 +10,6 @@
 namespace lacet {
 namespace {
 
-
 // The kinds of random edits (randomEdit's `kind`, 0..kEditKinds - 1).
 constexpr int kEditKinds = 8;
 constexpr int kDrawKind = 7;  // a new node and a new curve to it from curve c's end: one group

@@ -78,7 +78,6 @@ std::optional<Box> boxOf(const OverlayElement& e) {
     return e.box;
 }
 
-
 }  // namespace
 
 LazyEdits::LazyEdits(std::string path, RefineParams refine)

@@ -25,7 +25,6 @@ namespace {
 using test::expectTilesEqualFromScratch;
 using test::syntheticDocument;
 
-
 ::testing::AssertionResult sameScene(const Scene& a, const Scene& b) {
     if (a.layers.size() != b.layers.size()) return ::testing::AssertionFailure() << "layer count";
     for (std::size_t l = 0; l < a.layers.size(); ++l) {
@@ -310,7 +309,6 @@ TEST(EditSession, ARefineBudgetShorterThanOneSubdivisionStillReachesTheCompleteT
     });
     EXPECT_GT(compared, 20u);
 }
-
 
 // An inner vertex of a road of the session's scene with at least three vertices.
 std::pair<ElementId, std::size_t> someInnerVertex(const Scene& s) {
