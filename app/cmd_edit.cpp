@@ -53,7 +53,7 @@ ui::EditorDocument chooseDocument(const EditCli& o) {
         for (const std::string& w : report.warnings) std::cerr << "lacet edit: warning: " << w << "\n";
         printImportSummary(std::cout, report, "the editor (not saved until Ctrl+S)");
         std::ostringstream m;
-        m << "Andorra imported: " << report.featuresRead << " features read, " << report.problems.size() << " problems (the report is on the terminal)";
+        m << "Andorra imported: " << report.featuresRead << " features read, " << report.problemCount() << " problems (the report is on the terminal)";
         d.message = m.str();
         d.label = "andorra";
         return d;

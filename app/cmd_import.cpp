@@ -68,6 +68,11 @@ void addImportCommand(CLI::App& app) {
     cmd->add_option("--flat-height", o->options.flatHeight, "Height of the flat ground when no DEM is given (m)");
     cmd->add_option("--min-kept", o->options.minKept, "Fail unless the vectors give at least this many curves and areas (default 1)");
     cmd->add_flag("--allow-empty", o->options.allowEmpty, "Accept an import that keeps fewer than --min-kept features");
+    cmd->add_option("--vector-budget", o->options.vectorBudgetMiB,
+                    "Import the vectors out of core within about this much memory (MiB; 0: in memory, the default): features "
+                    "spilled to a file beside --out as they are read, the scene built and written a square part at a time");
+    cmd->add_option("--vector-part-level", o->options.vectorPartLevel,
+                    "Out of core, with parts 2^level a side (0 to 8) instead of those --vector-budget chooses");
     cmd->add_option("--out", o->out, "Scene file to write (GeoPackage)")->required();
     cmd->add_flag("--force", o->force, "Replace --out even when it is not a Lacet scene");
     cmd->add_flag("--json", o->json, "Print the report as JSON");
@@ -80,14 +85,7 @@ void addImportCommand(CLI::App& app) {
             o->options.demLodPath = uniqueDemLodPath(o->out);
         ImportReport report;
         TerminalProgress progress;
-        {
-            // The lod DEM's file, once the import made one (it removes it when it fails itself), is
-            // removed after the save, and when the save fails; never a file this run did not make.
-            RemoveFileOnExit lodFile;
-            const SceneDocument doc = importScene(o->options, report, &progress);
-            if (doc.demLod) lodFile.path = doc.demLod->path();
-            saveScene(o->out, doc);
-        }
+        importSceneToFile(o->options, o->out, report, &progress);
         for (const std::string& w : report.warnings) std::cerr << "lacet import: warning: " << w << "\n";
         if (o->json) std::cout << report.json().dump(2) << "\n";
         else printImportSummary(std::cout, report, o->out);

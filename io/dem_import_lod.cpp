@@ -166,11 +166,11 @@ void checkDemLodFits(const std::string& name, const SceneGrid& grid, const std::
 // Removes the DEM trees' temporary files beside `beside` that a killed import left: named as
 // uniqueDemLodPath names them, by a process that no longer runs (a live one's, or one whose id
 // another process took since, are kept). Best effort: what cannot be read or removed stays.
-void removeStaleDemLodFiles(const std::string& beside) {
+void removeStaleImportTempFilesOf(const std::string& beside, const std::string& kind) {
     namespace fs = std::filesystem;
     const fs::path b(beside);
     const fs::path dir = b.has_parent_path() ? b.parent_path() : fs::path(".");
-    const std::string prefix = b.filename().string() + ".dem.";
+    const std::string prefix = b.filename().string() + "." + kind + ".";
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(dir, ec)) {
         const std::string name = e.path().filename().string();
@@ -191,25 +191,31 @@ void removeStaleDemLodFiles(const std::string& beside) {
 
 }  // namespace
 
-std::string uniqueDemLodPath(const std::string& beside) {
-    removeStaleDemLodFiles(beside);
+std::string uniqueDemLodPath(const std::string& beside) { return uniqueImportTempPath(beside, "dem"); }
+
+void removeStaleImportTempFiles(const std::string& beside) {
+    for (const char* kind : {"dem", "vectors"}) removeStaleImportTempFilesOf(beside, kind);
+}
+
+std::string uniqueImportTempPath(const std::string& beside, const std::string& kind) {
+    removeStaleImportTempFiles(beside);
     std::random_device random;
     for (int attempt = 0; attempt < 100; ++attempt) {
         const std::uint64_t r = std::uint64_t(random()) << 32 ^ std::uint64_t(random());
         char suffix[64];
-        std::snprintf(suffix, sizeof suffix, ".dem.%lld.%016llx.tmp", static_cast<long long>(::getpid()),
+        std::snprintf(suffix, sizeof suffix, ".%s.%lld.%016llx.tmp", kind.c_str(), static_cast<long long>(::getpid()),
                       static_cast<unsigned long long>(r));
         const std::string path = beside + suffix;
         const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
         if (fd < 0) {
             if (errno == EEXIST) continue;
-            throw std::runtime_error(path + ": cannot create the DEM tree's temporary file: " + std::strerror(errno));
+            throw std::runtime_error(path + ": cannot create the import's temporary file: " + std::strerror(errno));
         }
         ::close(fd);
         ::unlink(path.c_str());
         return path;
     }
-    throw std::runtime_error(beside + ": no free name for the DEM tree's temporary file beside it");
+    throw std::runtime_error(beside + ": no free name for the import's temporary file beside it");
 }
 
 RemoveFileOnExit::~RemoveFileOnExit() {

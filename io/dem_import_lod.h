@@ -81,6 +81,11 @@ using DemRowSource = std::function<void(int t, std::span<float> heights)>;
 // created (a missing or read-only directory). First removes the temporary files of this kind that
 // killed imports left beside `beside` (their process no longer runs).
 std::string uniqueDemLodPath(const std::string& beside);
+// The same for another temporary file of an import, named beside + "." + `kind` + ".PID.HEX.tmp"
+// (an import out of core's spill of features: kind "vectors"), stale ones of that kind removed.
+std::string uniqueImportTempPath(const std::string& beside, const std::string& kind);
+// Removes the temporary files of every kind that killed imports left beside `beside` (as above).
+void removeStaleImportTempFiles(const std::string& beside);
 
 // Removes the file at `path` when destroyed, unless `path` is empty (errors ignored): a tree's file
 // this run made, set once it exists (never a file found there), removed after the save or when a

@@ -1,6 +1,7 @@
 #include "io/network_builder.h"
 
 #include <algorithm>
+#include <cmath>
 #include <bit>
 #include <memory>
 #include <tuple>
@@ -121,9 +122,12 @@ public:
     // Splits the ways at nodes and merges chains; returns the number of curves to fit.
     std::size_t planCurves() {
         // Nodes: way ends and shared points.
+        // A border point of a part (PartCut) is a node wherever a way passes through it.
         std::unordered_map<PointKey, int, PointHash> uses;
         for (const Piece& w : ways_)
             for (std::size_t i = 0; i < w.points.size(); ++i) uses[PointKey(w.points[i])] += (i == 0 || i + 1 == w.points.size()) ? 2 : 1;
+        for (const PointKey& k : border_)
+            if (const auto it = uses.find(k); it != uses.end()) it->second += 2;
         std::vector<Piece> pieces;
         for (const Piece& w : ways_) {
             Piece cur{{w.points.front()}, w.rule, w.flags, node(w.points.front()), 0, w.kept};
@@ -171,6 +175,17 @@ public:
         }
         for (const Node& n : layer_.nodes) summary_.junctions += n.curves.size() >= 3;
         summary_.nodes = layer_.nodes.size();
+    }
+
+    // A point where this part's curves must stop, shared with the parts around (PartCut).
+    void addBorder(Vec2 p) { border_.insert(PointKey(p)); }
+
+    // The nodes made at border points (after buildCurves).
+    std::vector<ElementId> borderNodes() const {
+        std::vector<ElementId> out;
+        for (std::size_t n = 0; n < nodeIds_.size(); ++n)
+            if (nodeIds_[n] != kNoElement && border_.contains(PointKey(nodePoints_[n]))) out.push_back(nodeIds_[n]);
+        return out;
     }
 
     // Queues an area (its rings closed, in scene metres); buildAreas() fits and adds them.
@@ -349,7 +364,7 @@ private:
             std::vector<std::size_t> live;
             for (std::size_t i : at[n])
                 if (pieces[i].alive) live.push_back(i);
-            if (live.size() != 2 || live[0] == live[1]) continue;
+            if (live.size() != 2 || live[0] == live[1] || border_.contains(PointKey(nodePoints_[n]))) continue;
             Piece& p = pieces[live[0]];
             Piece& q = pieces[live[1]];
             if (p.rule != q.rule || p.flags != q.flags || *p.kept != *q.kept) continue;
@@ -390,17 +405,65 @@ private:
     std::vector<Piece> pieces_;  // planned curves
     std::vector<QueuedArea> areas_;
     std::unordered_set<SegmentKey, SegmentHash> segments_;
+    std::unordered_set<PointKey, PointHash> border_;
     std::unordered_set<std::vector<std::uint64_t>, KeyHash> areaKeys_;
     std::unordered_map<PointKey, std::size_t, PointHash> nodeIndex_;
     std::vector<Vec2> nodePoints_;
     std::vector<ElementId> nodeIds_;
 };
 
+// The stretches of `pts` whose segments go to `cut`'s part, as ways of `builder`; every point of a
+// segment between two parts is a border point.
+void addWayPieces(LayerBuilder& builder, const PartCut& cut, const std::vector<Vec2>& pts, std::size_t rule, std::uint16_t flags,
+                  const std::map<std::string, std::string>& kept, const SourceRef& source) {
+    std::vector<Vec2> run;
+    const auto flush = [&] {
+        if (run.size() >= 2) builder.addWay(run, rule, flags, kept, source);
+        run.clear();
+    };
+    int a = cut.grid.partOf(pts.front());
+    for (std::size_t i = 0; i + 1 < pts.size(); ++i) {
+        const int b = cut.grid.partOf(pts[i + 1]);
+        if (a != b) {
+            builder.addBorder(pts[i]);
+            builder.addBorder(pts[i + 1]);
+        }
+        if (std::min(a, b) == cut.part) {
+            if (run.empty()) run.push_back(pts[i]);
+            run.push_back(pts[i + 1]);
+        } else {
+            flush();
+        }
+        a = b;
+    }
+    flush();
+}
+
+// The part an area goes to: that of its outer ring's least point (x, then y), whatever its start.
+int areaPart(const PartGrid& grid, const std::vector<Vec2>& outer) {
+    Vec2 least = outer.front();
+    for (const Vec2& p : outer)
+        if (std::tie(p.x, p.y) < std::tie(least.x, least.y)) least = p;
+    return grid.partOf(least);
+}
+
 }  // namespace
+
+int PartGrid::partOf(Vec2 p) const {
+    const Vec2 f = (p - square.min) / square.size() * double(side);
+    const auto index = [&](double v) { return std::isfinite(v) ? std::clamp(int(std::floor(v)), 0, side - 1) : 0; };
+    return index(f.y) * side + index(f.x);
+}
+
+Box PartGrid::partBox(int part) const {
+    const Vec2 cell = square.size() / double(side);
+    const Vec2 min = square.min + cell * Vec2(part % side, part / side);
+    return {min, min + cell};
+}
 
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
                  const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
-                 std::vector<ElementAttribute>* attributes, Progress* progress) {
+                 std::vector<ElementAttribute>* attributes, Progress* progress, PartCut* cut) {
     Scene scene;
     scene.extent = extent;
     report = {};
@@ -425,20 +488,24 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
     std::vector<const RawLine*> lines;
     for (const RawLine& line : data.lines) lines.push_back(&line);
     std::stable_partition(lines.begin(), lines.end(), [](const RawLine* l) { return !l->inMulti; });
+    // With a cut, a feature's problems are reported by one part: that of its first point.
+    const auto reports = [&](const glm::dvec2& first) { return !cut || cut->grid.partOf(frame.forward(first)) == cut->part; };
     for (const RawLine* line : lines) {
         if (outside(line->lonLat)) {
-            report.problems.push_back({line->source, "outside the DEM", true});
+            if (reports(line->lonLat.front())) report.problems.push_back({line->source, "outside the DEM", true});
             continue;
         }
         const std::vector<Vec2> pts = project(frame, line->lonLat);
         if (pts.size() < 2) continue;
-        builders[mapping.rules[line->rule].layer]->addWay(pts, line->rule, line->flags, line->kept, line->source);
+        LayerBuilder& builder = *builders[mapping.rules[line->rule].layer];
+        if (cut) addWayPieces(builder, *cut, pts, line->rule, line->flags, line->kept, line->source);
+        else builder.addWay(pts, line->rule, line->flags, line->kept, line->source);
     }
     for (const RawArea& area : data.areas) {
         bool out = false;
         for (const auto& ring : area.rings) out = out || outside(ring);
         if (out) {
-            report.problems.push_back({area.source, "outside the DEM", true});
+            if (reports(area.rings.front().front())) report.problems.push_back({area.source, "outside the DEM", true});
             continue;
         }
         std::vector<std::vector<Vec2>> rings;
@@ -446,6 +513,7 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
             rings.push_back(project(frame, ring));
             if (rings.back().back() != rings.back().front()) rings.back().push_back(rings.back().front());
         }
+        if (cut && areaPart(cut->grid, rings.front()) != cut->part) continue;
         bool degenerate = false;
         for (const auto& ring : rings) degenerate = degenerate || ring.size() < 4;
         if (degenerate) {
@@ -460,6 +528,10 @@ Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const Sc
     for (auto& b : builders) b->buildCurves(progress);
     for (auto& b : builders) b->buildAreas(progress);
     progressEnd(progress);
+    if (cut) {
+        cut->borderNodes.clear();
+        for (auto& b : builders) cut->borderNodes.push_back(b->borderNodes());
+    }
     for (const LayerSummary& l : report.layers) report.inputPoints += l.inputPoints;
     return scene;
 }

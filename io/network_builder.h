@@ -58,9 +58,36 @@ struct NetworkReport {
     std::vector<FeatureProblem> problems;
 };
 
-// `insideDem(lonLat)`: whether the DEM covers a point (null: no DEM check).
+// One square part of a scene built alone (an import out of core, io/scene_import.h): the scene's
+// square cut into `side` x `side` parts (row-major, y up), of which `part` is built. Each point
+// belongs to the part its square holds (the last row and column hold their far edges). A way is cut
+// where a segment has its two points in different parts: the segment goes to the lower-numbered
+// of the two (so a segment, in either direction, always goes to one part, and duplicates are found
+// there), and each of its points becomes a node in every part that has a curve through it, where it
+// is a border node (PartCut::borderNodes). Nodes of the pieces never merge into chains through a
+// border node, so the parts agree on them: the whole scene's junctions are all kept, exactly, and
+// a chain through a part border stays two curves joined at a node. An area goes whole to the part
+// of its outer ring's first point; a river area chooses its axial curve among that part's rivers.
+// "outside the DEM" is reported by the part of a feature's first point only.
+struct PartGrid {
+    Box square;     // the scene's square (extent), scene metres
+    int side = 1;   // parts per side
+    int partOf(Vec2 p) const;
+    Box partBox(int part) const;
+};
+struct PartCut {
+    PartGrid grid;
+    int part = 0;
+    // Out: per layer, the nodes (layer ids) at border points: the same point's node in another
+    // part is the same node of the scene (saveSceneInParts joins them, io/scene_file.h).
+    std::vector<std::vector<ElementId>> borderNodes;
+};
+
+// `insideDem(lonLat)`: whether the DEM covers a point (null: no DEM check). With `cut`, the part
+// cut->part of the features (see PartCut); `data` must hold at least every feature with a point in
+// that part (more are ignored).
 Scene buildScene(const VectorData& data, const FeatureMapping& mapping, const SceneFrame& frame, const Box& extent,
                  const std::function<bool(glm::dvec2)>& insideDem, const SplineFitParams& fit, NetworkReport& report,
-                 std::vector<ElementAttribute>* attributes = nullptr, Progress* progress = nullptr);
+                 std::vector<ElementAttribute>* attributes = nullptr, Progress* progress = nullptr, PartCut* cut = nullptr);
 
 }  // namespace lacet

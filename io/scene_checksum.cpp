@@ -129,13 +129,21 @@ std::string SceneChecksum::combine(std::uint64_t head, std::uint64_t elements) {
 }
 
 SceneChecksumParts SceneChecksum::finish(const SceneDocument& doc) {
+    attributeCount(doc.attributes.size());
+    for (const ElementAttribute& a : doc.attributes) attribute(a);
+    return finishAfterAttributes(doc);
+}
+
+void SceneChecksum::attributeCount(std::size_t n) { c_.word(n); }
+
+void SceneChecksum::attribute(const ElementAttribute& a) {
+    c_.word(std::uint64_t(a.layer) << 40 | std::uint64_t(a.kind) << 32 | std::uint64_t(a.id));
+    c_.text(a.key);
+    c_.text(a.value);
+}
+
+SceneChecksumParts SceneChecksum::finishAfterAttributes(const SceneDocument& doc) {
     Digest& c = c_;
-    c.word(doc.attributes.size());
-    for (const ElementAttribute& a : doc.attributes) {
-        c.word(std::uint64_t(a.layer) << 40 | std::uint64_t(a.kind) << 32 | std::uint64_t(a.id));
-        c.text(a.key);
-        c.text(a.value);
-    }
     const Georeference& g = doc.georeference;
     c.word(g.valid);
     for (double v : {g.lon0, g.lat0, g.originShift.x, g.originShift.y}) c.real(v);

@@ -57,6 +57,11 @@ public:
     void curve(const Curve& c);
     void area(const Area& a);
     SceneChecksumParts finish(const SceneDocument& doc);
+    // finish() with attributes other than doc's (a scene written in parts: its rows): the count,
+    // each attribute in order, then the rest of doc.
+    void attributeCount(std::size_t n);
+    void attribute(const ElementAttribute& a);
+    SceneChecksumParts finishAfterAttributes(const SceneDocument& doc);
 
     // Format 2: one element's digest, the checksum of a head and a sum, and the text of a part.
     static std::uint64_t elementDigest(LayerId layer, ElementId id, const Node& n);

@@ -451,7 +451,38 @@ struct FeatureTablesWriter::State {
     bool gdalCounts = false;
 };
 
-FeatureTablesWriter::FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params)
+namespace {
+
+// planFeatureTables of a scene known by the kinds of its layers' features (FeatureKindsPlan): the
+// same names and order, the second table of a layer where it will have features.
+std::vector<FeatureTable> planFeatureTablesOfKinds(const Scene& scene, const std::vector<FeatureKindsPlan>& kinds,
+                                                   const std::vector<std::string>& takenNames) {
+    std::set<std::string> taken(takenNames.begin(), takenNames.end());
+    std::vector<FeatureTable> tables;
+    for (std::size_t l = 0; l < scene.layers.size(); ++l) {
+        const Layer& layer = scene.layers[l];
+        const bool linesFirst = isLayerOfLines(layer.kind);
+        const std::string base = tableBaseName(layer.name);
+        tables.push_back({.name = uniqueName(base, taken), .layer = LayerId(l), .polygons = !linesFirst, .elements = {}});
+        const bool second = l < kinds.size() && (linesFirst ? kinds[l].areas : kinds[l].lines);
+        if (second)
+            tables.push_back({.name = uniqueName(base + (linesFirst ? "_areas" : "_lines"), taken), .layer = LayerId(l), .polygons = linesFirst,
+                              .elements = {}});
+    }
+    return tables;
+}
+
+std::vector<std::pair<std::string, std::string>> attributeColumnsOfKeys(const std::set<std::string>& keys) {
+    std::set<std::string> taken = fixedColumnNames();
+    std::vector<std::pair<std::string, std::string>> columns;
+    for (const std::string& key : keys) columns.emplace_back(key, uniqueName(attributeColumnBase(key, taken), taken));
+    return columns;
+}
+
+}  // namespace
+
+FeatureTablesWriter::FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params,
+                                         const std::vector<FeatureKindsPlan>* kinds)
     : db_(db), head_(head), params_(params), state_(std::make_unique<State>()) {
     if (!(params.tolerance > 0.0)) throw std::invalid_argument("writeFeatureTables: tolerance must be > 0 m");
     db.exec(kCreateGpkgVectorTables);
@@ -463,9 +494,14 @@ FeatureTablesWriter::FeatureTablesWriter(SqliteDb& db, const SceneDocument& head
     state_->gdalCounts = db.hasTable("gpkg_ogr_contents");
     state_->srsId = featureSrsId(db, head);
     state_->attributes = indexAttributes(head);
-    for (FeatureTable& t : planFeatureTables(head, taken)) {
+    for (FeatureTable& t : kinds ? planFeatureTablesOfKinds(head.scene, *kinds, taken) : planFeatureTables(head, taken)) {
         auto table = std::make_unique<Table>();
-        table->columns = attributeColumns(t, state_->attributes);
+        if (kinds) {
+            const FeatureKindsPlan* k = t.layer < kinds->size() ? &(*kinds)[t.layer] : nullptr;
+            table->columns = k ? attributeColumnsOfKeys(t.polygons ? k->areaKeys : k->lineKeys) : decltype(table->columns){};
+        } else {
+            table->columns = attributeColumns(t, state_->attributes);
+        }
         t.elements.clear();  // refilled by add(), in fid order
         table->plan = std::move(t);
         const FeatureTable& p = table->plan;
@@ -485,7 +521,8 @@ FeatureTablesWriter::FeatureTablesWriter(SqliteDb& db, const SceneDocument& head
 
 FeatureTablesWriter::~FeatureTablesWriter() = default;
 
-void FeatureTablesWriter::add(LayerId layerId, const Layer& part, const ElementOffsets& o) {
+void FeatureTablesWriter::add(LayerId layerId, const Layer& part, const ElementOffsets& o,
+                              const std::vector<ElementAttribute>* partAttributes) {
     if (layerId >= head_.scene.layers.size())
         throw std::invalid_argument("writeFeatureTables: layer " + std::to_string(layerId) + " does not exist");
     Table* lines = nullptr;
@@ -493,13 +530,21 @@ void FeatureTablesWriter::add(LayerId layerId, const Layer& part, const ElementO
     for (const auto& t : state_->tables)
         if (t->plan.layer == layerId) (t->plan.polygons ? polygons : lines) = t.get();
     const double tolerance = params_.tolerance;
+    // The part's own attributes, at the ids its elements are written with.
+    AttributeIndex own;
+    if (partAttributes)
+        for (const ElementAttribute& a : *partAttributes)
+            if (a.layer == layerId)
+                own[{a.layer, a.kind, a.id + (a.kind == ElementKind::Area ? o.areas : a.kind == ElementKind::Curve ? o.curves : o.nodes)}]
+                    .emplace(a.key, a.value);
+    const AttributeIndex& attributes = partAttributes ? own : state_->attributes;
     ByteWriter blob;
     // One feature: its geometry in `blob`, its fixed columns bound by the caller.
     const auto finishRow = [&](Table& t, ElementId id, const Envelope& e) {
         SqliteStatement& s = *t.insert;
         const int fixed = t.plan.polygons ? 4 : 7;
         const ElementKind kind = t.plan.polygons ? ElementKind::Area : ElementKind::Curve;
-        if (const auto it = state_->attributes.find({layerId, kind, id}); it != state_->attributes.end())
+        if (const auto it = attributes.find({layerId, kind, id}); it != attributes.end())
             for (std::size_t k = 0; k < t.columns.size(); ++k)
                 if (const auto value = it->second.find(t.columns[k].first); value != it->second.end())
                     s.bindText(fixed + 1 + int(k), value->second);

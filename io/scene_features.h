@@ -51,6 +51,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -97,11 +98,20 @@ std::vector<FeatureTable> writeFeatureTables(SqliteDb& db, const SceneDocument& 
 // GDAL's counts) and writes kFeatureIndexTable. A part whose features need a table the plan left
 // out (curves outside areas in a fields layer planned empty) is refused with std::invalid_argument.
 // Parts carry no attributes: the feature's attribute columns are those of `head`'s elements.
+//
+// A scene written in parts of every layer (saveSceneInParts) plans its tables from `kinds` instead:
+// per layer, whether it has line features and areas, and the attribute keys of each; add() then
+// takes the part's attributes (ids local to the part).
+struct FeatureKindsPlan {
+    bool lines = false, areas = false;
+    std::set<std::string> lineKeys, areaKeys;
+};
 class FeatureTablesWriter {
 public:
-    FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params = {});
+    FeatureTablesWriter(SqliteDb& db, const SceneDocument& head, const FeatureTableParams& params = {},
+                        const std::vector<FeatureKindsPlan>* kinds = nullptr);
     ~FeatureTablesWriter();
-    void add(LayerId layer, const Layer& part, const ElementOffsets& o);
+    void add(LayerId layer, const Layer& part, const ElementOffsets& o, const std::vector<ElementAttribute>* partAttributes = nullptr);
     std::vector<FeatureTable> finish();
 
 private:

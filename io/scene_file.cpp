@@ -78,7 +78,7 @@ void checkDemLodTiles(SqliteDb& db, const DemLodLayout& layout) {
 
 namespace {
 
-void save(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed) {
+void save(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed, const StreamedParts* parts = nullptr) {
     if (auto problems = validate(doc.scene); !problems.empty())
         throw SceneFileError(path + ": cannot save an invalid scene: " + ValidationError(std::move(problems)).what());
     for (const Layer& l : doc.scene.layers)
@@ -104,7 +104,7 @@ void save(const std::string& path, const SceneDocument& doc, const StreamedLayer
             } else {
                 createEmptyGpkg(tmp);
             }
-            writeSceneTables(tmp, doc, streamed);
+            writeSceneTables(tmp, doc, streamed, parts);
         });
     } catch (const std::exception& e) {
         throw SceneFileError(path + ": cannot save: " + e.what());
@@ -119,6 +119,13 @@ void saveSceneStreamed(const std::string& path, const SceneDocument& head, Layer
                        const std::function<void(const std::function<void(Layer&& part)>& sink)>& produce) {
     const StreamedLayer streamed{layer, produce};
     save(path, head, &streamed);
+}
+
+void saveSceneInParts(const std::string& path, const SceneDocument& head, const std::vector<FeatureKindsPlan>& kinds,
+                      const std::function<std::size_t(Vec2)>& lastPartAt,
+                      const std::function<void(const std::function<void(ScenePart&& part)>& sink)>& produce) {
+    const StreamedParts parts{&kinds, lastPartAt, produce};
+    save(path, head, nullptr, &parts);
 }
 
 bool isLacetScene(const std::string& path) {

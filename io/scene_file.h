@@ -48,6 +48,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "io/document.h"
 
@@ -89,6 +90,30 @@ void saveScene(const std::string& path, const SceneDocument& doc);
 // refused part leaves `path` as it was. Throws SceneFileError naming the file and the reason.
 void saveSceneStreamed(const std::string& path, const SceneDocument& head, LayerId layer,
                        const std::function<void(const std::function<void(Layer&& part)>& sink)>& produce);
+
+// saveScene of a scene made a square part at a time over every layer (an import out of core,
+// io/scene_import.h): `head` is the document but for the parts' elements (its layers' names and
+// kinds; elements of its own come first), `kinds` plans the feature tables (io/scene_features.h:
+// per layer, whether lines and areas come and their attribute keys), and `produce` calls its
+// argument with each part. A part holds every layer of head, its elements referring to each other
+// by ids from 0, its attributes by those ids, and per layer its border nodes: a border node at the
+// same point of the same layer as one of an earlier part is that node (its curves joined), the
+// others are appended after the elements so far. Parts come in increasing `index`; `lastPartAt(p)`
+// is the last index whose part can have a border node at p: once that part is written, the node's
+// row is final (rewritten with every curve) and it leaves memory. Each part is checked by
+// validate() alone; the checksum is summed over the rows written, read back. Memory: `head`, one
+// part, the border nodes still open and SQLite's cache. An exception from `produce` or a refused
+// part leaves `path` as it was. Throws SceneFileError naming the file and the reason.
+struct ScenePart {
+    std::size_t index = 0;
+    Scene scene;
+    std::vector<ElementAttribute> attributes;
+    std::vector<std::vector<ElementId>> borderNodes;  // per layer
+};
+struct FeatureKindsPlan;  // io/scene_features.h
+void saveSceneInParts(const std::string& path, const SceneDocument& head, const std::vector<FeatureKindsPlan>& kinds,
+                      const std::function<std::size_t(Vec2)>& lastPartAt,
+                      const std::function<void(const std::function<void(ScenePart&& part)>& sink)>& produce);
 
 // Loads what saveScene wrote: the same model bit for bit (every layer, node, curve, area, dead slots
 // included, every double exact; the DEM's heights exact). Throws SceneFileError naming the file and

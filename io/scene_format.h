@@ -48,12 +48,20 @@ struct StreamedLayer {
     LayerId layer = 0;
     std::function<void(const std::function<void(Layer&& part)>& sink)> produce;
 };
+// The parts of every layer of a scene written in parts (saveSceneInParts).
+struct StreamedParts {
+    const std::vector<FeatureKindsPlan>* kinds = nullptr;
+    std::function<std::size_t(Vec2)> lastPartAt;
+    std::function<void(const std::function<void(ScenePart&& part)>& sink)> produce;
+};
 
 // Adds the lacet_* tables (and the feature tables, io/scene_features.h) to the GeoPackage at `path`,
 // in one transaction. With `streamed`, that layer's elements are doc's followed by the parts
 // `streamed->produce` makes, each checked by validate() on its own (a FormatError names the part),
 // and the checksum is that of the rows written, read back in order.
-void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed = nullptr);
+// With `parts`, the parts saveSceneInParts describes after doc's elements, checked the same way.
+void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed = nullptr,
+                      const StreamedParts* parts = nullptr);
 
 // The checksum (io/scene_checksum.h) of `doc` with the layers `fromRows` names summed from their
 // rows in `db` as they are now (decoded and checked as readElementTables does), not from doc's
@@ -61,6 +69,8 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
 // Writes `checksum` and its parts into lacet_meta (the keys a format-1 file lacks added).
 void writeChecksum(SqliteDb& db, const SceneChecksumParts& checksum);
 SceneChecksumParts checksumOfRows(SqliteDb& db, const SceneDocument& doc, const std::function<bool(LayerId)>& fromRows);
+// The same with every layer and the attributes from their rows (a scene written in parts).
+SceneChecksumParts checksumOfAllRows(SqliteDb& db, const SceneDocument& doc);
 
 using Meta = std::map<std::string, std::string>;
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/dem_import_lod.h"
+#include "io/scene_import_internal.h"
 #include "model/validate.h"
 
 namespace lacet {
@@ -94,29 +95,6 @@ Box sceneSquare(const SceneFrame& frame, const std::optional<Box>& features, con
     return {min, min + side};
 }
 
-// Fraction of river nodes whose DEM height is below the median of 16 samples on a 150 m circle.
-void checkRivers(const Scene& s, const Dem& dem, ImportReport& r) {
-    std::size_t below = 0, checked = 0;
-    for (const Layer& l : s.layers) {
-        if (l.kind != LayerKind::Rivers) continue;
-        for (const Node& n : l.nodes) {
-            if (!n.alive || n.curves.empty()) continue;
-            // A river area's ring node is on its border, not on a river.
-            if (std::all_of(n.curves.begin(), n.curves.end(), [&](ElementId c) { return !l.curves[c].areas.empty(); })) continue;
-            std::vector<double> ring;
-            for (int k = 0; k < 16; ++k) {
-                const double a = k * 3.14159265358979 / 8.0;
-                ring.push_back(dem.sample(n.p + 150.0 * Vec2(std::cos(a), std::sin(a))));
-            }
-            std::nth_element(ring.begin(), ring.begin() + 8, ring.end());
-            below += dem.sample(n.p) < ring[8];
-            ++checked;
-        }
-    }
-    r.riverNodesChecked = checked;
-    r.riverNodesBelowSurroundings = checked ? double(below) / double(checked) : 0.0;
-}
-
 }  // namespace
 
 const char* toString(DemStorage s) {
@@ -143,19 +121,31 @@ void checkImportOptions(const ImportOptions& o) {
     if (o.demCell != 0.0) range(o.demCell, kMinDemCell, kMaxDemCell, "the DEM cell (--dem-cell, metres; 0: the source's)");
     range(o.margin, 0.0, kMaxMargin, "the margin (metres)");
     range(o.flatHeight, kMinFlatHeight, kMaxFlatHeight, "the flat ground's height (--flat-height, metres)");
+    range(o.vectorBudgetMiB, 0.0, kMaxVectorBudgetMiB, "the vector budget (--vector-budget, MiB; 0: in memory)");
+    if (o.vectorPartLevel < -1 || o.vectorPartLevel > kMaxVectorPartLevel)
+        throw ImportError("the part level (--vector-part-level) must be in [0, " + std::to_string(kMaxVectorPartLevel) + "], not " +
+                          std::to_string(o.vectorPartLevel));
     if (o.dem.empty() && o.vectors.empty()) throw ImportError("nothing to import: give a DEM (--dem), vector files (--vectors), or both");
 }
 
-SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress* progress) {
-    const auto t0 = std::chrono::steady_clock::now();
+namespace import_detail {
+
+void FeatureBounds::grow(const std::vector<glm::dvec2>& pts) {
+    for (const glm::dvec2& p : pts)
+        if (insideDem && !insideDem(p)) return;
+    for (const glm::dvec2& p : pts) box = {glm::min(box.min, p), glm::max(box.max, p)};
+}
+
+void startImport(const ImportOptions& o, ImportReport& report, ImportStart& start) {
     report = {};
     checkImportOptions(o);
-    const FeatureMapping mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
+    start.mapping = o.mapping.empty() ? defaultMapping() : loadMapping(o.mapping);
     // The DEM is checked (every file opened, CRS compared) before the vectors are read.
-    std::optional<DemSourceInfo> demInfo;
-    if (!o.dem.empty()) demInfo = demSourceInfo(o.dem);
+    if (!o.dem.empty()) start.demInfo = demSourceInfo(o.dem);
+    if (start.demInfo) start.bounds.insideDem = [info = &*start.demInfo](glm::dvec2 p) { return info->covers(p); };
+}
 
-    VectorData data;
+void readAllVectors(const ImportOptions& o, const FeatureMapping& mapping, VectorData& data, ImportReport& report, Progress* progress) {
     data.dedupOsmIds = o.vectors.size() > 1;
     for (std::size_t i = 0; i < o.vectors.size(); ++i) {
         progressBegin(progress, "reading " + o.vectors[i], 0, "features");
@@ -174,23 +164,19 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
     report.unmapped = data.unmapped;
     report.duplicateOsmIds = data.duplicateOsmIds;
     report.problems = data.problems;
+    report.problemsNotListed = data.problemsNotListed;
+    report.linesKept = data.linesKept;
+    report.areasKept = data.areasKept;
+}
 
-    // Features inside the DEM's coverage (all of them on flat ground) frame the scene.
-    std::function<bool(glm::dvec2)> insideDem;
-    if (demInfo) insideDem = [&](glm::dvec2 p) { return demInfo->covers(p); };
-    Box bounds{{1e300, 1e300}, {-1e300, -1e300}};
-    auto grow = [&](const std::vector<glm::dvec2>& pts) {
-        for (const glm::dvec2& p : pts)
-            if (insideDem && !insideDem(p)) return;
-        for (const glm::dvec2& p : pts) bounds = {glm::min(bounds.min, p), glm::max(bounds.max, p)};
-    };
-    for (const RawLine& l : data.lines) grow(l.lonLat);
-    for (const RawArea& a : data.areas)
-        for (const auto& ring : a.rings) grow(ring);
-    const bool anyFeature = bounds.min.x <= bounds.max.x;
+SceneFrame frameAndDem(const ImportOptions& o, const ImportStart& start, const VectorData& data, ImportReport& report, SceneDocument& doc,
+                       RemoveFileOnExit& lodFile, Progress* progress) {
+    const std::optional<DemSourceInfo>& demInfo = start.demInfo;
+    const Box& bounds = start.bounds.box;
+    const bool anyFeature = start.bounds.any();
     if (!anyFeature && !o.vectors.empty() && !o.allowEmpty) {
         const std::string read = std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped";
-        if (data.lines.empty() && data.areas.empty())
+        if (data.linesKept + data.areasKept == 0)
             throw ImportError("nothing to import from " + joined(o.vectors) + ": no feature could be read as a line or an area (" + read +
                               (data.problems.empty() ? "" : "; problems: " + reasonsText(data.problems)) + "); --allow-empty accepts it");
         throw ImportError("no feature of " + joined(o.vectors) + " lies inside the DEM " + joined(o.dem) + " (" + read +
@@ -212,9 +198,6 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
                           numberText(report.largestScaleError * 100.0) + " % (the limit is " + numberText(kMaxScaleError * 100.0) +
                           " %); import a smaller region");
 
-    // A lod DEM's file is removed when the import fails after writing it (after the document, which reads it).
-    RemoveFileOnExit lodFile;
-    SceneDocument doc;
     if (demInfo) {
         const double cell = o.demCell > 0.0 ? o.demCell : std::max(1.0, std::min(demInfo->resolution.x, demInfo->resolution.y));
         const double side = std::max(report.extent.size().x, report.extent.size().y) / cell;
@@ -255,25 +238,77 @@ SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress
         report.warnings.push_back("no DEM: flat ground at " + numberText(o.flatHeight) + " m");
     }
     if (o.vectors.empty()) report.warnings.push_back("no vector files: a DEM-only scene");
+    doc.georeference = frame.georeference();
+    return frame;
+}
 
-    doc.scene = buildScene(data, mapping, frame, report.extent, insideDem, SplineFitParams{o.fitTolerance}, report.network,
-                           &doc.attributes, progress);
-    report.problems.insert(report.problems.end(), report.network.problems.begin(), report.network.problems.end());
-    report.linesKept = data.lines.size();
-    report.areasKept = data.areas.size();
+std::size_t keptElements(const Scene& scene) {
     std::size_t kept = 0;
-    for (const Layer& l : doc.scene.layers) {
+    for (const Layer& l : scene.layers) {
         for (const Curve& c : l.curves) kept += c.alive && c.areas.empty() && l.kind != LayerKind::Fields && l.kind != LayerKind::Forests &&
                                                l.kind != LayerKind::Lakes && l.kind != LayerKind::Other;
         for (const Area& a : l.areas) kept += a.alive;
     }
+    return kept;
+}
+
+void checkKept(const ImportOptions& o, std::size_t kept, const ImportReport& report) {
     if (!o.vectors.empty() && kept < o.minKept && !o.allowEmpty)
         throw ImportError(joined(o.vectors) + " gave " + std::to_string(kept) + " curves and areas, fewer than " + std::to_string(o.minKept) +
-                          " (" + std::to_string(data.featuresRead) + " features read, " + std::to_string(data.unmapped) + " not mapped" +
+                          " (" + std::to_string(report.featuresRead) + " features read, " + std::to_string(report.unmapped) + " not mapped" +
                           (report.problems.empty() ? "" : "; problems: " + reasonsText(report.problems)) + "); --allow-empty accepts it");
+}
+
+// Counts the river nodes whose DEM height is below the median of 16 samples on a 150 m circle.
+void countRiverNodes(const Scene& s, const Dem& dem, std::size_t& below, std::size_t& checked) {
+    for (const Layer& l : s.layers) {
+        if (l.kind != LayerKind::Rivers) continue;
+        for (const Node& n : l.nodes) {
+            if (!n.alive || n.curves.empty()) continue;
+            // A river area's ring node is on its border, not on a river.
+            if (std::all_of(n.curves.begin(), n.curves.end(), [&](ElementId c) { return !l.curves[c].areas.empty(); })) continue;
+            std::vector<double> ring;
+            for (int k = 0; k < 16; ++k) {
+                const double a = k * 3.14159265358979 / 8.0;
+                ring.push_back(dem.sample(n.p + 150.0 * Vec2(std::cos(a), std::sin(a))));
+            }
+            std::nth_element(ring.begin(), ring.begin() + 8, ring.end());
+            below += dem.sample(n.p) < ring[8];
+            ++checked;
+        }
+    }
+}
+
+void setRiverCheck(ImportReport& r, std::size_t below, std::size_t checked) {
+    r.riverNodesChecked = checked;
+    r.riverNodesBelowSurroundings = checked ? double(below) / double(checked) : 0.0;
+}
+
+}  // namespace import_detail
+
+SceneDocument importScene(const ImportOptions& o, ImportReport& report, Progress* progress) {
+    using namespace import_detail;
+    const auto t0 = std::chrono::steady_clock::now();
+    ImportStart start;
+    startImport(o, report, start);
+    VectorData data;
+    readAllVectors(o, start.mapping, data, report, progress);
+    // Features inside the DEM's coverage (all of them on flat ground) frame the scene.
+    for (const RawLine& l : data.lines) start.bounds.grow(l.lonLat);
+    for (const RawArea& a : data.areas)
+        for (const auto& ring : a.rings) start.bounds.grow(ring);
+    // A lod DEM's file is removed when the import fails after writing it (after the document, which reads it).
+    RemoveFileOnExit lodFile;
+    SceneDocument doc;
+    const SceneFrame frame = frameAndDem(o, start, data, report, doc, lodFile, progress);
+    doc.scene = buildScene(data, start.mapping, frame, report.extent, start.bounds.insideDem, SplineFitParams{o.fitTolerance}, report.network,
+                           &doc.attributes, progress);
+    report.problems.insert(report.problems.end(), report.network.problems.begin(), report.network.problems.end());
+    checkKept(o, keptElements(doc.scene), report);
     validateOrThrow(doc.scene);
-    doc.georeference = frame.georeference();
-    checkRivers(doc.scene, *doc.dem, report);
+    std::size_t below = 0, checked = 0;
+    countRiverNodes(doc.scene, *doc.dem, below, checked);
+    setRiverCheck(report, below, checked);
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     lodFile.path.clear();  // the caller's now
     return doc;
@@ -319,7 +354,15 @@ nlohmann::json demJson(const ImportReport& r) {
 
 }  // namespace
 
+std::size_t ImportReport::problemCount() const {
+    std::size_t n = problems.size();
+    for (const auto& [reason, count] : problemsNotListed) n += count;
+    return n;
+}
+
 nlohmann::json ImportReport::json() const {
+    std::map<std::string, std::size_t> byReason = countByReason(problems);
+    for (const auto& [reason, count] : problemsNotListed) byReason[reason] += count;
     nlohmann::json layers = nlohmann::json::array();
     for (const LayerSummary& l : network.layers) {
         nlohmann::json byClass = nlohmann::json::object(), areas = nlohmann::json::object();
@@ -362,8 +405,16 @@ nlohmann::json ImportReport::json() const {
                              {"flat_without_axial_curve", network.riverAreas - network.riverAreasWithAxial}}},
             {"river_nodes_below_surroundings", riverNodesBelowSurroundings},
             {"river_nodes_checked", riverNodesChecked},
-            {"problems_by_reason", countByReason(problems)},
+            {"problems_by_reason", byReason},
             {"problems", problemList},
+            {"vectors_out_of_core", vectorPartLevel < 0 ? nlohmann::json(nullptr)
+                                                        : nlohmann::json{{"part_level", vectorPartLevel},
+                                                                         {"parts_per_side", 1 << vectorPartLevel},
+                                                                         {"parts_with_features", vectorParts},
+                                                                         {"border_nodes", borderNodes},
+                                                                         {"spilled_features", spilledFeatures},
+                                                                         {"spilled_bytes", spilledBytes},
+                                                                         {"densest_part_bytes", densestPartBytes}}},
             {"ms", ms}};
 }
 

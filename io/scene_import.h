@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -63,6 +64,16 @@ struct ImportOptions {
     // wrote when it fails; after it succeeds the caller removes it (SceneDocument::demLod's path)
     // once the document is saved.
     std::string demLodPath;
+    // Vectors out of core (importSceneToFile only; --vector-budget, MiB; 0: in memory). The features
+    // are written to a spill file (io/vector_spill.h) as they are read, and the scene is built and
+    // written a square part at a time (io/network_builder.h: PartCut; io/scene_file.h:
+    // saveSceneInParts), the parts made small enough that one part's features fit the budget: so
+    // the memory the vectors take follows the densest part, not the extract. What this changes in
+    // the scene: a way crossing a part border is two curves joined at a node there, fitted apart.
+    double vectorBudgetMiB = 0.0;
+    // The parts, 2^level a side (--vector-part-level, 0 to VectorSpill::kGridLevel); -1: the
+    // coarsest level whose densest part fits vectorBudgetMiB. Either makes the import out of core.
+    int vectorPartLevel = -1;
 };
 
 inline constexpr double kMaxFitTolerance = 100.0;  // metres
@@ -76,6 +87,12 @@ inline constexpr double kMaxFlatHeight = 9000.0;   // metres
 inline constexpr double kMaxScaleError = 1e-3;
 // Cell of the flat ground made when no DEM is given (metres): heights are constant, any cell works.
 inline constexpr double kFlatGroundCell = 100.0;
+// What a part's features take in memory while it is built (fitting, topology, the part's model and
+// its rows), per byte they take in the spill file: measured on Andorra (see importSceneToFile).
+inline constexpr double kVectorMemoryPerSpillByte = 12.0;
+inline constexpr double kMaxVectorBudgetMiB = 1 << 20;
+inline constexpr std::size_t kMaxListedProblems = 100000;
+inline constexpr int kMaxVectorPartLevel = 8;  // 256 x 256 parts (VectorSpill::kGridLevel)
 
 struct ImportReport {
     DemImportReport dem;
@@ -89,12 +106,20 @@ struct ImportReport {
     std::size_t featuresRead = 0, unmapped = 0, linesKept = 0, areasKept = 0;
     std::size_t duplicateOsmIds = 0;
     std::vector<FeatureProblem> problems;  // reading and building
+    // An import out of core lists the first kMaxListedProblems and counts the others by reason.
+    std::map<std::string, std::size_t> problemsNotListed;
+    std::size_t problemCount() const;
     std::vector<std::string> warnings;     // things the user must know (the scene beyond the DEM...)
     double largestScaleError = 0.0;
     double riverNodesBelowSurroundings = 0.0;  // fraction of river nodes lower than the median around them
     std::size_t riverNodesChecked = 0;
     Box extent;
     double lon0 = 0.0, lat0 = 0.0;
+    // An import out of core: the parts (2^level a side; -1 for an import in memory), those with
+    // features, the border nodes joined, the features and bytes spilled, the densest part's bytes.
+    int vectorPartLevel = -1;
+    std::size_t vectorParts = 0, borderNodes = 0;
+    std::uint64_t spilledFeatures = 0, spilledBytes = 0, densestPartBytes = 0;
     double ms = 0.0;
     nlohmann::json json() const;
 };
@@ -107,5 +132,13 @@ void checkImportOptions(const ImportOptions& options);
 // Throws ImportError (see the header), DemImportError, VectorImportError, MappingError or
 // ValidationError; per-feature problems go to the report.
 SceneDocument importScene(const ImportOptions& options, ImportReport& report, Progress* progress = nullptr);
+
+// `lacet import`: importScene then saveScene to `out` (io/scene_file.h), or, when options ask for
+// vectors out of core, the same made and written a part at a time, with its spill file beside `out`
+// (removed at the end, and by the next import beside `out` when this one was killed). A lod DEM's
+// file (ImportOptions::demLodPath) is removed once the scene is saved or the import failed. Refuses
+// a budget smaller than the densest part at the finest level with the figures. Throws as
+// importScene and saveScene do.
+void importSceneToFile(const ImportOptions& options, const std::string& out, ImportReport& report, Progress* progress = nullptr);
 
 }  // namespace lacet

@@ -6,6 +6,9 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <optional>
+#include <tuple>
 #include <vector>
 
 #include "io/dem_lod.h"
@@ -127,6 +130,118 @@ void writeStreamedParts(const SceneDocument& doc, const StreamedLayer& streamed,
     });
 }
 
+// A border node of a scene written in parts: its id and, once every part is written, its row.
+struct BorderNode {
+    ElementId id = 0;
+    Node node;
+};
+using BorderKey = std::tuple<LayerId, std::uint64_t, std::uint64_t>;
+
+// saveSceneInParts's parts after doc's elements (io/scene_file.h): each validated alone, its
+// features written with its local references, then its rows with their ids in the scene, the
+// border nodes met before left out (their rows rewritten with every curve at the end).
+void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts& parts, ElementTablesWriter& elements,
+                     FeatureTablesWriter& features) {
+    const std::size_t layers = doc.scene.layers.size();
+    std::vector<ElementOffsets> next(layers);
+    for (std::size_t l = 0; l < layers; ++l) {
+        const Layer& layer = doc.scene.layers[l];
+        next[l] = {ElementId(layer.nodes.size()), ElementId(layer.curves.size()), ElementId(layer.areas.size())};
+    }
+    std::map<BorderKey, BorderNode> border;
+    auto attribute = db.prepare("INSERT INTO lacet_attributes (layer, kind, id, key, value) VALUES (?, ?, ?, ?, ?)");
+    ElementTablesWriter replace(db, true);
+    // A border node's row again, with the curves of every part, once no later part can have it.
+    const auto finish = [&](const std::function<bool(Vec2)>& done) {
+        for (auto it = border.begin(); it != border.end();) {
+            if (!done(it->second.node.p)) {
+                ++it;
+                continue;
+            }
+            Layer one;
+            one.nodes.push_back(std::move(it->second.node));
+            replace.elements(std::get<0>(it->first), one, {it->second.id, 0, 0});
+            it = border.erase(it);
+        }
+    };
+    std::optional<std::size_t> last;
+    parts.produce([&](ScenePart&& part) {
+        const std::string name = "part " + std::to_string(part.index);
+        if (last && part.index <= *last)
+            throw FormatError(name + " comes after part " + std::to_string(*last) + ": parts must come in increasing order");
+        last = part.index;
+        if (part.scene.layers.size() != layers)
+            throw FormatError(name + " has " + std::to_string(part.scene.layers.size()) + " layers, the scene " + std::to_string(layers));
+        part.scene.extent = doc.scene.extent;
+        if (auto problems = validate(part.scene); !problems.empty())
+            throw FormatError(name + " is invalid: " + ValidationError(std::move(problems)).what());
+        for (std::size_t l = 0; l < layers; ++l) {
+            Layer& p = part.scene.layers[l];
+            const ElementOffsets o = next[l];
+            if (std::uint64_t(o.nodes) + p.nodes.size() > std::uint64_t(kMaxId) || std::uint64_t(o.curves) + p.curves.size() > std::uint64_t(kMaxId) ||
+                std::uint64_t(o.areas) + p.areas.size() > std::uint64_t(kMaxId))
+                throw FormatError(name + ": more than 2^32 - 1 elements of a kind in layer " + std::to_string(l));
+            features.add(LayerId(l), p, o, &part.attributes);
+            std::vector<char> isBorder(p.nodes.size(), 0);
+            if (l < part.borderNodes.size())
+                for (ElementId n : part.borderNodes[l]) {
+                    if (n >= p.nodes.size()) throw FormatError(name + ": border node " + std::to_string(n) + " of layer " + std::to_string(l) + " does not exist");
+                    isBorder[n] = 1;
+                }
+            // Ids in the scene: border nodes met before keep theirs, the others follow the layer's.
+            std::vector<ElementId> ids(p.nodes.size());
+            std::vector<BorderNode*> met(p.nodes.size(), nullptr);
+            Layer rows;
+            for (std::size_t n = 0; n < p.nodes.size(); ++n) {
+                const BorderKey key{LayerId(l), std::bit_cast<std::uint64_t>(p.nodes[n].p.x), std::bit_cast<std::uint64_t>(p.nodes[n].p.y)};
+                if (isBorder[n])
+                    if (const auto it = border.find(key); it != border.end()) {
+                        ids[n] = it->second.id;
+                        met[n] = &it->second;
+                        continue;
+                    }
+                ids[n] = o.nodes + ElementId(rows.nodes.size());
+                rows.nodes.push_back(p.nodes[n]);
+                for (ElementId& c : rows.nodes.back().curves) c += o.curves;
+                if (isBorder[n]) border[key] = {ids[n], rows.nodes.back()};
+            }
+            for (std::size_t n = 0; n < p.nodes.size(); ++n)
+                if (met[n])
+                    for (ElementId c : p.nodes[n].curves) met[n]->node.curves.push_back(c + o.curves);
+            for (Curve& c : p.curves) {
+                c.start = ids[c.start];
+                c.end = ids[c.end];
+                for (ElementId& a : c.areas) a += o.areas;
+            }
+            for (Area& a : p.areas) {
+                for (auto& loop : a.loops)
+                    for (AreaEdge& e : loop) e.curve += o.curves;
+                if (a.axial != kNoElement) a.axial += o.curves;
+            }
+            rows.curves = std::move(p.curves);
+            rows.areas = std::move(p.areas);
+            elements.elements(LayerId(l), rows, o);
+            next[l] = {ElementId(o.nodes + rows.nodes.size()), ElementId(o.curves + rows.curves.size()), ElementId(o.areas + rows.areas.size())};
+            for (const ElementAttribute& a : part.attributes) {
+                if (a.layer != l) continue;
+                attribute.bind(1, std::int64_t(a.layer));
+                attribute.bind(2, std::int64_t(a.kind));
+                const std::size_t count = a.kind == ElementKind::Area ? rows.areas.size() : a.kind == ElementKind::Curve ? rows.curves.size() : ids.size();
+                if (a.id >= count) throw FormatError(name + ": an attribute of layer " + std::to_string(l) + " names a missing element " + std::to_string(a.id));
+                attribute.bind(3, std::int64_t(a.kind == ElementKind::Area    ? a.id + o.areas
+                                               : a.kind == ElementKind::Curve ? a.id + o.curves
+                                                                              : ids[a.id]));
+                attribute.bindText(4, a.key);
+                attribute.bindText(5, a.value);
+                attribute.step();
+                attribute.reset();
+            }
+        }
+        finish([&](Vec2 p) { return parts.lastPartAt(p) <= part.index; });
+    });
+    finish([](Vec2) { return true; });
+}
+
 void writeMeta(SqliteDb& db, const SceneDocument& doc, const SceneChecksumParts& checksum) {
     std::vector<std::pair<std::string, std::string>> meta = {
         {"format", kFormatName},
@@ -176,7 +291,7 @@ void writeMeta(SqliteDb& db, const SceneDocument& doc, const SceneChecksumParts&
 
 }  // namespace
 
-void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed) {
+void writeSceneTables(const std::string& path, const SceneDocument& doc, const StreamedLayer* streamed, const StreamedParts* parts) {
     SqliteDb db(path, SqliteDb::Mode::ReadWrite);
     db.exec("BEGIN IMMEDIATE");
     db.exec(kCreateTables);
@@ -193,8 +308,22 @@ void writeSceneTables(const std::string& path, const SceneDocument& doc, const S
         }
     }
     // A streamed layer's checksum is known once its rows are written: a placeholder until then.
-    writeMeta(db, doc, streamed ? SceneChecksumParts{std::string(16, '0'), 0, 0} : sceneChecksumParts(doc));
-    {
+    writeMeta(db, doc, streamed || parts ? SceneChecksumParts{std::string(16, '0'), 0, 0} : sceneChecksumParts(doc));
+    if (parts) {
+        {
+            ElementTablesWriter elements(db);
+            elements.layers(doc.scene);
+            FeatureTablesWriter features(db, doc, {}, parts->kinds);
+            for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+                elements.elements(LayerId(l), doc.scene.layers[l], {});
+                features.add(LayerId(l), doc.scene.layers[l], {}, &doc.attributes);
+            }
+            elements.attributes(doc);
+            writeSceneParts(db, doc, *parts, elements, features);
+            features.finish();
+        }
+        writeChecksum(db, checksumOfAllRows(db, doc));
+    } else {
         // Their statements are finalized at the end of this block, before the connection closes.
         ElementTablesWriter elements(db);
         elements.layers(doc.scene);
@@ -247,6 +376,22 @@ SceneChecksumParts checksumOfRows(SqliteDb& db, const SceneDocument& doc, const 
         forEachAreaRow(db, LayerId(l), counted, [&](const Area& a) { sum.area(a); });
     }
     return sum.finish(doc);
+}
+
+SceneChecksumParts checksumOfAllRows(SqliteDb& db, const SceneDocument& doc) {
+    SceneChecksum sum(doc.scene);
+    for (std::size_t l = 0; l < doc.scene.layers.size(); ++l) {
+        sum.layerHead(doc.scene.layers[l]);
+        const auto counted = [&](std::size_t n) { sum.count(n); };
+        forEachNodeRow(db, LayerId(l), counted, [&](const Node& n) { sum.node(n); });
+        forEachCurveRow(db, LayerId(l), counted, [&](const Curve& c) { sum.curve(c); });
+        forEachAreaRow(db, LayerId(l), counted, [&](const Area& a) { sum.area(a); });
+    }
+    sum.attributeCount(std::size_t(db.queryInteger("SELECT count(*) FROM lacet_attributes")));
+    auto s = db.prepare("SELECT layer, kind, id, key, value FROM lacet_attributes ORDER BY fid");
+    while (s.step())
+        sum.attribute({LayerId(s.integer(0)), ElementKind(s.integer(1)), ElementId(s.integer(2)), s.text(3), s.text(4)});
+    return sum.finishAfterAttributes(doc);
 }
 
 namespace {

@@ -99,7 +99,7 @@ public:
         std::map<std::string, std::string> kept;
         for (const std::string& k : mapping_.keep)
             if (attributes.count(k)) kept[k] = attributes[k];
-        const std::size_t before = out_.lines.size() + out_.areas.size();
+        const std::size_t before = out_.linesKept + out_.areasKept;
         outOfRange_ = false;
         if (g == &closedWay) areas(*g, wkbPolygon, *rule, kept, src, ct);
         else if (line) lines(*g, type, *rule, attributes, kept, src, ct);
@@ -107,11 +107,12 @@ public:
         // A feature counts as out of range when nothing of it was kept for that reason.
         auto& counts = rangeCounts[layer.GetName()];
         ++counts.first;
-        if (outOfRange_ && out_.lines.size() + out_.areas.size() == before) ++counts.second;
+        if (outOfRange_ && out_.linesKept + out_.areasKept == before) ++counts.second;
     }
 
     void problem(const SourceRef& src, std::string reason, bool skipped = true) {
-        out_.problems.push_back({src, std::move(reason), skipped});
+        if (out_.problems.size() >= out_.maxProblems) ++out_.problemsNotListed[reason];
+        else out_.problems.push_back({src, std::move(reason), skipped});
     }
 
     // Per layer: mapped features with a geometry, and those of them of which nothing was kept
@@ -123,8 +124,10 @@ private:
     bool firstOsmElement(OGRLayer& layer, OGRFeature& f) {
         for (const char* field : {"osm_id", "osm_way_id"}) {
             const int i = f.GetFieldIndex(field);
-            if (i >= 0 && f.IsFieldSetAndNotNull(i))
-                return out_.osmIds.insert(std::string(layer.GetName()) + ":" + field + ":" + f.GetFieldAsString(i)).second;
+            if (i >= 0 && f.IsFieldSetAndNotNull(i)) {
+                std::string key = std::string(layer.GetName()) + ":" + field + ":" + f.GetFieldAsString(i);
+                return out_.firstOsmKey ? out_.firstOsmKey(key) : out_.osmIds.insert(std::move(key)).second;
+            }
         }
         return true;
     }
@@ -161,7 +164,9 @@ private:
             // A ring mapped as such (OSM junction=roundabout): kept as it is, never merged with
             // the roads that meet it (chains merge only curves of the same flags).
             if (is("junction", "roundabout")) l.flags |= kRoundabout;
-            out_.lines.push_back(std::move(l));
+            ++out_.linesKept;
+            if (out_.lineSink) out_.lineSink(std::move(l));
+            else out_.lines.push_back(std::move(l));
         }
     }
 
@@ -215,7 +220,9 @@ private:
                 }
             }
             if (duplicates > 0) problem(src, "duplicate consecutive points (removed)", false);
-            out_.areas.push_back(std::move(a));
+            ++out_.areasKept;
+            if (out_.areaSink) out_.areaSink(std::move(a));
+            else out_.areas.push_back(std::move(a));
         }
     }
 

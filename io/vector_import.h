@@ -14,6 +14,8 @@
 // coordinate is outside longitude/latitude ranges (projected data that does not say so), an
 // empty file. A file OGR cannot open throws VectorImportError naming the file and the reason.
 
+#include <functional>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -71,6 +73,16 @@ struct VectorData {
     // ("lines:osm_id:123", kept in osmIds) so that overlapping extracts give each element once.
     bool dedupOsmIds = false;
     std::unordered_set<std::string> osmIds;
+    // An import out of core (io/vector_spill.h) sets these: kept features go to the sinks instead
+    // of `lines` and `areas`, and the OSM keys of dedupOsmIds to firstOsmKey (true: the first time).
+    std::function<void(RawLine&&)> lineSink;
+    std::function<void(RawArea&&)> areaSink;
+    std::function<bool(const std::string&)> firstOsmKey;
+    std::size_t linesKept = 0, areasKept = 0;  // counted either way
+    // Problems past maxProblems are counted by reason, not listed (an import out of core keeps its
+    // memory bounded on an extract with millions of them).
+    std::size_t maxProblems = std::numeric_limits<std::size_t>::max();
+    std::map<std::string, std::size_t> problemsNotListed;
 };
 
 // Appends the features of one file.

@@ -4,7 +4,7 @@ after each kill the file it writes must open and check whole (`lacet info`: a sc
 every tile of a pyramid), holding either what it held before or the new result, never a mixture;
 an interrupted pyramid build or update, run again, must give the tiles of an uninterrupted one.
 
-  scripts/kill_harness.py [--kills N] [--seed S] [--writers save,import,pyramid_build,pyramid_update]
+  scripts/kill_harness.py [--kills N] [--seed S] [--writers save,import,import_parts,pyramid_build,pyramid_update]
                           [--lacet build/lacet] [--work DIR] [--json]
 
 Writers (each over a small scene, so that a kill lands anywhere in a run of a fraction of a second):
@@ -264,13 +264,15 @@ class MpiPyramidWriter(PyramidWriter):
 def make(name, lacet, folder):
     if name == "save":
         return SceneWriter(name, lacet, folder, [lacet, "synth", "--curves", "300", "--seed", "2", "--out", "scene.gpkg"])
-    if name == "import":
+    if name in ("import", "import_parts"):
         # A DEM under the test vectors (lon 1.4-1.65, lat 42.4-42.6, about 80 m cells), made here
         # with GDAL's gdal_create (gdal-bin, which scripts/install_deps.sh installs).
         run(["gdal_create", "-q", "-of", "GTiff", "-outsize", "300", "240", "-bands", "1", "-ot", "Float32", "-burn", "1200",
              "-a_srs", "EPSG:4326", "-a_ullr", "1.4", "42.6", "1.65", "42.4", "dem.tif"], folder)
+        # import_parts: the vectors out of core (a spill file beside the scene, 4 x 4 parts).
+        parts = ["--vector-part-level", "2"] if name == "import_parts" else []
         return SceneWriter(name, lacet, folder, [lacet, "import", "--dem", "dem.tif", "--vectors", VECTORS, "--dem-storage", "lod",
-                                                 "--out", "scene.gpkg"])
+                                                 "--out", "scene.gpkg"] + parts)
     if name in ("pyramid_build", "pyramid_update"):
         return PyramidWriter(name, lacet, folder)
     if name == "pyramid_mpi":
@@ -282,7 +284,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--kills", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--writers", default="save,import,pyramid_build,pyramid_update")
+    ap.add_argument("--writers", default="save,import,import_parts,pyramid_build,pyramid_update")
     ap.add_argument("--lacet", default=os.path.join(ROOT, "build", "lacet"))
     ap.add_argument("--work", default=None, help="scratch folder (default: a new one in /tmp, removed at the end)")
     ap.add_argument("--json", action="store_true")

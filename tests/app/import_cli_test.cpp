@@ -226,7 +226,7 @@ const char* const kFarApart = R"({"type": "FeatureCollection", "features": [
 std::string mapping(const std::string& layers, const std::string& rule) {
     return R"({"layers": [)" + layers + R"(], "rules": [{"geometry": "line", "match": {"highway": ["*"]}, "layer": "roads")" + rule + "}]}\n";
 }
-const std::string kRoadsLayer = R"({"name": "roads", "kind": "roads"})";
+const std::string kRoadsLayerJson = R"({"name": "roads", "kind": "roads"})";
 
 const std::vector<Case> kCases = {
     {"truncated_osm_pbf",
@@ -261,6 +261,13 @@ const std::vector<Case> kCases = {
      [](const fs::path& d) {
          test::writeDemTile(d / "far.tif", 10.0, 45.0, 20, 20, 0.0025);  // lon 10-10.05, lat 45-45.05
          return keepsTheScene(d, {"--dem", "far.tif", "--vectors", kGoodVectors}, {"far.tif"}, "inside the DEM");
+     }},
+    {"vector_budget_smaller_than_the_densest_part",
+     [](const fs::path& d) {
+         // Out of core, every part holds at least a way: a budget of 100 bytes fits none.
+         writeFile(d / "roads.osm", kOsmXml);
+         return keepsTheScene(d, {"--dem", kDem, "--vectors", "roads.osm", "--vector-budget", "0.0001"}, {kScene, "MiB"},
+                              "give --vector-budget at least that");
      }},
     {"dem_cell_too_fine_for_the_disk",
      [](const fs::path& d) {
@@ -375,19 +382,19 @@ const std::vector<Case> kCases = {
      }},
     {"mapping_with_an_unknown_key",
      [](const fs::path& d) {
-         writeFile(d / "mapping.json", mapping(kRoadsLayer, R"(, "widht": 7)"));
+         writeFile(d / "mapping.json", mapping(kRoadsLayerJson, R"(, "widht": 7)"));
          return keepsTheScene(d, {"--dem", kDem, "--vectors", kGoodVectors, "--mapping", "mapping.json"}, {"mapping.json", "widht"},
                               "unknown key");
      }},
     {"mapping_with_class_3_7",
      [](const fs::path& d) {
-         writeFile(d / "mapping.json", mapping(kRoadsLayer, R"(, "class": 3.7)"));
+         writeFile(d / "mapping.json", mapping(kRoadsLayerJson, R"(, "class": 3.7)"));
          return keepsTheScene(d, {"--dem", kDem, "--vectors", kGoodVectors, "--mapping", "mapping.json"}, {"mapping.json", "class"},
                               "must be an integer");
      }},
     {"mapping_with_duplicate_layer_names",
      [](const fs::path& d) {
-         writeFile(d / "mapping.json", mapping(kRoadsLayer + R"(, {"name": "roads", "kind": "rivers"})", ""));
+         writeFile(d / "mapping.json", mapping(kRoadsLayerJson + R"(, {"name": "roads", "kind": "rivers"})", ""));
          return keepsTheScene(d, {"--dem", kDem, "--vectors", kGoodVectors, "--mapping", "mapping.json"}, {"mapping.json", "roads"},
                               "duplicate layer name");
      }},

@@ -33,12 +33,12 @@ namespace {
 namespace fs = std::filesystem;
 
 // A guard against a hang only: far above what any command here takes, even sanitized on a loaded machine.
-constexpr int kTimeoutS = 600;
+constexpr int kWriterTimeoutS = 600;
 using test::kWithoutRootsOverride;
 using test::quoted;
 using test::readFile;
 
-struct Outcome {
+struct WriterOutcome {
     int code = -1;  // the exit status; 128 + n for a signal n, 124 for the timeout
     std::string said;  // stderr, then stdout
 };
@@ -50,17 +50,17 @@ struct Limit {
 };
 
 // Runs `lacet args` in `cwd`.
-Outcome run(const fs::path& cwd, const std::string& args, const Limit& limit = {}) {
+WriterOutcome run(const fs::path& cwd, const std::string& args, const Limit& limit = {}) {
     const fs::path out = cwd.parent_path() / (cwd.filename().string() + ".stdout");
     const fs::path err = cwd.parent_path() / (cwd.filename().string() + ".stderr");
     std::string cmd = "cd " + quoted(cwd.string()) + " && ";
     if (limit.fileBytes > 0) cmd += "trap '' XFSZ && ";  // inherited through exec: a write past the limit fails, no signal
-    cmd += "exec timeout " + std::to_string(kTimeoutS) + " ";
+    cmd += "exec timeout " + std::to_string(kWriterTimeoutS) + " ";
     if (limit.fileBytes > 0) cmd += "prlimit --fsize=" + std::to_string(limit.fileBytes) + " ";
     if (limit.withoutOverride) cmd += std::string(kWithoutRootsOverride) + " ";
     cmd += quoted(LACET_BINARY) + " " + args + " > " + quoted(out.string()) + " 2> " + quoted(err.string());
     const int status = std::system(cmd.c_str());
-    Outcome o;
+    WriterOutcome o;
     if (status != -1) o.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     o.said = readFile(err) + readFile(out);
     fs::remove(out);
@@ -86,12 +86,12 @@ struct Writer {
 
 void PrintTo(const Writer& w, std::ostream* os) { *os << w.name; }
 
-struct Suite {
+struct WriterSuite {
     fs::path root;
     std::string error;
 };
-Suite& suite() {
-    static Suite s;
+WriterSuite& writerSuite() {
+    static WriterSuite s;
     return s;
 }
 
@@ -111,7 +111,7 @@ const std::vector<Writer>& writers() {
 class WriterIoErrors : public testing::TestWithParam<Writer> {
 public:
     static void SetUpTestSuite() {
-        Suite& s = suite();
+        WriterSuite& s = writerSuite();
         s.root = test::scratchDir("writer_io_errors");
         test::writeFixtureDem(s.root, false);  // dem.tif
         fs::copy_file(test::vectorData("good.geojson"), s.root / "good.geojson", fs::copy_options::overwrite_existing);
@@ -120,7 +120,7 @@ public:
              {std::string("synth --curves 400 --seed 1 --out a.gpkg"), std::string("synth --curves 400 --seed 2 --out b.gpkg"),
               std::string("pyramid build a.gpkg"), std::string("pyramid build b.gpkg"),
               std::string("import --dem dem.tif --vectors good.geojson --dem-storage lod --out imported.gpkg")}) {
-            const Outcome o = run(s.root, args);
+            const WriterOutcome o = run(s.root, args);
             if (o.code != 0) {
                 s.error = "lacet " + args + " failed (" + std::to_string(o.code) + "):\n" + o.said;
                 return;
@@ -129,16 +129,16 @@ public:
     }
     static void TearDownTestSuite() {
         std::error_code ec;
-        for (const auto& e : fs::recursive_directory_iterator(suite().root, ec))
+        for (const auto& e : fs::recursive_directory_iterator(writerSuite().root, ec))
             if (e.is_directory() && !e.is_symlink()) fs::permissions(e.path(), fs::perms::owner_all, fs::perm_options::add, ec);
-        fs::remove_all(suite().root, ec);
+        fs::remove_all(writerSuite().root, ec);
     }
 
     // A folder of the writer's inputs.
     static fs::path prepare(const Writer& w, const std::string& caseName) {
-        const fs::path dir = suite().root / (std::string(w.name) + "_" + caseName);
+        const fs::path dir = writerSuite().root / (std::string(w.name) + "_" + caseName);
         fs::create_directories(dir);
-        for (const auto& [from, to] : w.inputs) fs::copy_file(suite().root / from, dir / to, fs::copy_options::overwrite_existing);
+        for (const auto& [from, to] : w.inputs) fs::copy_file(writerSuite().root / from, dir / to, fs::copy_options::overwrite_existing);
         return dir;
     }
 
@@ -147,7 +147,7 @@ public:
     static void expectRefusedWhole(const Writer& w, const std::string& caseName, const Limit& limit, const fs::path& dir) {
         const std::string before = readFile(dir / w.target);
         const std::set<std::string> files = listing(dir);
-        const Outcome o = run(dir, w.args, limit);
+        const WriterOutcome o = run(dir, w.args, limit);
         const std::string where = "lacet " + w.args + " (" + caseName + ") -> exit " + std::to_string(o.code) + ":\n" + o.said;
         // What the user reads: the error line.
         const std::size_t at = o.said.rfind("lacet: ");
@@ -164,9 +164,9 @@ public:
 };
 
 TEST_P(WriterIoErrors, AFullDiskLeavesTheOldFileAndNothingElse) {
-    ASSERT_TRUE(suite().error.empty()) << suite().error;
+    ASSERT_TRUE(writerSuite().error.empty()) << writerSuite().error;
     const Writer& w = GetParam();
-    const std::uint64_t whole = fs::file_size(suite().root / w.targetSource);
+    const std::uint64_t whole = fs::file_size(writerSuite().root / w.targetSource);
     // A few KiB (the first pages, a journal's header), about half of the file, and most of it.
     for (const std::uint64_t limit : {std::uint64_t(8192), whole / 2, whole * 9 / 10}) {
         const std::string caseName = "limit_" + std::to_string(limit);
@@ -176,13 +176,13 @@ TEST_P(WriterIoErrors, AFullDiskLeavesTheOldFileAndNothingElse) {
     // The control: the same command with room succeeds and replaces the file.
     const fs::path dir = prepare(w, "room");
     const std::string before = readFile(dir / w.target);
-    const Outcome o = run(dir, w.args, Limit{whole * 4 + (64u << 20), false});
+    const WriterOutcome o = run(dir, w.args, Limit{whole * 4 + (64u << 20), false});
     EXPECT_EQ(o.code, 0) << o.said;
     EXPECT_NE(readFile(dir / w.target), before) << w.target << " was not replaced";
 }
 
 TEST_P(WriterIoErrors, AReadOnlyFolderLeavesTheOldFileAndNothingElse) {
-    ASSERT_TRUE(suite().error.empty()) << suite().error;
+    ASSERT_TRUE(writerSuite().error.empty()) << writerSuite().error;
     const Writer& w = GetParam();
     const fs::path dir = prepare(w, "read_only");
     fs::permissions(dir, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read | fs::perms::group_exec);

@@ -413,10 +413,13 @@ TEST(DemLodTempPath, TheTemporaryFilesOfKilledImportsAreRemoved) {
     const std::string running = out + ".dem." + std::to_string(::getpid()) + ".0123456789abcdef.tmp";
     const std::string other = (dir / "other.gpkg").string() + ".dem." + std::to_string(gone) + ".0123456789abcdef.tmp";
     const std::string unlike = out + ".dem." + std::to_string(gone) + ".notes.tmp";
-    for (const std::string& p : {stale, stale + "-journal", running, other, unlike}) writeText(p, "left");
+    // An import out of core's spill of features (io/vector_spill.h), removed by any import.
+    const std::string spill = out + ".vectors." + std::to_string(gone) + ".0123456789abcdef.tmp";
+    for (const std::string& p : {stale, stale + "-journal", running, other, unlike, spill}) writeText(p, "left");
     const std::string fresh = uniqueDemLodPath(out);
     EXPECT_FALSE(std::filesystem::exists(stale));
     EXPECT_FALSE(std::filesystem::exists(stale + "-journal"));
+    EXPECT_FALSE(std::filesystem::exists(spill));
     for (const std::string& p : {running, other, unlike}) EXPECT_EQ(readText(p), "left") << p;
     EXPECT_NE(fresh, stale);
     std::filesystem::remove_all(dir);
