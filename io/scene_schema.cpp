@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <optional>
 #include <tuple>
@@ -139,7 +140,8 @@ using BorderKey = std::tuple<LayerId, std::uint64_t, std::uint64_t>;
 
 // saveSceneInParts's parts after doc's elements (io/scene_file.h): each validated alone, its
 // features written with its local references, then its rows with their ids in the scene, the
-// border nodes met before left out (their rows rewritten with every curve at the end).
+// border nodes met before left out (their rows rewritten with every curve once their last part is
+// written), then its attributes in its order.
 void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts& parts, ElementTablesWriter& elements,
                      FeatureTablesWriter& features) {
     const std::size_t layers = doc.scene.layers.size();
@@ -149,19 +151,20 @@ void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts
         next[l] = {ElementId(layer.nodes.size()), ElementId(layer.curves.size()), ElementId(layer.areas.size())};
     }
     std::map<BorderKey, BorderNode> border;
+    std::map<std::size_t, std::vector<BorderKey>> lastPart;  // the border nodes by the last part that can have them
     auto attribute = db.prepare("INSERT INTO lacet_attributes (layer, kind, id, key, value) VALUES (?, ?, ?, ?, ?)");
     ElementTablesWriter replace(db, true);
-    // A border node's row again, with the curves of every part, once no later part can have it.
-    const auto finish = [&](const std::function<bool(Vec2)>& done) {
-        for (auto it = border.begin(); it != border.end();) {
-            if (!done(it->second.node.p)) {
-                ++it;
-                continue;
+    // The rows of the border nodes no part after `done` can have, again with every curve.
+    const auto finish = [&](std::size_t done) {
+        while (!lastPart.empty() && lastPart.begin()->first <= done) {
+            for (const BorderKey& key : lastPart.begin()->second) {
+                const auto it = border.find(key);
+                Layer one;
+                one.nodes.push_back(std::move(it->second.node));
+                replace.elements(std::get<0>(key), one, {it->second.id, 0, 0});
+                border.erase(it);
             }
-            Layer one;
-            one.nodes.push_back(std::move(it->second.node));
-            replace.elements(std::get<0>(it->first), one, {it->second.id, 0, 0});
-            it = border.erase(it);
+            lastPart.erase(lastPart.begin());
         }
     };
     std::optional<std::size_t> last;
@@ -175,9 +178,12 @@ void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts
         part.scene.extent = doc.scene.extent;
         if (auto problems = validate(part.scene); !problems.empty())
             throw FormatError(name + " is invalid: " + ValidationError(std::move(problems)).what());
+        std::vector<ElementOffsets> offsets(layers);
+        std::vector<std::vector<ElementId>> nodeIds(layers);
         for (std::size_t l = 0; l < layers; ++l) {
             Layer& p = part.scene.layers[l];
             const ElementOffsets o = next[l];
+            offsets[l] = o;
             if (std::uint64_t(o.nodes) + p.nodes.size() > std::uint64_t(kMaxId) || std::uint64_t(o.curves) + p.curves.size() > std::uint64_t(kMaxId) ||
                 std::uint64_t(o.areas) + p.areas.size() > std::uint64_t(kMaxId))
                 throw FormatError(name + ": more than 2^32 - 1 elements of a kind in layer " + std::to_string(l));
@@ -189,7 +195,8 @@ void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts
                     isBorder[n] = 1;
                 }
             // Ids in the scene: border nodes met before keep theirs, the others follow the layer's.
-            std::vector<ElementId> ids(p.nodes.size());
+            std::vector<ElementId>& ids = nodeIds[l];
+            ids.resize(p.nodes.size());
             std::vector<BorderNode*> met(p.nodes.size(), nullptr);
             Layer rows;
             for (std::size_t n = 0; n < p.nodes.size(); ++n) {
@@ -203,7 +210,10 @@ void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts
                 ids[n] = o.nodes + ElementId(rows.nodes.size());
                 rows.nodes.push_back(p.nodes[n]);
                 for (ElementId& c : rows.nodes.back().curves) c += o.curves;
-                if (isBorder[n]) border[key] = {ids[n], rows.nodes.back()};
+                if (isBorder[n]) {
+                    border[key] = {ids[n], rows.nodes.back()};
+                    lastPart[std::max(parts.lastPartAt(p.nodes[n].p), part.index)].push_back(key);
+                }
             }
             for (std::size_t n = 0; n < p.nodes.size(); ++n)
                 if (met[n])
@@ -222,24 +232,27 @@ void writeSceneParts(SqliteDb& db, const SceneDocument& doc, const StreamedParts
             rows.areas = std::move(p.areas);
             elements.elements(LayerId(l), rows, o);
             next[l] = {ElementId(o.nodes + rows.nodes.size()), ElementId(o.curves + rows.curves.size()), ElementId(o.areas + rows.areas.size())};
-            for (const ElementAttribute& a : part.attributes) {
-                if (a.layer != l) continue;
-                attribute.bind(1, std::int64_t(a.layer));
-                attribute.bind(2, std::int64_t(a.kind));
-                const std::size_t count = a.kind == ElementKind::Area ? rows.areas.size() : a.kind == ElementKind::Curve ? rows.curves.size() : ids.size();
-                if (a.id >= count) throw FormatError(name + ": an attribute of layer " + std::to_string(l) + " names a missing element " + std::to_string(a.id));
-                attribute.bind(3, std::int64_t(a.kind == ElementKind::Area    ? a.id + o.areas
-                                               : a.kind == ElementKind::Curve ? a.id + o.curves
-                                                                              : ids[a.id]));
-                attribute.bindText(4, a.key);
-                attribute.bindText(5, a.value);
-                attribute.step();
-                attribute.reset();
-            }
         }
-        finish([&](Vec2 p) { return parts.lastPartAt(p) <= part.index; });
+        for (const ElementAttribute& a : part.attributes) {
+            const std::size_t l = a.layer;
+            const std::size_t count = l >= layers                      ? 0
+                                      : a.kind == ElementKind::Area    ? next[l].areas - offsets[l].areas
+                                      : a.kind == ElementKind::Curve ? next[l].curves - offsets[l].curves
+                                                                       : nodeIds[l].size();
+            if (a.id >= count) throw FormatError(name + ": an attribute names a missing element " + std::to_string(a.id) + " of layer " + std::to_string(l));
+            attribute.bind(1, std::int64_t(a.layer));
+            attribute.bind(2, std::int64_t(a.kind));
+            attribute.bind(3, std::int64_t(a.kind == ElementKind::Area    ? a.id + offsets[l].areas
+                                           : a.kind == ElementKind::Curve ? a.id + offsets[l].curves
+                                                                          : nodeIds[l][a.id]));
+            attribute.bindText(4, a.key);
+            attribute.bindText(5, a.value);
+            attribute.step();
+            attribute.reset();
+        }
+        finish(part.index);
     });
-    finish([](Vec2) { return true; });
+    finish(std::numeric_limits<std::size_t>::max());
 }
 
 void writeMeta(SqliteDb& db, const SceneDocument& doc, const SceneChecksumParts& checksum) {
