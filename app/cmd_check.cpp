@@ -55,6 +55,7 @@ struct CheckOptions {
     int viewEvery = 10;
     std::size_t sample = 0;        // quads compared after each edit (0: all, the whole tree rebuilt)
     int fullEvery = 0;             // with --sample: every quad compared every this many edits
+    double undoChance = 0.0;       // each edit undone (then redone half the time) with this probability
     bool json = false;
     bool lazy = false;             // edits of the scene read lazily against the whole scene's
     double vectorBudgetMiB = 512.0;
@@ -126,7 +127,7 @@ int run(const CheckOptions& o) {
                                                           .viewEvery = o.viewEvery, .reach = s.extent.size().x * 0.01,
                                                           .viewerHeight = 2.0, .viewerHeightRange = 50.0,
                                                           .sample = o.sample, .fullEvery = o.fullEvery,
-                                                          .detailsPerEdit = 5, .maxDetails = 20});
+                                                          .undoChance = o.undoChance, .detailsPerEdit = 5, .maxDetails = 20});
     const double wallS = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::map<std::string, std::size_t> byKind;
     for (const auto& [kind, n] : r.byKind) byKind[std::string(toString(kind))] = n;
@@ -136,6 +137,9 @@ int run(const CheckOptions& o) {
                                 {"depth", o.depth},
                                 {"edits", r.edits},
                                 {"edits_by_kind", byKind},
+                                {"undo_chance", o.undoChance},
+                                {"undos", r.undos},
+                                {"redos", r.redos},
                                 {"sample", o.sample},
                                 {"full_every", o.fullEvery},
                                 {"full_comparisons", r.fullComparisons},
@@ -154,7 +158,7 @@ int run(const CheckOptions& o) {
                                 {"wall_s", wallS}};
     if (o.json) std::cout << out.dump(2) << "\n";
     else
-        std::cout << r.edits << " edits (" << r.editsAddingBridges << " adding bridges, " << r.editsRemovingBridges
+        std::cout << r.edits << " edits (" << r.undos << " undone, " << r.redos << " of them redone; " << r.editsAddingBridges << " adding bridges, " << r.editsRemovingBridges
                   << " removing some, " << r.editsAddingRings << " adding roundabout arcs, " << r.editsRemovingRings
                   << " removing some), " << r.quadsCompared << " quad comparisons, " << r.mismatches << " mismatches\n";
     return r.mismatches == 0 && valid ? 0 : 2;
@@ -376,6 +380,10 @@ void addCheckCommand(CLI::App& app) {
                     "tree rebuilt; the default)");
     inc->add_option("--full-every", o->fullEvery, "With --sample: every quad compared every this many edits (0: never)")
         ->check(CLI::Range(0, 1 << 30));
+    inc->add_option("--undo", o->undoChance,
+                    "Undo each edit with this probability after its comparison, then redo half of those, each compared too "
+                    "(0 to 1; 0: none, the default)")
+        ->check(CLI::Range(0.0, 1.0));
     inc->add_flag("--json", o->json, "Print JSON");
     inc->add_flag("--lazy", o->lazy, "Edits of the scene read lazily (saved into a temporary file) against edits of the whole scene, tile for tile");
     inc->add_option("--vector-budget", o->vectorBudgetMiB, "With --lazy: MiB of vector data the lazy session holds");

@@ -4,15 +4,16 @@ each seed a synthetic scene of CURVES curves edited CHUNK times, until EDITS edi
 after each edit SAMPLE random quads of the updated quadtree are compared with the same quads
 rebuilt from scratch, and every quad every FULL_EVERY edits (the edits are those of the full check:
 a mismatch a sample finds late is found at its edit by `--sample 0`). Edits of every kind, the
-graph step's bridges and roundabouts and the bridge and tunnel flags included.
+graph step's bridges and roundabouts and the bridge and tunnel flags included; each edit undone
+with probability UNDO after its comparison and compared again, half of those redone and compared.
 
   scripts/million_edits.py SEED [--edits 1000000] [--chunk 2000] [--curves 300] [--depth 12]
-                           [--sample 16] [--full-every 1000] [--jobs 1] [--lacet build/lacet] [--json]
+                           [--sample 16] [--full-every 1000] [--undo 0.3] [--jobs 1] [--lacet build/lacet] [--json]
 
 A nightly run: scripts/million_edits.py $(date +%Y%m%d). Prints one line per chunk as it ends
 (seed, edits, mismatches, seconds), then the totals (or JSON); exits 1 on any mismatch, an
 invalid scene or a chunk that failed, naming the seed that reproduces it:
-  lacet check incremental --seed S --curves C --edits CHUNK --depth D --sample 0
+  lacet check incremental --seed S --curves C --edits CHUNK --depth D --undo UNDO --sample 0
 """
 import argparse
 import concurrent.futures
@@ -28,7 +29,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def run_chunk(args, seed):
     cmd = [args.lacet, "check", "incremental", "--seed", str(seed), "--curves", str(args.curves),
            "--edits", str(args.chunk), "--depth", str(args.depth), "--sample", str(args.sample),
-           "--full-every", str(args.full_every), "--json"]
+           "--full-every", str(args.full_every), "--undo", str(args.undo), "--json"]
     t0 = time.monotonic()
     p = subprocess.run(cmd, capture_output=True, text=True)
     seconds = time.monotonic() - t0
@@ -53,6 +54,7 @@ def main():
     ap.add_argument("--depth", type=int, default=12, help="deepest quadtree level around the viewers")
     ap.add_argument("--sample", type=int, default=16, help="quads compared after each edit")
     ap.add_argument("--full-every", type=int, default=1000, help="every quad compared every this many edits")
+    ap.add_argument("--undo", type=float, default=0.3, help="probability that an edit is undone (and half of those redone)")
     ap.add_argument("--jobs", type=int, default=1, help="chunks run at once (one core each)")
     ap.add_argument("--lacet", default=os.path.join(ROOT, "build", "lacet"))
     ap.add_argument("--json", action="store_true")
@@ -93,7 +95,10 @@ def main():
         "depth": args.depth,
         "sample": args.sample,
         "full_every": args.full_every,
+        "undo": args.undo,
         "edits": sum(c.get("edits", 0) for c in chunks),
+        "undos": sum(c.get("undos", 0) for c in chunks),
+        "redos": sum(c.get("redos", 0) for c in chunks),
         "edits_by_kind": kinds,
         "quads_compared": sum(c.get("quads_compared", 0) for c in chunks),
         "full_comparisons": sum(c.get("full_comparisons", 0) for c in chunks),
@@ -107,12 +112,14 @@ def main():
     if args.json:
         print(json.dumps(summary, indent=2))
     else:
-        print(f"{summary['edits']} edits over {summary['seeds']} seeds from {args.seed} ({args.curves} curves each): "
+        print(f"{summary['edits']} edits ({summary['undos']} undone, {summary['redos']} redone) over {summary['seeds']} seeds "
+              f"from {args.seed} ({args.curves} curves each): "
               f"{summary['quads_compared']} quad comparisons ({summary['full_comparisons']} of every quad), "
               f"{summary['mismatches']} mismatches; {summary['cpu_s']:.0f} s of chunks, {summary['wall_s']:.0f} s wall")
         for c in bad:
             print(f"FAILED seed {c['seed']}: {c.get('failed') or c.get('mismatch_details', [])[:3]}\n  reproduce: {args.lacet} check "
-                  f"incremental --seed {c['seed']} --curves {args.curves} --edits {args.chunk} --depth {args.depth} --sample 0",
+                  f"incremental --seed {c['seed']} --curves {args.curves} --edits {args.chunk} --depth {args.depth} "
+                  f"--undo {args.undo} --sample 0",
                   file=sys.stderr)
     return 1 if bad else 0
 

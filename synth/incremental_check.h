@@ -35,6 +35,13 @@ struct IncrementalCheckParams {
     // edits run in hours.
     std::size_t sample = 0;
     int fullEvery = 0;
+    // Undo and redo (§6): after an edit is compared, it is undone with this probability (the
+    // scene's elements restored to their values before it, slots included, and UPDATE given the
+    // edit's changeset reversed, as the editor's undo does) and compared again; an undone edit is
+    // redone with redoChance (the values after it restored, UPDATE given its changeset) and
+    // compared again. Drawn from a generator of their own: the edits are the same with or without.
+    double undoChance = 0.0;
+    double redoChance = 0.5;
     bool stopAtFirstMismatch = false;  // stop after the first edit whose update differs
     std::size_t detailsPerEdit = 3;    // mismatch descriptions kept per edit (compareQuadtrees)
     std::size_t maxDetails = 20;       // and in all
@@ -42,13 +49,14 @@ struct IncrementalCheckParams {
 
 struct IncrementalCheckReport {
     std::size_t edits = 0;          // edits applied
+    std::size_t undos = 0, redos = 0;  // of which undone, and undone then redone (each compared too)
     std::size_t quadsCompared = 0;  // over all comparisons
     std::size_t fullComparisons = 0;  // edits after which every quad was compared
     std::size_t mismatches = 0;     // quads that differ, over all comparisons
     std::map<EditKind, std::size_t> byKind;
     std::vector<std::string> details;       // "edit I (kind): what differs"
     std::vector<double> updateMs, rebuildMs;  // milliseconds per applied edit: update, rebuild
-    // Edits after which the graph step's bridges (kBridge procedural curves) or roundabout arcs
+    // Edits (undos and redos too) after which the graph step's bridges (kBridge procedural curves) or roundabout arcs
     // (kRoundabout) were more or fewer than before, and the totals at the end.
     std::size_t editsAddingBridges = 0, editsRemovingBridges = 0;
     std::size_t editsAddingRings = 0, editsRemovingRings = 0;

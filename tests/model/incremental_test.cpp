@@ -87,5 +87,40 @@ TEST(Incremental, TheSampledCheckComparesRandomQuadsAndEveryQuadNowAndThen) {
     EXPECT_EQ(d.mismatches, 0u) << (d.details.empty() ? "" : d.details[0]);
 }
 
+// Undo and redo (§6) in the check: after every undo (the edit's changeset reversed) and every redo
+// the updated quadtree equals a rebuild. With every edit undone and none redone, the check's own
+// restoration leaves the scene it started from, element for element, slots included.
+TEST(Incremental, UndoneAndRedoneEditsEqualRebuildAndUndoingAllRestoresTheScene) {
+    std::size_t undos = 0, redos = 0;
+    for (std::uint64_t seed = 31; seed <= 32; ++seed) {
+        Scene s = test::smallScene();
+        const IncrementalCheckReport r = checkIncremental(s, {.seed = seed, .edits = test::sanitizedOr(300, 120), .maxLevel = 7,
+                                                              .viewEvery = 25, .reach = 150.0, .undoChance = 0.5,
+                                                              .stopAtFirstMismatch = true});
+        EXPECT_EQ(r.mismatches, 0u) << "seed " << seed << " " << (r.details.empty() ? "" : r.details[0]);
+        EXPECT_TRUE(validate(s).empty());
+        undos += r.undos;
+        redos += r.redos;
+    }
+    EXPECT_GT(undos, 100u);
+    EXPECT_GT(redos, 40u);
+    EXPECT_LT(redos, undos);
+
+    Scene s = makeSyntheticScene({33, 400});
+    const Scene start = s;
+    const IncrementalCheckReport r = checkIncremental(s, {.seed = 33, .edits = test::sanitizedOr(200, 60), .maxLevel = 8, .viewEvery = 20,
+                                                          .reach = 0.05 * s.extent.size().x, .undoChance = 1.0, .redoChance = 0.0,
+                                                          .stopAtFirstMismatch = true});
+    EXPECT_EQ(r.mismatches, 0u) << (r.details.empty() ? "" : r.details[0]);
+    EXPECT_EQ(r.undos, r.edits);
+    EXPECT_EQ(r.redos, 0u);
+    ASSERT_EQ(s.layers.size(), start.layers.size());
+    for (std::size_t l = 0; l < s.layers.size(); ++l) {
+        EXPECT_EQ(s.layers[l].nodes, start.layers[l].nodes) << "layer " << l;
+        EXPECT_EQ(s.layers[l].curves, start.layers[l].curves) << "layer " << l;
+        EXPECT_EQ(s.layers[l].areas, start.layers[l].areas) << "layer " << l;
+    }
+}
+
 }  // namespace
 }  // namespace lacet
