@@ -4,18 +4,22 @@ after each kill the file it writes must open and check whole (`lacet info`: a sc
 every tile of a pyramid), holding either what it held before or the new result, never a mixture;
 an interrupted pyramid build or update, run again, must give the tiles of an uninterrupted one.
 
-  scripts/kill_harness.py [--kills N] [--seed S] [--writers save,import,import_parts,pyramid_build,pyramid_update]
+  scripts/kill_harness.py [--kills N] [--landed] [--seed S] [--writers save,import,import_parts,pyramid_build,pyramid_update]
                           [--lacet build/lacet] [--work DIR] [--json]
 
 Writers (each over a small scene, so that a kill lands anywhere in a run of a fraction of a second):
   save            lacet synth --out over an existing scene (the atomic save: temporary file, rename)
   import          lacet import --dem-storage lod over an existing scene (a DEM tree written out of
                   core beside the output, then the scene saved)
+  import_parts    the same with the vectors out of core (--vector-part-level 2: a spill file beside
+                  the output, the scene written a part at a time)
   pyramid_build   lacet pyramid build of a scene with no pyramid yet, then run again to the end
   pyramid_update  lacet pyramid update of a pyramid whose scene changed, then run again to the end
   pyramid_mpi     lacet pyramid build --shards under mpirun -np 2, one rank killed (not by default:
                   it needs Open MPI and a lacet built with LACET_MPI)
-A kill's moment is uniform between the start and the median time of three uninterrupted runs.
+A kill's moment is uniform between the start and the median time of three uninterrupted runs; a
+run that ends before it counts as a trial, checked the same way. With --landed, trials go on until
+KILLS of them were killed before their end (at most 4 x KILLS trials).
 After all the kills, the folder must hold no temporary file (a writer killed leaves its temporary,
 the next run of a writer removes it).
 
@@ -284,6 +288,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--kills", type=int, default=1000)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--landed", action="store_true", help="go on until KILLS trials were killed before their end")
     ap.add_argument("--writers", default="save,import,import_parts,pyramid_build,pyramid_update")
     ap.add_argument("--lacet", default=os.path.join(ROOT, "build", "lacet"))
     ap.add_argument("--work", default=None, help="scratch folder (default: a new one in /tmp, removed at the end)")
@@ -298,10 +303,13 @@ def main():
         os.makedirs(folder, exist_ok=True)
         t0 = time.monotonic()
         w = make(name, lacet, folder)
-        for i in range(a.kills):
+        i = 0
+        while (w.stats["killed_before_done"] < a.kills and i < 4 * a.kills) if a.landed else i < a.kills:
             w.trial(rng, i)
-            if not a.json and (i + 1) % 100 == 0 and i + 1 < a.kills:
-                print("%-15s %d kills, %d failures, %.0f s" % (name, i + 1, len(w.failures), time.monotonic() - t0), file=sys.stderr)
+            i += 1
+            if not a.json and i % 100 == 0:
+                print("%-15s %d trials (%d killed before the end), %d failures, %.0f s" %
+                      (name, i, w.stats["killed_before_done"], len(w.failures), time.monotonic() - t0), file=sys.stderr)
         # The writer run to the end once more: it removes what the kills left.
         if isinstance(w, SceneWriter):
             run(w.make_new, folder)
