@@ -451,7 +451,8 @@ int areaPart(const PartGrid& grid, const std::vector<Vec2>& outer) {
 
 int PartGrid::partOf(Vec2 p) const {
     const Vec2 f = (p - square.min) / square.size() * double(side);
-    const auto index = [&](double v) { return std::isfinite(v) ? std::clamp(int(std::floor(v)), 0, side - 1) : 0; };
+    // Clamped as a double first: a point far outside the square must not overflow the int.
+    const auto index = [&](double v) { return std::isfinite(v) ? int(std::clamp(std::floor(v), 0.0, double(side - 1))) : 0; };
     return index(f.y) * side + index(f.x);
 }
 

@@ -148,8 +148,10 @@ void VectorSpill::index(const std::function<Vec2(glm::dvec2)>& project, const Bo
     for (int level = 0; level <= kGridLevel; ++level) cells_.emplace_back(std::size_t(1) << (2 * level), 0);
     auto rows = db_->prepare("SELECT id, area, geometry, length(kept) FROM feature ORDER BY id");
     auto box = db_->prepare("INSERT INTO feature_box (id, min_x, max_x, min_y, max_y) VALUES (?, ?, ?, ?, ?)");
+    // Clamped as a double first: a feature far outside the scene must not overflow the int.
     const auto cellOf = [&](double v, double lo, double size, int side) {
-        return std::clamp(int(std::floor((v - lo) / size * side)), 0, side - 1);
+        const double f = std::floor((v - lo) / size * side);
+        return std::isfinite(f) ? int(std::clamp(f, 0.0, double(side - 1))) : 0;
     };
     while (rows.step()) {
         const std::span<const std::uint8_t> blob = rows.blob(2);
