@@ -67,7 +67,8 @@ struct NetworkReport {
 // is a border node (PartCut::borderNodes). Nodes of the pieces never merge into chains through a
 // border node, so the parts agree on them: the whole scene's junctions are all kept, exactly, and
 // a chain through a part border stays two curves joined at a node. An area goes whole to the part
-// of its outer ring's first point; a river area chooses its axial curve among that part's rivers.
+// of its outer ring's least point (by x, then y: the same part whatever the ring's start); a river
+// area chooses its axial curve among that part's rivers.
 // "outside the DEM" is reported by the part of a feature's first point only.
 struct PartGrid {
     Box square;     // the scene's square (extent), scene metres
