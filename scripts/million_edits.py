@@ -81,7 +81,8 @@ def main():
                 chunks.append(r)
                 applied += r.get("edits", 0)
                 if not args.json:
-                    state = r.get("failed") or f"{r['edits']} edits, {r['mismatches']} mismatches, scene valid: {r['scene_valid']}"
+                    state = r.get("failed") or (f"{r['edits']} edits ({r.get('undos', 0)} undone, {r.get('redos', 0)} redone), "
+                                                f"{r['mismatches']} mismatches, scene valid: {r['scene_valid']}")
                     print(f"seed {r['seed']}: {state}, {r['seconds']:.0f} s", flush=True)
     bad = [c for c in chunks if c.get("failed") or c.get("mismatches", 0) or not c.get("scene_valid", False) or c.get("exit", 1)]
     kinds = {}
