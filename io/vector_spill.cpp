@@ -83,7 +83,8 @@ VectorSpill::VectorSpill(std::string path, double cacheMiB) : path_(std::move(pa
         insert_.reset();
         osm_.reset();
         db_.reset();
-        std::filesystem::remove(path_);
+        std::error_code ec;
+        std::filesystem::remove(path_, ec);
         throw VectorImportError(path_ + ": cannot write the import's spill file: " + e.what());
     }
 }
@@ -136,14 +137,30 @@ void VectorSpill::add(const RawArea& area) {
     insert(true, area.rule, 0, false, area.source, area.kept, {b.begin(), b.end()});
 }
 
+// SQLite's errors (a full disk, an I/O error) name the spill file.
+template <class F>
+auto VectorSpill::named(const char* what, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const SqliteError& e) {
+        throw VectorImportError(path_ + ": cannot " + what + " the import's spill file: " + e.what());
+    }
+}
+
 bool VectorSpill::firstOsmKey(const std::string& key) {
-    osm_->bindText(1, key);
-    osm_->step();
-    osm_->reset();
-    return db_->queryInteger("SELECT changes()") == 1;
+    return named("write", [&] {
+        osm_->bindText(1, key);
+        osm_->step();
+        osm_->reset();
+        return db_->queryInteger("SELECT changes()") == 1;
+    });
 }
 
 void VectorSpill::index(const std::function<Vec2(glm::dvec2)>& project, const Box& square) {
+    named("index", [&] { indexRows(project, square); });
+}
+
+void VectorSpill::indexRows(const std::function<Vec2(glm::dvec2)>& project, const Box& square) {
     cells_.clear();
     for (int level = 0; level <= kGridLevel; ++level) cells_.emplace_back(std::size_t(1) << (2 * level), 0);
     auto rows = db_->prepare("SELECT id, area, geometry, length(kept) FROM feature ORDER BY id");
@@ -197,6 +214,10 @@ std::uint64_t VectorSpill::largestCellBytes(int level) const {
 }
 
 void VectorSpill::read(const Box& box, VectorData& out) {
+    named("read", [&] { readRows(box, out); });
+}
+
+void VectorSpill::readRows(const Box& box, VectorData& out) {
     auto s = db_->prepare(
         "SELECT f.area, f.rule, f.flags, f.multi, f.file, f.layer, f.fid, f.kept, f.geometry FROM feature_box b "
         "JOIN feature f ON f.id = b.id WHERE b.max_x >= ? AND b.min_x <= ? AND b.max_y >= ? AND b.min_y <= ? ORDER BY f.id");

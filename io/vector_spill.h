@@ -52,6 +52,10 @@ public:
     std::uint64_t bytes() const { return bytes_; }  // of the features' geometry and attributes
 
 private:
+    template <class F>
+    auto named(const char* what, F&& f) -> decltype(f());
+    void indexRows(const std::function<Vec2(glm::dvec2)>& project, const Box& square);
+    void readRows(const Box& box, VectorData& out);
     void insert(bool area, std::size_t rule, std::uint16_t flags, bool multi, const SourceRef& source,
                 const std::map<std::string, std::string>& kept, const std::vector<std::uint8_t>& geometry);
     std::string path_;

@@ -2,7 +2,8 @@
 // level): one part gives the scene the import in memory gives, bit for bit; more parts keep every
 // junction and area of it and trace the same lines within the fit tolerance, their extra nodes only
 // where a way crosses a part border; refusals and failures leave no file behind. The extracts are
-// made at test time by scripts/synthetic_osm.py (and Andorra's is used where ../shared has it).
+// made at test time by scripts/synthetic_osm.py (and Andorra's is used where ../shared has it). The
+// spill file of the features (io/vector_spill.h) and the part grid are tested alone too.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include "io/network_builder.h"
 #include "io/scene_file.h"
 #include "io/scene_import.h"
+#include "io/vector_spill.h"
 #include "model/graph.h"
 #include "tests/io/gis_fixtures.h"
 #include "tests/io/scene_identical.h"
@@ -293,6 +295,60 @@ TEST(ImportOutOfCore, KnobsOutOfRangeAreRefused) {
     o.vectorBudgetMiB = std::nan("");
     EXPECT_THROW(importSceneToFile(o, (dir / "a.gpkg").string(), report), ImportError);
     EXPECT_FALSE(std::filesystem::exists(dir / "a.gpkg"));
+    std::filesystem::remove_all(dir);
+}
+
+// The spill gives back what it was given, by box, in the order added: geometry, rule, flags and
+// attributes (an empty value too), and counts bytes per cell of its grids.
+TEST(VectorSpill, GivesBackTheFeaturesABoxMeetsInTheOrderAdded) {
+    const auto dir = test::scratchDir("vector_spill");
+    const std::string path = (dir / "spill.tmp").string();
+    {
+        VectorSpill spill(path, 8.0);
+        RawLine west{.rule = 2, .lonLat = {{0.0, 0.0}, {1.0, 1.0}}, .inMulti = true, .flags = kBridge,
+                     .kept = {{"name", "Pont"}, {"layer", ""}}, .source = {"a.osm", "lines", 7}};
+        RawArea east{.rule = 5, .rings = {{{8.0, 8.0}, {9.0, 8.0}, {9.0, 9.0}, {8.0, 8.0}}}, .kept = {}, .source = {"b.osm", "multipolygons", 9}};
+        RawLine middle{.rule = 1, .lonLat = {{4.0, 4.0}, {6.0, 6.0}}, .inMulti = false, .flags = 0, .kept = {}, .source = {"a.osm", "lines", 8}};
+        spill.add(west);
+        spill.add(east);
+        spill.add(middle);
+        EXPECT_TRUE(spill.firstOsmKey("lines:osm_id:1"));
+        EXPECT_FALSE(spill.firstOsmKey("lines:osm_id:1"));
+        // Scene metres: lon/lat times 100, over a square of 1000 m.
+        spill.index([](glm::dvec2 p) { return Vec2(p * 100.0); }, {{0.0, 0.0}, {1000.0, 1000.0}});
+        EXPECT_EQ(spill.features(), 3u);
+        EXPECT_EQ(spill.largestCellBytes(0), spill.bytes());
+        EXPECT_LT(spill.largestCellBytes(3), spill.bytes());
+        VectorData got;
+        spill.read({{0.0, 0.0}, {650.0, 650.0}}, got);
+        ASSERT_EQ(got.lines.size(), 2u);
+        EXPECT_TRUE(got.areas.empty());
+        EXPECT_EQ(got.lines[0].lonLat, west.lonLat);
+        EXPECT_EQ(got.lines[0].rule, 2u);
+        EXPECT_EQ(got.lines[0].flags, kBridge);
+        EXPECT_TRUE(got.lines[0].inMulti);
+        EXPECT_EQ(got.lines[0].kept, west.kept);
+        EXPECT_EQ(got.lines[0].source.str(), west.source.str());
+        EXPECT_EQ(got.lines[1].lonLat, middle.lonLat);
+        VectorData far;
+        spill.read({{790.0, 790.0}, {1000.0, 1000.0}}, far);
+        ASSERT_EQ(far.areas.size(), 1u);
+        EXPECT_EQ(far.areas[0].rings, east.rings);
+        EXPECT_EQ(far.areas[0].source.str(), east.source.str());
+        EXPECT_TRUE(far.lines.empty());
+        EXPECT_TRUE(std::filesystem::exists(path));
+    }
+    EXPECT_FALSE(std::filesystem::exists(path)) << "the spill outlived its import";
+    // A spill that cannot be made is refused naming its file, and an existing file is not taken.
+    try {
+        VectorSpill spill((dir / "missing" / "spill.tmp").string(), 8.0);
+        ADD_FAILURE() << "a spill in a missing folder was made";
+    } catch (const VectorImportError& e) {
+        EXPECT_NE(std::string(e.what()).find("missing/spill.tmp: cannot create the import's spill file"), std::string::npos) << e.what();
+    }
+    { std::ofstream(dir / "mine.tmp") << "mine"; }
+    EXPECT_THROW(VectorSpill((dir / "mine.tmp").string(), 8.0), VectorImportError);
+    EXPECT_TRUE(std::filesystem::exists(dir / "mine.tmp"));
     std::filesystem::remove_all(dir);
 }
 
