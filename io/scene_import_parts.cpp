@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 #include <cpl_conv.h>
@@ -108,10 +109,19 @@ void importOutOfCore(const ImportOptions& o, const std::string& out, ImportRepor
     };
     data.firstOsmKey = [&](const std::string& key) { return spill.firstOsmKey(key); };
     {
-        // GDAL's OSM reader keeps its index of the extract's nodes in memory up to this size (MB;
-        // its own default is 100), on disk beyond: a quarter of the budget. A user's setting wins.
+        // GDAL's OSM reader, held to a bound that does not grow with the extract (a user's own
+        // settings of these options win):
+        // - its index of the extract's nodes and ways stays in memory up to OSM_MAX_TMPFILE_SIZE
+        //   (MB; its own default is 100), on disk beyond: a quarter of the budget;
+        // - those files go beside --out, as the spill does (GDAL's default is the working folder);
+        //   GDAL unlinks them as soon as they are open, so a killed import leaves none;
+        // - a PBF is decoded a block at a time: with more than one thread GDAL's PBF reader holds up
+        //   to 150 MB of blocks (50 read, 100 decompressed) to decode them at once.
         const std::string osmIndexMb = std::to_string(int(std::clamp(o.vectorBudgetMiB / 4.0, 1.0, 100.0)));
         const CPLConfigOptionSetter osmIndex("OSM_MAX_TMPFILE_SIZE", osmIndexMb.c_str(), true);
+        const std::string outFolder = std::filesystem::absolute(out).parent_path().string();
+        const CPLConfigOptionSetter osmTemp("CPL_TMPDIR", outFolder.c_str(), true);
+        const CPLConfigOptionSetter pbfThreads("GDAL_NUM_THREADS", "1", true);
         readAllVectors(o, mapping, data, report, progress);
     }
 

@@ -6,8 +6,10 @@ For each --blocks size, scripts/synthetic_osm.py writes the extract into --work;
 runs as a child process whose peak RSS comes from wait4 (ru_maxrss), with its wall time and the
 import's own report (parts, border nodes, bytes spilled). The peak includes what every run of the
 binary maps (its shared libraries: about 130 MiB here) and GDAL's OSM reader.
+With --format pbf each extract is also written as PBF by osmium-tool (`osmium cat`) and that is imported.
 
   scripts/import_memory.py --lacet build/lacet --blocks 150 300 --budgets 0 16 64 256 --work /tmp/im
+  scripts/import_memory.py --blocks 600 --budgets 16 64 --format pbf --work /tmp/im
 """
 import argparse
 import json
@@ -25,6 +27,7 @@ def main():
     p.add_argument('--budgets', type=float, nargs='+', default=[0, 64], help='MiB; 0 imports in memory')
     p.add_argument('--seed', type=int, default=1)
     p.add_argument('--work', required=True, help='a folder for the extracts and scenes')
+    p.add_argument('--format', choices=['osm', 'pbf'], default='osm', help='the extract imported: OSM XML or PBF')
     a = p.parse_args()
     os.makedirs(a.work, exist_ok=True)
     results = []
@@ -33,6 +36,11 @@ def main():
         if not os.path.exists(osm):
             subprocess.run([sys.executable, os.path.join(here, 'synthetic_osm.py'), '--blocks', str(blocks), '--seed', str(a.seed),
                             '--out', osm], check=True)
+        if a.format == 'pbf':
+            pbf = osm + '.pbf'
+            if not os.path.exists(pbf):
+                subprocess.run(['osmium', 'cat', osm, '-o', pbf], check=True)
+            osm = pbf
         for budget in a.budgets:
             out = os.path.join(a.work, f'scene_{blocks}_{budget:g}.gpkg')
             cmd = [a.lacet, 'import', '--vectors', osm, '--out', out, '--json']
@@ -50,6 +58,7 @@ def main():
             report = json.loads(stdout)
             results.append({
                 'blocks': blocks,
+                'format': a.format,
                 'extract_bytes': os.path.getsize(osm),
                 'features_read': report['features_read'],
                 'vector_budget_mib': budget,

@@ -7,7 +7,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libtbb-dev libopenimageio-dev pkg-config
-  libgdal-dev gdal-bin libgeographiclib-dev libsqlite3-dev
+  libgdal-dev gdal-bin libgeographiclib-dev libsqlite3-dev osmium-tool
   libopenmpi-dev openmpi-bin
   libpng-dev libjpeg-dev libwebp-dev zlib1g-dev
   libglfw3-dev libepoxy-dev libimgui-dev libgl-dev xvfb xauth libgl1-mesa-dri

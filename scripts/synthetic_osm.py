@@ -21,14 +21,18 @@ import sys
 
 
 class Writer:
-    def __init__(self, out):
+    def __init__(self, out, seed):
         self.out = out
         self.next_node = 1
         self.next_way = 1
+        # Ids with gaps, as a real extract's are: a way's references then do not differ by one, and
+        # a PBF of the extract compresses as real data does (GDAL refuses a block compressed more
+        # than 100 times). Their own generator, so the points are the same as without gaps.
+        self.gaps = random.Random(seed * 7919 + 1)
 
     def node(self, lon, lat):
         i = self.next_node
-        self.next_node += 1
+        self.next_node += 1 + self.gaps.randrange(16)
         self.out.write(f'  <node id="{i}" lat="{lat:.7f}" lon="{lon:.7f}" version="1"/>\n')
         return i
 
@@ -69,7 +73,7 @@ def main():
 
     with open(a.out, 'w') as out:
         out.write('<?xml version="1.0" encoding="UTF-8"?>\n<osm version="0.6" generator="lacet scripts/synthetic_osm.py">\n')
-        w = Writer(out)
+        w = Writer(out, a.seed)
         # Nodes first (the OSM format's order): the grid's junctions and the points between them.
         junction = {}
         for j in range(n + 1):

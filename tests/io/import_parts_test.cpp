@@ -13,6 +13,7 @@
 #include <set>
 #include <tuple>
 
+#include <cpl_conv.h>
 #include <gtest/gtest.h>
 
 #include "io/network_builder.h"
@@ -219,6 +220,34 @@ TEST(ImportOutOfCore, PartsKeepTheJunctionsAreasAndLinesOfTheImportInMemory) {
         importSceneToFile(o, (dir / "parts.gpkg").string(), partsReport);
         expectSameNetwork(loadScene((dir / "memory.gpkg").string()), loadScene((dir / "parts.gpkg").string()), partsReport, o.fitTolerance);
     }
+    std::filesystem::remove_all(dir);
+}
+
+// The extract as a PBF (the format users download), written by osmium-tool: GDAL's PBF reader is
+// held to its bounds under a budget (one block at a time, its node index on disk beside --out),
+// which changes neither what it reads nor GDAL's own settings after the import.
+TEST(ImportOutOfCore, APbfExtractGivesTheFeaturesOfItsXmlAndThePartsKeepItsNetwork) {
+    if (std::system("osmium --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "osmium-tool is not installed (scripts/install_deps.sh installs it)";
+    const auto dir = test::scratchDir("import_parts");
+    const std::string xml = syntheticOsm(dir, 10, 6);
+    const std::string pbf = (dir / "synthetic.osm.pbf").string();
+    ASSERT_EQ(std::system(("osmium cat " + xml + " -o " + pbf + " --overwrite").c_str()), 0);
+    ImportOptions o = optionsFor(xml);
+    ImportReport xmlReport, memoryReport, partsReport;
+    importSceneToFile(o, (dir / "xml.gpkg").string(), xmlReport);
+    o = optionsFor(pbf);
+    importSceneToFile(o, (dir / "memory.gpkg").string(), memoryReport);
+    o.vectorBudgetMiB = 4.0;
+    o.vectorPartLevel = 2;
+    importSceneToFile(o, (dir / "parts.gpkg").string(), partsReport);
+    EXPECT_EQ(memoryReport.featuresRead, xmlReport.featuresRead);
+    EXPECT_EQ(memoryReport.linesKept, xmlReport.linesKept);
+    EXPECT_EQ(memoryReport.areasKept, xmlReport.areasKept);
+    EXPECT_EQ(partsReport.featuresRead, xmlReport.featuresRead);
+    EXPECT_EQ(partsReport.spilledFeatures, xmlReport.linesKept + xmlReport.areasKept);
+    expectSameNetwork(loadScene((dir / "memory.gpkg").string()), loadScene((dir / "parts.gpkg").string()), partsReport, o.fitTolerance);
+    for (const char* option : {"OSM_MAX_TMPFILE_SIZE", "CPL_TMPDIR", "GDAL_NUM_THREADS"})
+        EXPECT_EQ(CPLGetConfigOption(option, nullptr), nullptr) << option << " left set after the import";
     std::filesystem::remove_all(dir);
 }
 
