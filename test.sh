@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs every test: the GoogleTest suite through ctest, then
-# again under AddressSanitizer + UndefinedBehaviorSanitizer, then the command-line checks.
+# again under AddressSanitizer + UndefinedBehaviorSanitizer. The command-line checks (`lacet check
+# incremental` on larger scenes) are tests of the Release build's ctest (tests/CMakeLists.txt).
 set -euo pipefail
 cd "$(dirname "$0")"
 scripts/install_deps.sh
@@ -16,18 +17,3 @@ scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DLACET_BUILD_TESTS=ON -DLACET
 scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" \
   -DLACET_SANITIZE=ON -DLACET_BUILD_BENCH=OFF -DLACET_BUILD_UI_TESTS=OFF
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j 2)
-
-# Incremental equals rebuild on a larger scene, through the command line.
-./build/lacet check incremental --seed 3 --curves 20000 --edits 60 --depth 14 --json > build/check-incremental.json
-grep -q '"mismatches": 0' build/check-incremental.json
-echo "lacet check incremental: 0 mismatches"
-
-# Edits of a scene read lazily (its vector data within a budget) equal edits of it whole, tile for tile.
-./build/lacet check incremental --lazy --seed 3 --curves 5000 --edits 24 --json > build/check-incremental-lazy.json
-grep -q '"mismatches": 0' build/check-incremental-lazy.json
-echo "lacet check incremental --lazy: 0 mismatches"
-# The same with parts of level 3 (64 in all): edits whose parts are far from what they change (a
-# river under a long road held by a part far away; roads drawn in memory across many parts).
-./build/lacet check incremental --lazy --seed 21 --curves 3000 --edits 60 --save-every 7 --part-level 3 --json > build/check-incremental-lazy-parts.json
-grep -q '"mismatches": 0' build/check-incremental-lazy-parts.json
-echo "lacet check incremental --lazy --part-level 3: 0 mismatches"

@@ -316,7 +316,8 @@ TEST_F(LazyForestTest, TilesAndSubdivisionsMadeInTheBackgroundAreTheWholeScenes)
     params.clock = steppedClockMs(0.05);
     EditSession lazy(*path_, lazyParams(1024.0, /*background=*/true), params);
     std::size_t begun = 0, subdivisions = 0;
-    for (const glm::dvec3& v : viewers(whole.document().scene.extent, 4, 9)) {
+    // Under the sanitizers, two viewers.
+    for (const glm::dvec3& v : viewers(whole.document().scene.extent, test::sanitizedOr(4, 2), 9)) {
         whole.frame(v, 0.0);
         FrameReport r;
         for (int i = 0; i < 200000; ++i) {

@@ -150,7 +150,7 @@ TEST_F(LazySaveTest, RandomEditsSavedNowAndThenSumToTheWholeSceneAndUndoGoesOnOv
     EditSession whole(loadScene(path), savingSessionParams());
     EditSession lazy(path, lazyParams(), savingSessionParams());
     constexpr int kSaveEvery = 4;
-    const int edits = test::sanitizedOr(30, 8);
+    const int edits = test::sanitizedOr(30, 5);
     const LazyEditCheckReport r = checkLazyEdits(lazy, whole, {.seed = 17, .edits = edits, .saveEvery = kSaveEvery});
     for (const std::string& d : r.details) ADD_FAILURE() << d;
     EXPECT_EQ(r.mismatches, 0u);

@@ -525,7 +525,7 @@ TEST_F(SceneRegion, EditsReadOverTheFileGiveTheEditedScenesTiles) {
     }
     EXPECT_GT(riversEdited, 3u);
     EXPECT_GT(riversFound, 30u);
-    for (int k = 0; k < 24; ++k) {
+    for (int k = 0; k < test::sanitizedOr(24, 8); ++k) {
         const int level = 5 + k % 3;
         const double side = size.x * (0.002 + 0.05 * unit(rng));
         const Vec2 at = extent.min + Vec2(unit(rng), unit(rng)) * (size - side);
