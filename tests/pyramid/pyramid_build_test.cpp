@@ -115,7 +115,8 @@ TEST(PyramidBuild, EveryPassDepthGivesTheSamePyramidInTheMemoryOfOnePath) {
     TempFile reference("pyramid_pass5.gpkg");
     p.passLevels = 5;
     EXPECT_EQ(buildPyramid(doc, reference.path, p, false, nullptr).peakShardQuads, 340u);
-    for (int passLevels : {1, 2, 3, 4}) {
+    // Under the sanitizers, the shallowest pass and one in the middle.
+    for (int passLevels : test::kSanitized ? std::vector<int>{1, 3} : std::vector<int>{1, 2, 3, 4}) {
         SCOPED_TRACE("pass levels " + std::to_string(passLevels));
         TempFile f("pyramid_pass.gpkg");
         p.passLevels = passLevels;
