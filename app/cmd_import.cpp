@@ -69,8 +69,10 @@ void addImportCommand(CLI::App& app) {
     cmd->add_option("--min-kept", o->options.minKept, "Fail unless the vectors give at least this many curves and areas (default 1)");
     cmd->add_flag("--allow-empty", o->options.allowEmpty, "Accept an import that keeps fewer than --min-kept features");
     cmd->add_option("--vector-budget", o->options.vectorBudgetMiB,
-                    "Import the vectors out of core within about this much memory (MiB; 0: in memory, the default): features "
-                    "spilled to a file beside --out as they are read, the scene built and written a square part at a time");
+                    "Import the vectors out of core, a part's build within about this much memory (MiB; 0: in memory, the "
+                    "default): features spilled to a file beside --out as they are read, the scene built and written a square "
+                    "part at a time. The reader (GDAL's, a quarter of the budget on disk past it) and the libraries add a fixed "
+                    "200 MiB or so, whatever the extract");
     cmd->add_option("--vector-part-level", o->options.vectorPartLevel,
                     "Out of core, with parts 2^level a side (0 to 8) instead of those --vector-budget chooses");
     cmd->add_option("--out", o->out, "Scene file to write (GeoPackage)")->required();
