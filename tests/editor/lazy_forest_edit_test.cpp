@@ -207,7 +207,7 @@ TEST_F(LazyForestEditTest, EditsOfAPartialSceneGiveTheWholeScenesTilesAndUndoRes
     EditSession whole(loadScene(*path_), sessionParams());
     EditSession lazy(*path_, lazyParams(1024.0), sessionParams());
     // Under the sanitizers, 8 edits, each undone with a chance of one in two rather than one in
-    // five (the first 8 of seed 5 undo none otherwise).
+    // five, so that some are undone.
     const int edits = test::sanitizedOr(28, 8);
     const double undoChance = test::kSanitized ? 0.5 : 0.2;
     expectSameEdits(checkLazyEdits(lazy, whole, {.seed = 5, .edits = edits, .undoChance = undoChance}), false, std::size_t(edits));
